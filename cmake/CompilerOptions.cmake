@@ -1,0 +1,31 @@
+# One warnings policy for every target of the project (STYLE.md, practice 1).
+option(PARKSLAM_WERROR "Treat compiler warnings as errors (on in CI)" OFF)
+
+function(parkslam_set_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow
+                                           -Wnon-virtual-dtor -Wold-style-cast)
+  if(PARKSLAM_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+# A library of the core: sources listed explicitly, public include root at src/.
+function(parkslam_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_library(${name} ${ARG_SOURCES})
+  add_library(parkslam::${name} ALIAS ${name})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR}/src)
+  target_compile_features(${name} PUBLIC cxx_std_20)
+  target_link_libraries(${name} PUBLIC ${ARG_DEPS})
+  parkslam_set_warnings(${name})
+endfunction()
+
+# A GoogleTest executable registered with CTest.
+function(parkslam_add_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest_main GTest::gmock)
+  parkslam_set_warnings(${name})
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
+                       PROPERTIES ENVIRONMENT "PARKSLAM_SHARED_DATA=${PARKSLAM_SHARED_DATA}")
+endfunction()

@@ -1,0 +1,226 @@
+#include "parkslam/sim/scenario_config.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "parkslam/map/semantic_map.h"
+
+namespace parkslam::sim {
+namespace {
+
+// Collects the first failed check with the name of its field.
+class Checker {
+ public:
+  explicit Checker(std::string* error) : error_(error) {}
+
+  bool ok() const { return ok_; }
+
+  void Require(bool condition, const std::string& field, const char* what) {
+    if (!ok_ || condition) return;
+    ok_ = false;
+    if (error_ != nullptr) *error_ = field + ": " + what;
+  }
+  void Rate(double value, const std::string& field) {
+    Require(std::isfinite(value) && value >= 0.0 && value <= 1.0, field,
+            "must be a probability in [0, 1]");
+  }
+  void Positive(double value, const std::string& field) {
+    Require(std::isfinite(value) && value > 0.0, field, "must be positive");
+  }
+  void NonNegative(double value, const std::string& field) {
+    Require(std::isfinite(value) && value >= 0.0, field,
+            "must be non-negative");
+  }
+
+ private:
+  std::string* error_;
+  bool ok_ = true;
+};
+
+void CheckWorld(const WorldConfig& w, Checker& c) {
+  c.Require(!w.name.empty(), "world.name", "must not be empty");
+  c.Require(w.hall.max_x_m - w.hall.min_x_m >= 10.0 &&
+                w.hall.max_y_m - w.hall.min_y_m >= 10.0,
+            "world.hall", "must be at least 10 m x 10 m");
+  if (w.corridor) {
+    c.Positive(w.corridor_length_m, "world.corridor_length_m");
+    c.Require(w.corridor_width_m >= 2.0 && w.corridor_width_m <= 20.0,
+              "world.corridor_width_m", "must be in [2, 20]");
+    c.Require(w.corridor_center_y_m - w.corridor_width_m / 2 > w.hall.min_y_m &&
+                  w.corridor_center_y_m + w.corridor_width_m / 2 < w.hall.max_y_m,
+              "world.corridor_center_y_m", "corridor must meet the west wall");
+  }
+  for (size_t i = 0; i < w.rows.size(); ++i) {
+    const SlotRowConfig& r = w.rows[i];
+    const std::string p = "world.rows[" + std::to_string(i) + "].";
+    c.Require(SlotKindFromString(r.kind).has_value(), p + "kind",
+              "must be perpendicular, angled or parallel");
+    c.Require(r.count >= 1 && r.count <= 1000, p + "count", "must be in [1, 1000]");
+    c.Require(r.width_m >= 1.5 && r.width_m <= 10.0, p + "width_m", "must be in [1.5, 10]");
+    c.Require(r.depth_m >= 1.5 && r.depth_m <= 10.0, p + "depth_m", "must be in [1.5, 10]");
+    c.Require(r.angle_deg >= 30.0 && r.angle_deg <= 150.0, p + "angle_deg",
+              "must be in [30, 150]");
+    c.Require(r.group_size >= 0, p + "group_size", "must be non-negative");
+    c.NonNegative(r.group_gap_m, p + "group_gap_m");
+    c.Require(r.first_id >= 0 && r.id_step >= 0, p + "first_id",
+              "IDs must be non-negative");
+    c.Require(r.id_digits >= 1 && r.id_digits <= 4, p + "id_digits", "must be in [1, 4]");
+    c.Require(std::isfinite(r.origin_m.x()) && std::isfinite(r.origin_m.y()),
+              p + "origin_m", "must be finite");
+  }
+  c.Positive(w.pillar_size_m, "world.pillar_size_m");
+  c.Require(w.tag_count >= 0 && w.tag_count <= 587, "world.tag_count",
+            "must be in [0, 587] (the tag36h11 family)");
+  c.Positive(w.tag_size_m, "world.tag_size_m");
+  c.Require(w.tag_spacing_m >= 0.5, "world.tag_spacing_m", "must be at least 0.5");
+  c.Rate(w.id_missing_rate, "world.id_missing_rate");
+  c.Rate(w.id_worn_rate, "world.id_worn_rate");
+}
+
+void CheckRoute(const RouteConfig& r, Checker& c) {
+  c.Require(r.approach_m.size() + r.loop_m.size() + r.finish_m.size() >= 2,
+            "route", "needs at least two waypoints");
+  c.Require(r.laps >= 0 && r.laps <= 1000, "route.laps", "must be in [0, 1000]");
+  c.Require(r.laps == 0 || r.loop_m.size() >= 2, "route.loop_m",
+            "needs at least two waypoints when laps > 0");
+  c.Require(r.cruise_speed_kmh > 0.5 && r.cruise_speed_kmh <= 40.0,
+            "route.cruise_speed_kmh", "must be in (0.5, 40]");
+  c.Require(r.turn_speed_kmh > 0.5 && r.turn_speed_kmh <= r.cruise_speed_kmh,
+            "route.turn_speed_kmh", "must be in (0.5, cruise_speed_kmh]");
+  c.Positive(r.max_accel_mps2, "route.max_accel_mps2");
+  c.Positive(r.max_decel_mps2, "route.max_decel_mps2");
+  c.Require(r.lookahead_m >= 1.0, "route.lookahead_m", "must be at least 1");
+  c.NonNegative(r.lateral_wander_m, "route.lateral_wander_m");
+  c.Require(r.sample_rate_hz >= 20.0 && r.sample_rate_hz <= 1000.0,
+            "route.sample_rate_hz", "must be in [20, 1000]");
+}
+
+void CheckSensors(const SensorConfig& s, Checker& c) {
+  const OdometrySensorConfig& o = s.odometry;
+  c.Require(o.wheel_rate_hz >= 1 && o.wheel_rate_hz <= 1000, "sensors.odometry.wheel_rate_hz", "must be in [1, 1000]");
+  c.Require(o.steering_rate_hz >= 1 && o.steering_rate_hz <= 1000, "sensors.odometry.steering_rate_hz", "must be in [1, 1000]");
+  c.Require(o.imu_rate_hz >= 1 && o.imu_rate_hz <= 1000, "sensors.odometry.imu_rate_hz", "must be in [1, 1000]");
+  c.NonNegative(o.wheel_speed_sigma_mps, "sensors.odometry.wheel_speed_sigma_mps");
+  c.NonNegative(o.wheel_speed_scale_sigma, "sensors.odometry.wheel_speed_scale_sigma");
+  c.NonNegative(o.steering_wheel_sigma_rad, "sensors.odometry.steering_wheel_sigma_rad");
+  c.NonNegative(o.gyro_sigma_radps, "sensors.odometry.gyro_sigma_radps");
+  c.NonNegative(o.gyro_bias_sigma_radps, "sensors.odometry.gyro_bias_sigma_radps");
+  c.NonNegative(o.gyro_bias_walk_radps_per_sqrt_s, "sensors.odometry.gyro_bias_walk_radps_per_sqrt_s");
+  c.NonNegative(o.heading_sigma_rad, "sensors.odometry.heading_sigma_rad");
+  c.NonNegative(o.heading_bias_sigma_rad, "sensors.odometry.heading_bias_sigma_rad");
+  c.NonNegative(o.heading_bias_walk_rad_per_sqrt_s, "sensors.odometry.heading_bias_walk_rad_per_sqrt_s");
+
+  const SlotSensorConfig& sl = s.slots;
+  c.Require(sl.rate_hz >= 1 && sl.rate_hz <= 100, "sensors.slots.rate_hz", "must be in [1, 100]");
+  c.Require(sl.view_length_m >= 2 && sl.view_width_m >= 2, "sensors.slots.view_length_m", "view must be at least 2 m x 2 m");
+  c.NonNegative(sl.corner_sigma_m, "sensors.slots.corner_sigma_m");
+  c.NonNegative(sl.corner_sigma_per_m, "sensors.slots.corner_sigma_per_m");
+  c.Rate(sl.miss_rate, "sensors.slots.miss_rate");
+  c.Require(sl.false_per_frame >= 0 && sl.false_per_frame <= 5, "sensors.slots.false_per_frame", "must be in [0, 5]");
+  c.Rate(sl.far_corner_observed_rate, "sensors.slots.far_corner_observed_rate");
+  c.Positive(sl.standard_depth_m, "sensors.slots.standard_depth_m");
+  c.Positive(sl.parallel_min_entrance_m, "sensors.slots.parallel_min_entrance_m");
+  c.Positive(sl.parallel_depth_m, "sensors.slots.parallel_depth_m");
+  c.NonNegative(sl.far_direction_sigma_deg, "sensors.slots.far_direction_sigma_deg");
+
+  const IdSensorConfig& id = s.ids;
+  c.Rate(id.confusion_rate, "sensors.ids.confusion_rate");
+  c.Rate(id.partial_rate, "sensors.ids.partial_rate");
+  c.Rate(id.unreadable_rate, "sensors.ids.unreadable_rate");
+  c.Require(id.confusion_rate + id.partial_rate + id.unreadable_rate <= 1.0,
+            "sensors.ids", "confusion_rate + partial_rate + unreadable_rate must not exceed 1");
+  c.Rate(id.true_digit_second_rate, "sensors.ids.true_digit_second_rate");
+
+  const TagSensorConfig& t = s.tags;
+  c.Require(t.rate_hz >= 1 && t.rate_hz <= 100, "sensors.tags.rate_hz", "must be in [1, 100]");
+  c.Require(t.horizontal_fov_deg > 1 && t.horizontal_fov_deg < 180, "sensors.tags.horizontal_fov_deg", "must be in (1, 180)");
+  c.Require(t.min_range_m >= 0 && t.max_range_m > t.min_range_m, "sensors.tags.max_range_m", "must exceed min_range_m");
+  c.Require(t.max_incidence_deg > 0 && t.max_incidence_deg < 90, "sensors.tags.max_incidence_deg", "must be in (0, 90)");
+  c.Rate(t.miss_rate, "sensors.tags.miss_rate");
+  c.Rate(t.miss_rate_at_max_range, "sensors.tags.miss_rate_at_max_range");
+  c.NonNegative(t.range_sigma_m, "sensors.tags.range_sigma_m");
+  c.NonNegative(t.range_sigma_per_m, "sensors.tags.range_sigma_per_m");
+  c.NonNegative(t.bearing_sigma_rad, "sensors.tags.bearing_sigma_rad");
+  c.NonNegative(t.bearing_sigma_per_m, "sensors.tags.bearing_sigma_per_m");
+  c.NonNegative(t.yaw_sigma_rad, "sensors.tags.yaw_sigma_rad");
+  c.NonNegative(t.yaw_sigma_per_m, "sensors.tags.yaw_sigma_per_m");
+}
+
+SlotRowConfig Row(const char* kind, double x, double y, bool far_side_left,
+                  int count, int first_id, int id_digits) {
+  SlotRowConfig row;
+  row.kind = kind;
+  row.origin_m = Eigen::Vector2d(x, y);
+  row.far_side_left = far_side_left;
+  row.count = count;
+  row.first_id = first_id;
+  row.id_digits = id_digits;
+  return row;
+}
+
+}  // namespace
+
+bool WorldConfig::IsValid(std::string* error) const {
+  Checker checker(error);
+  CheckWorld(*this, checker);
+  return checker.ok();
+}
+
+bool ScenarioConfig::IsValid(std::string* error) const {
+  Checker checker(error);
+  CheckWorld(world, checker);
+  CheckRoute(route, checker);
+  std::string vehicle_error;
+  checker.Require(vehicle.IsValid(&vehicle_error), "vehicle", vehicle_error.c_str());
+  CheckSensors(sensors, checker);
+  return checker.ok();
+}
+
+ScenarioConfig DefaultScenario() {
+  ScenarioConfig config;
+  WorldConfig& w = config.world;
+  w.name = "default";
+  w.hall = {0.0, 0.0, 82.0, 50.5};
+  // The corridor continues aisle 1 (y = 5.6 .. 12.6) westwards.
+  w.corridor_center_y_m = 9.1;
+
+  // South to north: row A against the south wall facing aisle 1; rows B and C
+  // back to back between aisles 1 and 2 with pillars on their shared back
+  // line; row D of 60-degree angled slots facing aisle 2; row E facing aisle
+  // 3 with three-digit IDs; a parallel row F along the north wall.
+  w.rows.push_back(Row("perpendicular", 8.0, 5.6, false, 24, 1, 2));
+  w.rows.back().pillars = false;  // against the wall
+  w.rows.push_back(Row("perpendicular", 8.0, 12.6, true, 24, 25, 2));
+  w.rows.push_back(Row("perpendicular", 8.0, 23.2, false, 24, 49, 2));
+  w.rows.back().pillars = false;  // shares the pillars of row B
+  SlotRowConfig angled = Row("angled", 8.0, 30.2, true, 21, 73, 2);
+  angled.angle_deg = 60.0;
+  w.rows.push_back(angled);
+  w.rows.push_back(Row("perpendicular", 8.0, 40.7, false, 24, 101, 3));
+  w.rows.back().pillars = false;  // row D's pillars stand just behind
+  SlotRowConfig parallel = Row("parallel", 8.0, 47.7, true, 10, 201, 3);
+  parallel.width_m = 6.0;
+  parallel.depth_m = 2.5;
+  parallel.group_size = 0;
+  parallel.pillars = false;
+  w.rows.push_back(parallel);
+
+  // Tags near the entrance and in the corridor (the paper: 60 tags); the
+  // eastern part of the hall (x > 30 m) has none.
+  w.tag_count = 60;
+  w.tag_regions.push_back({-41.0, 6.0, 0.5, 12.2});
+  w.tag_regions.push_back({-0.5, -0.5, 30.0, 51.0});
+
+  RouteConfig& r = config.route;
+  const double aisle1_y = 9.1, aisle2_y = 26.7, aisle3_y = 44.2;
+  const double west_x = 4.0, east_x = 77.8;
+  r.approach_m = {{-37.0, aisle1_y}, {-10.0, aisle1_y}};
+  r.loop_m = {{west_x, aisle1_y}, {east_x, aisle1_y}, {east_x, aisle2_y},
+              {west_x, aisle2_y}};
+  r.laps = 2;
+  r.finish_m = {{west_x, aisle1_y}, {west_x, aisle3_y}, {east_x, aisle3_y},
+                {east_x, aisle2_y}, {50.0, aisle2_y}};
+  return config;
+}
+
+}  // namespace parkslam::sim

@@ -1,0 +1,328 @@
+#ifndef PARKSLAM_SIM_SCENARIO_CONFIG_H_
+#define PARKSLAM_SIM_SCENARIO_CONFIG_H_
+
+// Everything the simulator needs: the parking lot, the route driven through
+// it, the vehicle and its sensors. Plain structs with defaults; every field
+// carries its unit in its name. Each struct lists its fields once in
+// VisitFields(), which the YAML loader (io/scenario_yaml.h) walks, so that a
+// field added here is loadable, dumpable and checked for unknown keys
+// without further code. The defaults are documented in docs/simulator.md.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "parkslam/sensor/vehicle.h"
+
+namespace parkslam::sim {
+
+// A straight row of slots. Corner 0 of the first slot sits at origin_m; the
+// entrance line runs along direction_deg; the slots extend to the left of
+// that direction when far_side_left (else to the right). Separating lines
+// meet the entrance line at angle_deg (90 for perpendicular and parallel
+// slots). width_m is the distance between neighbouring separating lines
+// measured perpendicular to them, depth_m their length.
+struct SlotRowConfig {
+  std::string kind = "perpendicular";  // perpendicular | angled | parallel
+  Eigen::Vector2d origin_m = Eigen::Vector2d::Zero();
+  double direction_deg = 0.0;
+  bool far_side_left = true;
+  int count = 10;
+  double width_m = 2.5;
+  double depth_m = 5.3;
+  double angle_deg = 90.0;
+  int group_size = 3;         // slots between two gaps; 0: no gaps
+  double group_gap_m = 0.8;   // gap between groups, along the row
+  bool pillars = true;        // a pillar at the back of every gap
+  int first_id = 1;           // painted ID of the first slot
+  int id_step = 1;
+  int id_digits = 2;          // zero-padded width of painted IDs
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("kind", kind);
+    v("origin_m", origin_m);
+    v("direction_deg", direction_deg);
+    v("far_side_left", far_side_left);
+    v("count", count);
+    v("width_m", width_m);
+    v("depth_m", depth_m);
+    v("angle_deg", angle_deg);
+    v("group_size", group_size);
+    v("group_gap_m", group_gap_m);
+    v("pillars", pillars);
+    v("first_id", first_id);
+    v("id_step", id_step);
+    v("id_digits", id_digits);
+  }
+};
+
+// An axis-aligned rectangle of the map frame.
+struct RegionConfig {
+  double min_x_m = 0.0, min_y_m = 0.0, max_x_m = 0.0, max_y_m = 0.0;
+
+  bool Contains(const Eigen::Vector2d& p) const {
+    return p.x() >= min_x_m && p.x() <= max_x_m && p.y() >= min_y_m &&
+           p.y() <= max_y_m;
+  }
+  template <typename V>
+  void VisitFields(V& v) {
+    v("min_x_m", min_x_m);
+    v("min_y_m", min_y_m);
+    v("max_x_m", max_x_m);
+    v("max_y_m", max_y_m);
+  }
+};
+
+struct WorldConfig {
+  std::string name = "default";
+  // The hall: a rectangle closed by outer walls.
+  RegionConfig hall{0.0, 0.0, 80.0, 50.5};
+  // The entrance: a corridor without slots that enters the hall through its
+  // west wall; corridor_width_m is also the width of the entrance passage.
+  bool corridor = true;
+  double corridor_length_m = 40.0;
+  double corridor_width_m = 3.0;
+  double corridor_center_y_m = 9.1;
+  std::vector<SlotRowConfig> rows;
+  double pillar_size_m = 0.6;
+  // AprilTags (tag36h11) on walls and pillar faces inside tag_regions, at most
+  // tag_count of them, spread evenly over the candidate places.
+  int tag_count = 60;
+  double tag_size_m = 0.488;
+  double tag_spacing_m = 3.0;  // between candidate places along a wall
+  std::vector<RegionConfig> tag_regions;
+  // Share of slots with no painted ID, and with an ID worn beyond reading.
+  double id_missing_rate = 0.03;
+  double id_worn_rate = 0.05;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("name", name);
+    v("hall", hall);
+    v("corridor", corridor);
+    v("corridor_length_m", corridor_length_m);
+    v("corridor_width_m", corridor_width_m);
+    v("corridor_center_y_m", corridor_center_y_m);
+    v("rows", rows);
+    v("pillar_size_m", pillar_size_m);
+    v("tag_count", tag_count);
+    v("tag_size_m", tag_size_m);
+    v("tag_spacing_m", tag_spacing_m);
+    v("tag_regions", tag_regions);
+    v("id_missing_rate", id_missing_rate);
+    v("id_worn_rate", id_worn_rate);
+  }
+
+  bool IsValid(std::string* error) const;
+};
+
+// The human drive: through `approach`, then `laps` times round `loop`, then
+// through `finish` (all waypoints in the map frame). The driver follows the
+// polyline with a small smooth lateral wander and a smooth speed profile.
+struct RouteConfig {
+  std::vector<Eigen::Vector2d> approach_m;
+  std::vector<Eigen::Vector2d> loop_m;
+  int laps = 2;
+  std::vector<Eigen::Vector2d> finish_m;
+  double cruise_speed_kmh = 9.0;
+  double turn_speed_kmh = 4.0;
+  double max_accel_mps2 = 0.5;
+  double max_decel_mps2 = 0.7;
+  double lookahead_m = 3.5;
+  double lateral_wander_m = 0.15;
+  double sample_rate_hz = 100.0;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("approach_m", approach_m);
+    v("loop_m", loop_m);
+    v("laps", laps);
+    v("finish_m", finish_m);
+    v("cruise_speed_kmh", cruise_speed_kmh);
+    v("turn_speed_kmh", turn_speed_kmh);
+    v("max_accel_mps2", max_accel_mps2);
+    v("max_decel_mps2", max_decel_mps2);
+    v("lookahead_m", lookahead_m);
+    v("lateral_wander_m", lateral_wander_m);
+    v("sample_rate_hz", sample_rate_hz);
+  }
+};
+
+// Wheel speed, steering and IMU (paper III-C: "steering wheel angle, car
+// speed and the compass readings from a cheap IMU").
+struct OdometrySensorConfig {
+  double wheel_rate_hz = 50.0;
+  double wheel_speed_sigma_mps = 0.02;
+  double wheel_speed_scale_sigma = 0.003;  // per drive, relative
+  double steering_rate_hz = 50.0;
+  double steering_wheel_sigma_rad = 0.01;
+  double imu_rate_hz = 100.0;
+  double gyro_sigma_radps = 0.005;
+  double gyro_bias_sigma_radps = 0.003;             // initial bias, per drive
+  double gyro_bias_walk_radps_per_sqrt_s = 0.00005;
+  double heading_sigma_rad = 0.01;
+  double heading_bias_sigma_rad = 0.02;             // initial bias, per drive
+  double heading_bias_walk_rad_per_sqrt_s = 0.0005;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("wheel_rate_hz", wheel_rate_hz);
+    v("wheel_speed_sigma_mps", wheel_speed_sigma_mps);
+    v("wheel_speed_scale_sigma", wheel_speed_scale_sigma);
+    v("steering_rate_hz", steering_rate_hz);
+    v("steering_wheel_sigma_rad", steering_wheel_sigma_rad);
+    v("imu_rate_hz", imu_rate_hz);
+    v("gyro_sigma_radps", gyro_sigma_radps);
+    v("gyro_bias_sigma_radps", gyro_bias_sigma_radps);
+    v("gyro_bias_walk_radps_per_sqrt_s", gyro_bias_walk_radps_per_sqrt_s);
+    v("heading_sigma_rad", heading_sigma_rad);
+    v("heading_bias_sigma_rad", heading_bias_sigma_rad);
+    v("heading_bias_walk_rad_per_sqrt_s", heading_bias_walk_rad_per_sqrt_s);
+  }
+};
+
+// Slot detection in the fused top view (paper III-A), at observation level.
+struct SlotSensorConfig {
+  double rate_hz = 10.0;
+  // The visible rectangle, centred view_center_x_m ahead of the rear axle
+  // (10 m x 10 m as in the ps2.0 top views).
+  double view_length_m = 10.0;
+  double view_width_m = 10.0;
+  double view_center_x_m = 1.4;
+  double corner_sigma_m = 0.03;         // at the view centre
+  double corner_sigma_per_m = 0.005;    // growth with distance from it
+  double miss_rate = 0.05;
+  double false_per_frame = 0.02;        // mean false detections per frame
+  double far_corner_observed_rate = 0.2;  // when the far corners are in view
+  double standard_depth_m = 5.3;        // used to guess unseen far corners
+  // An entrance longer than this is taken for a parallel slot, whose unseen
+  // far corners are guessed at parallel_depth_m.
+  double parallel_min_entrance_m = 4.0;
+  double parallel_depth_m = 2.5;
+  double far_direction_sigma_deg = 2.0;  // error of the guessed side direction
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("rate_hz", rate_hz);
+    v("view_length_m", view_length_m);
+    v("view_width_m", view_width_m);
+    v("view_center_x_m", view_center_x_m);
+    v("corner_sigma_m", corner_sigma_m);
+    v("corner_sigma_per_m", corner_sigma_per_m);
+    v("miss_rate", miss_rate);
+    v("false_per_frame", false_per_frame);
+    v("far_corner_observed_rate", far_corner_observed_rate);
+    v("standard_depth_m", standard_depth_m);
+    v("parallel_min_entrance_m", parallel_min_entrance_m);
+    v("parallel_depth_m", parallel_depth_m);
+    v("far_direction_sigma_deg", far_direction_sigma_deg);
+  }
+};
+
+// Slot-ID reading errors, per reading of a legible painted ID. The three
+// outcomes are exclusive: confusion (one digit read as a confusable one:
+// 3/8, 1/7, 5/6, 0/8 ...), partial (one digit unread), unreadable (nothing);
+// otherwise every digit is read right.
+struct IdSensorConfig {
+  double confusion_rate = 0.05;
+  double partial_rate = 0.05;
+  double unreadable_rate = 0.05;
+  // Share of confused digits whose true value is the second hypothesis.
+  double true_digit_second_rate = 0.7;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("confusion_rate", confusion_rate);
+    v("partial_rate", partial_rate);
+    v("unreadable_rate", unreadable_rate);
+    v("true_digit_second_rate", true_digit_second_rate);
+  }
+};
+
+// AprilTags in the front camera (paper III-B), at observation level.
+struct TagSensorConfig {
+  double rate_hz = 10.0;
+  double camera_x_m = 1.8;  // camera position in the vehicle frame
+  double camera_y_m = 0.3;
+  double camera_yaw_deg = 0.0;
+  double horizontal_fov_deg = 90.0;
+  double min_range_m = 0.5;
+  double max_range_m = 20.0;         // the paper discards tags at 20 m or more
+  double max_incidence_deg = 70.0;   // between tag normal and line of sight
+  double miss_rate = 0.03;           // at close range
+  double miss_rate_at_max_range = 0.5;
+  double range_sigma_m = 0.01;
+  double range_sigma_per_m = 0.01;
+  double bearing_sigma_rad = 0.002;
+  double bearing_sigma_per_m = 0.0002;
+  double yaw_sigma_rad = 0.03;
+  double yaw_sigma_per_m = 0.01;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("rate_hz", rate_hz);
+    v("camera_x_m", camera_x_m);
+    v("camera_y_m", camera_y_m);
+    v("camera_yaw_deg", camera_yaw_deg);
+    v("horizontal_fov_deg", horizontal_fov_deg);
+    v("min_range_m", min_range_m);
+    v("max_range_m", max_range_m);
+    v("max_incidence_deg", max_incidence_deg);
+    v("miss_rate", miss_rate);
+    v("miss_rate_at_max_range", miss_rate_at_max_range);
+    v("range_sigma_m", range_sigma_m);
+    v("range_sigma_per_m", range_sigma_per_m);
+    v("bearing_sigma_rad", bearing_sigma_rad);
+    v("bearing_sigma_per_m", bearing_sigma_per_m);
+    v("yaw_sigma_rad", yaw_sigma_rad);
+    v("yaw_sigma_per_m", yaw_sigma_per_m);
+  }
+};
+
+struct SensorConfig {
+  OdometrySensorConfig odometry;
+  SlotSensorConfig slots;
+  IdSensorConfig ids;
+  TagSensorConfig tags;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("odometry", odometry);
+    v("slots", slots);
+    v("ids", ids);
+    v("tags", tags);
+  }
+};
+
+}  // namespace parkslam::sim
+
+namespace parkslam::sim {
+
+struct ScenarioConfig {
+  WorldConfig world;
+  RouteConfig route;
+  VehicleParameters vehicle;
+  SensorConfig sensors;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("world", world);
+    v("route", route);
+    v("vehicle", vehicle);
+    v("sensors", sensors);
+  }
+
+  // Checks ranges and consistency; on failure names the field in *error.
+  bool IsValid(std::string* error) const;
+};
+
+// The built-in world `default`, modelled on the paper's test lot: a hall of
+// about 4000 m2 with 100+ slots in perpendicular, angled and parallel rows,
+// pillars, a 3 m entrance and a 40 m corridor, 60 tags near the entrance and
+// in the corridor, and an eastern part without any tag.
+ScenarioConfig DefaultScenario();
+
+}  // namespace parkslam::sim
+
+#endif  // PARKSLAM_SIM_SCENARIO_CONFIG_H_

@@ -1,0 +1,263 @@
+#include "parkslam/sim/sensor_models.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "parkslam/common/angles.h"
+
+namespace parkslam::sim {
+namespace {
+
+TEST(IdReadingTest, ObservedOutcomeRatesMatchConfigured) {
+  IdSensorConfig config;
+  config.confusion_rate = 0.2;
+  config.partial_rate = 0.1;
+  config.unreadable_rate = 0.05;
+  Random rng(4);
+  const int n = 40000;
+  int confused = 0, partial = 0, unreadable = 0;
+  for (int i = 0; i < n; ++i) {
+    const SlotIdReading r = SimulateIdReading("38", config, rng);
+    if (r.empty()) {
+      ++unreadable;
+    } else if (r.partial()) {
+      ++partial;
+    } else if (r.best() != "38") {
+      ++confused;
+    }
+  }
+  // Binomial standard error at n = 40000 is at most 0.0025; allow 4 of them.
+  EXPECT_NEAR(confused / double(n), 0.2, 0.01);
+  EXPECT_NEAR(partial / double(n), 0.1, 0.01);
+  EXPECT_NEAR(unreadable / double(n), 0.05, 0.01);
+}
+
+TEST(IdReadingTest, ConfusionUsesConfusableDigits) {
+  IdSensorConfig config;
+  config.confusion_rate = 1.0;
+  config.partial_rate = config.unreadable_rate = 0.0;
+  Random rng(8);
+  for (int i = 0; i < 200; ++i) {
+    const std::string best = SimulateIdReading("39", config, rng).best();
+    ASSERT_EQ(best.size(), 2u);
+    const bool first_wrong = best[0] != '3', second_wrong = best[1] != '9';
+    ASSERT_NE(first_wrong, second_wrong) << best;  // exactly one digit wrong
+    if (first_wrong) {
+      EXPECT_NE(ConfusableDigits('3').find(best[0]), std::string::npos);
+    }
+    if (second_wrong) {
+      EXPECT_NE(ConfusableDigits('9').find(best[1]), std::string::npos);
+    }
+  }
+}
+
+TEST(IdReadingTest, TrueDigitIsSecondHypothesisAtConfiguredRate) {
+  IdSensorConfig config;
+  config.confusion_rate = 1.0;
+  config.partial_rate = config.unreadable_rate = 0.0;
+  config.true_digit_second_rate = 0.7;
+  Random rng(9);
+  int second_true = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const SlotIdReading r = SimulateIdReading("5", config, rng);
+    second_true += r.digits[0].hypotheses.at(1).digit == '5';
+  }
+  EXPECT_NEAR(second_true / double(n), 0.7, 0.015);
+}
+
+TEST(IdReadingTest, ProbabilitiesAreSortedAndSumBelowOne) {
+  IdSensorConfig config;
+  config.confusion_rate = 0.5;
+  Random rng(10);
+  for (int i = 0; i < 1000; ++i) {
+    for (const DigitReading& d : SimulateIdReading("107", config, rng).digits) {
+      double sum = 0.0;
+      for (size_t k = 0; k < d.hypotheses.size(); ++k) {
+        sum += d.hypotheses[k].probability;
+        if (k > 0) {
+          EXPECT_LE(d.hypotheses[k].probability, d.hypotheses[k - 1].probability);
+        }
+      }
+      EXPECT_LE(sum, 1.0 + 1e-12);
+    }
+  }
+}
+
+World OneSlotWorld(const Eigen::Vector2d& c0) {
+  World world;
+  WorldSlot slot;
+  slot.corners_map = {c0, c0 + Eigen::Vector2d(2.5, 0), c0 + Eigen::Vector2d(2.5, 5.3),
+                      c0 + Eigen::Vector2d(0, 5.3)};
+  slot.painted_id = "38";
+  world.slots.push_back(slot);
+  return world;
+}
+
+TEST(SlotSensorTest, SeenOnlyWhenEntranceInsideTopView) {
+  SensorConfig config;
+  config.slots.miss_rate = 0.0;
+  config.slots.false_per_frame = 0.0;
+  Random rng(1);
+  std::vector<int> labels;
+  // View: x in [1.4 - 5, 1.4 + 5], y in [-5, 5] around the rear axle.
+  const World inside = OneSlotWorld({2.0, 1.0});
+  EXPECT_EQ(SimulateSlotFrame(inside, SE2(), 0, config, rng, &labels).slots.size(), 1u);
+  EXPECT_EQ(labels, std::vector<int>{0});
+  const World outside = OneSlotWorld({5.0, 1.0});  // corner 1 at x = 7.5 > 6.4
+  EXPECT_TRUE(SimulateSlotFrame(outside, SE2(), 0, config, rng, &labels).slots.empty());
+}
+
+TEST(SlotSensorTest, FarCornersGuessedAtStandardDepthWhenOutOfView) {
+  SensorConfig config;
+  config.slots.miss_rate = 0.0;
+  config.slots.false_per_frame = 0.0;
+  config.slots.corner_sigma_m = config.slots.corner_sigma_per_m = 0.0;
+  config.slots.far_direction_sigma_deg = 0.0;
+  Random rng(1);
+  std::vector<int> labels;
+  const World world = OneSlotWorld({2.0, 1.0});  // far corners at y = 6.3 > 5
+  const auto frame = SimulateSlotFrame(world, SE2(), 0, config, rng, &labels);
+  ASSERT_EQ(frame.slots.size(), 1u);
+  const SlotObservation& obs = frame.slots[0];
+  EXPECT_TRUE(obs.corner_observed[0] && obs.corner_observed[1]);
+  EXPECT_FALSE(obs.corner_observed[2] || obs.corner_observed[3]);
+  EXPECT_NEAR((obs.corners_vehicle[3] - Eigen::Vector2d(2.0, 6.3)).norm(), 0.0, 1e-9);
+}
+
+TEST(SlotSensorTest, MissAndFalseRatesMatch) {
+  SensorConfig config;
+  config.slots.miss_rate = 0.2;
+  config.slots.false_per_frame = 0.1;
+  Random rng(2);
+  const World world = OneSlotWorld({2.0, 1.0});
+  std::vector<int> labels;
+  int seen = 0, false_detections = 0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    SimulateSlotFrame(world, SE2(), 0, config, rng, &labels);
+    for (int label : labels) (label == 0 ? seen : false_detections)++;
+  }
+  EXPECT_NEAR(seen / double(n), 0.8, 0.015);
+  EXPECT_NEAR(false_detections / double(n), 0.1, 0.01);
+}
+
+TEST(SlotSensorTest, CornerNoiseHasConfiguredSigma) {
+  SensorConfig config;
+  config.slots.miss_rate = 0.0;
+  config.slots.false_per_frame = 0.0;
+  config.slots.corner_sigma_m = 0.04;
+  config.slots.corner_sigma_per_m = 0.0;
+  Random rng(3);
+  const World world = OneSlotWorld({2.0, 1.0});
+  std::vector<int> labels;
+  double sum2 = 0;
+  const int n = 5000;
+  for (int i = 0; i < n; ++i) {
+    const auto frame = SimulateSlotFrame(world, SE2(), 0, config, rng, &labels);
+    sum2 += (frame.slots[0].corners_vehicle[0] - Eigen::Vector2d(2.0, 1.0)).squaredNorm();
+  }
+  EXPECT_NEAR(std::sqrt(sum2 / (2 * n)), 0.04, 0.002);
+}
+
+World OneTagWorld(const Eigen::Vector2d& p, double normal_yaw) {
+  World world;
+  world.tags.push_back({3, p, normal_yaw, 0.488, false, -1});
+  return world;
+}
+
+TagSensorConfig PerfectTagConfig() {
+  TagSensorConfig config;
+  config.miss_rate = config.miss_rate_at_max_range = 0.0;
+  config.camera_x_m = config.camera_y_m = 0.0;
+  return config;
+}
+
+TEST(TagSensorTest, NothingAtTwentyMetresOrBeyond) {
+  const TagSensorConfig config = PerfectTagConfig();
+  Random rng(1);
+  EXPECT_EQ(SimulateTagFrame(OneTagWorld({19.9, 0}, kPi), SE2(), 0, config, rng).tags.size(), 1u);
+  EXPECT_TRUE(SimulateTagFrame(OneTagWorld({20.0, 0}, kPi), SE2(), 0, config, rng).tags.empty());
+}
+
+TEST(TagSensorTest, OutsideFieldOfViewOrSeenFromBehindIsNotDetected) {
+  const TagSensorConfig config = PerfectTagConfig();  // 90 degree field of view
+  Random rng(1);
+  EXPECT_EQ(SimulateTagFrame(OneTagWorld({5, 4.9}, -2.0), SE2(), 0, config, rng).tags.size(), 1u);
+  EXPECT_TRUE(SimulateTagFrame(OneTagWorld({5, 5.1}, -2.0), SE2(), 0, config, rng).tags.empty());
+  EXPECT_TRUE(SimulateTagFrame(OneTagWorld({5, 0}, 0.0), SE2(), 0, config, rng).tags.empty());
+}
+
+TEST(TagSensorTest, PillarOccludesTag) {
+  const TagSensorConfig config = PerfectTagConfig();
+  Random rng(1);
+  World world = OneTagWorld({10, 0}, kPi);
+  world.pillars.push_back({{5, 0}, 0.3});
+  EXPECT_TRUE(SimulateTagFrame(world, SE2(), 0, config, rng).tags.empty());
+  world.pillars[0].center_map = {5, 1.0};
+  EXPECT_EQ(SimulateTagFrame(world, SE2(), 0, config, rng).tags.size(), 1u);
+}
+
+TEST(TagSensorTest, NoiseGrowsWithRangeAsConfigured) {
+  TagSensorConfig config = PerfectTagConfig();
+  Random rng(5);
+  for (double range : {4.0, 16.0}) {
+    double sum2 = 0;
+    const int n = 4000;
+    for (int i = 0; i < n; ++i) {
+      const auto frame = SimulateTagFrame(OneTagWorld({range, 0}, kPi), SE2(), 0, config, rng);
+      sum2 += std::pow(frame.tags.at(0).range_m - range, 2);
+    }
+    const double expected = config.range_sigma_m + config.range_sigma_per_m * range;
+    EXPECT_NEAR(std::sqrt(sum2 / n), expected, 0.05 * expected) << range;
+  }
+}
+
+TEST(TagSensorTest, PointInVehicleFrameAccountsForCameraMount) {
+  TagSensorConfig config = PerfectTagConfig();
+  config.camera_x_m = 1.8;
+  config.range_sigma_m = config.range_sigma_per_m = 0.0;
+  config.bearing_sigma_rad = config.bearing_sigma_per_m = 0.0;
+  config.yaw_sigma_rad = config.yaw_sigma_per_m = 0.0;
+  Random rng(1);
+  // Vehicle at (10, 0) facing +y; the tag 8 m ahead of it faces back.
+  const auto frame =
+      SimulateTagFrame(OneTagWorld({10, 8}, -kPi / 2), SE2(10, 0, kPi / 2), 0, config, rng);
+  ASSERT_EQ(frame.tags.size(), 1u);
+  EXPECT_NEAR(frame.tags[0].p_vehicle.x(), 8.0, 1e-9);
+  EXPECT_NEAR(frame.tags[0].p_vehicle.y(), 0.0, 1e-9);
+  EXPECT_NEAR(frame.tags[0].range_m, 6.2, 1e-9);
+  EXPECT_NEAR(std::abs(frame.tags[0].yaw_vehicle_rad), kPi, 1e-9);
+}
+
+TEST(OdometrySensorTest, GyroBiasAndNoiseAsConfigured) {
+  std::vector<VehicleState> states(60001);
+  for (size_t i = 0; i < states.size(); ++i) states[i].t_ns = FromSeconds(i * 0.01);
+  OdometrySensorConfig config;
+  config.gyro_bias_walk_radps_per_sqrt_s = 0.0;
+  VehicleParameters vehicle;
+  // The drive-constant gyro bias is drawn per seed: its spread over seeds
+  // matches gyro_bias_sigma_radps; the white noise matches gyro_sigma_radps.
+  double bias2 = 0, noise2 = 0;
+  int noise_n = 0;
+  const int seeds = 200;
+  for (int seed = 0; seed < seeds; ++seed) {
+    SensorLog log;
+    std::vector<VehicleState> short_states(states.begin(), states.begin() + 2001);
+    SimulateOdometrySensors(short_states, config, vehicle, seed, &log);
+    double mean = 0;
+    for (const ImuSample& s : log.imu_samples) mean += s.yaw_rate_radps;
+    mean /= log.imu_samples.size();
+    bias2 += mean * mean;
+    for (const ImuSample& s : log.imu_samples) {
+      noise2 += std::pow(s.yaw_rate_radps - mean, 2);
+      ++noise_n;
+    }
+  }
+  EXPECT_NEAR(std::sqrt(bias2 / seeds), config.gyro_bias_sigma_radps, 0.0006);
+  EXPECT_NEAR(std::sqrt(noise2 / noise_n), config.gyro_sigma_radps, 0.0001);
+}
+
+}  // namespace
+}  // namespace parkslam::sim

@@ -1,0 +1,128 @@
+#include "parkslam/sim/world.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+namespace parkslam::sim {
+namespace {
+
+double SignedArea(const std::array<Eigen::Vector2d, 4>& c) {
+  double a = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector2d& p = c[i];
+    const Eigen::Vector2d& q = c[(i + 1) % 4];
+    a += p.x() * q.y() - q.x() * p.y();
+  }
+  return a / 2;
+}
+
+TEST(DefaultWorldTest, MeetsThePaperLotSize) {
+  const World world = BuildWorld(DefaultScenario().world, 1);
+  EXPECT_GE(world.floor_area_m2, 3000.0);
+  EXPECT_GE(world.slots.size(), 100u);
+  EXPECT_GE(world.tags.size(), 55u);
+  EXPECT_LE(world.tags.size(), 65u);
+  EXPECT_FALSE(world.pillars.empty());
+}
+
+TEST(DefaultWorldTest, HasAllThreeSlotKindsAndThreeDigitIds) {
+  const World world = BuildWorld(DefaultScenario().world, 1);
+  std::set<SlotKind> kinds;
+  bool three_digit = false;
+  for (const WorldSlot& s : world.slots) {
+    kinds.insert(s.kind);
+    three_digit |= s.painted_id.size() == 3;
+  }
+  EXPECT_EQ(kinds.size(), 3u);
+  EXPECT_TRUE(three_digit);
+}
+
+TEST(DefaultWorldTest, SlotsAreCounterClockwiseWithEntranceFirst) {
+  const World world = BuildWorld(DefaultScenario().world, 1);
+  for (const WorldSlot& s : world.slots) {
+    EXPECT_GT(SignedArea(s.corners_map), 0.0);
+    const double entrance = (s.corners_map[1] - s.corners_map[0]).norm();
+    const double side = (s.corners_map[3] - s.corners_map[0]).norm();
+    if (s.kind == SlotKind::kParallel) {
+      EXPECT_NEAR(entrance, 6.0, 1e-9);
+      EXPECT_NEAR(side, 2.5, 1e-9);
+    } else {
+      EXPECT_NEAR(side, 5.3, 1e-9);
+    }
+  }
+}
+
+TEST(DefaultWorldTest, EastPartHasNoTag) {
+  const World world = BuildWorld(DefaultScenario().world, 1);
+  int corridor_tags = 0;
+  for (const WorldTag& t : world.tags) {
+    EXPECT_LE(t.p_map.x(), 30.0);
+    corridor_tags += t.p_map.x() < 0.0;
+  }
+  EXPECT_GE(corridor_tags, 15);
+}
+
+TEST(DefaultWorldTest, SomeIdsMissingOrWorn) {
+  const World world = BuildWorld(DefaultScenario().world, 1);
+  int missing = 0, worn = 0;
+  std::set<std::string> ids;
+  for (const WorldSlot& s : world.slots) {
+    missing += s.painted_id.empty();
+    worn += !s.painted_id.empty() && !s.id_legible;
+    if (!s.painted_id.empty()) {
+      EXPECT_TRUE(ids.insert(s.painted_id).second) << s.painted_id;
+    }
+  }
+  EXPECT_GT(missing + worn, 0);
+  EXPECT_LT(missing + worn, 25);
+}
+
+TEST(WorldTest, SameSeedSameWorldOtherSeedOtherIds) {
+  const World a = BuildWorld(DefaultScenario().world, 5);
+  const World b = BuildWorld(DefaultScenario().world, 5);
+  const World c = BuildWorld(DefaultScenario().world, 6);
+  ASSERT_EQ(a.slots.size(), b.slots.size());
+  bool differs = false;
+  for (size_t i = 0; i < a.slots.size(); ++i) {
+    EXPECT_EQ(a.slots[i].painted_id, b.slots[i].painted_id);
+    EXPECT_EQ(a.slots[i].corners_map[2], b.slots[i].corners_map[2]);
+    differs |= a.slots[i].painted_id != c.slots[i].painted_id ||
+               a.slots[i].id_legible != c.slots[i].id_legible;
+  }
+  EXPECT_TRUE(differs);
+}
+
+TEST(WorldTest, InvalidConfigThrowsNamingTheField) {
+  WorldConfig config = DefaultScenario().world;
+  config.rows[1].depth_m = -1.0;
+  try {
+    BuildWorld(config, 1);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("world.rows[1].depth_m"), std::string::npos);
+  }
+}
+
+TEST(WorldTest, PillarBlocksLineOfSight) {
+  World world;
+  world.pillars.push_back({{5.0, 0.0}, 0.3});
+  EXPECT_TRUE(SegmentBlocked(world, {0, 0}, {10, 0}, -1, -1));
+  EXPECT_FALSE(SegmentBlocked(world, {0, 0.5}, {10, 0.5}, -1, -1));
+  EXPECT_FALSE(SegmentBlocked(world, {0, 0}, {10, 0}, -1, 0));
+}
+
+TEST(WorldTest, GroundTruthMapKeepsSlotOrderAndTagMounts) {
+  const World world = BuildWorld(DefaultScenario().world, 1);
+  const SemanticMap map = ToSemanticMap(world);
+  ASSERT_EQ(map.slots.size(), world.slots.size());
+  EXPECT_EQ(map.slots[7].id, world.slots[7].painted_id);
+  ASSERT_EQ(map.tags.size(), world.tags.size());
+  for (const MapTag& tag : map.tags) {
+    ASSERT_GE(tag.obstacle_index, 0);
+    ASSERT_LT(tag.obstacle_index, static_cast<int>(map.obstacles.size()));
+  }
+}
+
+}  // namespace
+}  // namespace parkslam::sim
