@@ -13,6 +13,10 @@ constexpr std::uint64_t kDriverStreamTag = 0xd21;
 constexpr double kPathStepM = 0.1;
 constexpr double kTurnSlowdownRadiusM = 7.0;  // slow down this close to a turn
 constexpr double kTurnAngleRad = 0.35;        // a waypoint this sharp is a turn
+// How far ahead along the path the driver looks for the nearest point: far
+// enough for one step at any speed, short enough never to jump to a later
+// part of the route that passes close by.
+constexpr double kNearestSearchM = 2.0;
 
 // The reference path: the route polyline resampled every kPathStepM, with its
 // arc length and the speed the driver aims for there.
@@ -156,7 +160,8 @@ std::vector<VehicleState> DriveRoute(const RouteConfig& route,
   for (int step = 0; step < max_steps; ++step) {
     const Eigen::Vector2d p = state.T_map_vehicle.translation();
     // Advance the nearest path index along the path (never backwards).
-    const size_t search_end = std::min(n, nearest + 200);
+    const size_t search_end =
+        std::min(n, nearest + static_cast<size_t>(kNearestSearchM / kPathStepM));
     for (size_t i = nearest; i < search_end; ++i) {
       if ((path.points_m[i] - p).squaredNorm() < (path.points_m[nearest] - p).squaredNorm()) {
         nearest = i;

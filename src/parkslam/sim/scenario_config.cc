@@ -213,13 +213,17 @@ ScenarioConfig DefaultScenario() {
 
   RouteConfig& r = config.route;
   const double aisle1_y = 9.1, aisle2_y = 26.7, aisle3_y = 44.2;
-  const double west_x = 4.0, east_x = 77.8;
+  // Cross aisles: west x = 0 .. 8, east x = 76.1 .. 82 (the angled row's back
+  // corners reach furthest east).
+  const double west_x = 4.0, east_x = 79.0;
   r.approach_m = {{-37.0, aisle1_y}, {-10.0, aisle1_y}};
   r.loop_m = {{west_x, aisle1_y}, {east_x, aisle1_y}, {east_x, aisle2_y},
               {west_x, aisle2_y}};
   r.laps = 2;
-  r.finish_m = {{west_x, aisle1_y}, {west_x, aisle3_y}, {east_x, aisle3_y},
-                {east_x, aisle2_y}, {50.0, aisle2_y}};
+  // After the laps: along aisle 1 once more, up the east cross aisle and
+  // back west through aisle 3, ending in the west cross aisle.
+  r.finish_m = {{east_x, aisle1_y}, {east_x, aisle3_y}, {west_x, aisle3_y},
+                {west_x, 34.0}};
   return config;
 }
 

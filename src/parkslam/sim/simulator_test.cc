@@ -71,6 +71,30 @@ TEST(DriveTest, DriveStaysInsideTheLot) {
   }
 }
 
+bool InsidePolygon(const std::array<Eigen::Vector2d, 4>& c, const Eigen::Vector2d& p) {
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector2d e = c[(i + 1) % 4] - c[i], d = p - c[i];
+    if (e.x() * d.y() - e.y() * d.x() < 0.0) return false;  // right of a CCW edge
+  }
+  return true;
+}
+
+TEST(DriveTest, DriveNeverEntersASlotOrPillar) {
+  const Simulation& sim = DefaultSimulation();
+  for (const VehicleState& s : sim.states) {
+    // The rear axle and the front of the car (3.7 m ahead).
+    for (double ahead_m : {0.0, 3.7}) {
+      const Eigen::Vector2d p = s.T_map_vehicle * Eigen::Vector2d(ahead_m, 0.0);
+      for (const WorldSlot& slot : sim.world.slots) {
+        ASSERT_FALSE(InsidePolygon(slot.corners_map, p)) << p.transpose();
+      }
+      for (const WorldPillar& pillar : sim.world.pillars) {
+        ASSERT_GT((p - pillar.center_map).cwiseAbs().maxCoeff(), pillar.half_size_m);
+      }
+    }
+  }
+}
+
 TEST(DriveTest, DrivePassesEarlierSlotsAgain) {
   const Simulation& sim = DefaultSimulation();
   std::vector<int> first_seen(sim.world.slots.size(), -1);

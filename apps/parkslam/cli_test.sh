@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The parkslam command line as a user meets it: help, exit codes, messages,
+# and the simulate -> odometry -> eval-traj chain on a short drive.
+set -u
+: "${PARKSLAM:?set PARKSLAM to the parkslam binary}"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+passed=0
+failed=0
+
+pass() { passed=$((passed + 1)); }
+fail() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+# expect CODE PATTERN -- command...: exit code CODE (or "nonzero") and PATTERN in the output.
+expect() {
+  local code=$1 pattern=$2
+  shift 3
+  local out rc
+  out=$("$@" 2>&1)
+  rc=$?
+  if [ "$code" = nonzero ]; then
+    [ $rc -ne 0 ] || { fail "$* exited 0, expected non-zero"; return; }
+  else
+    [ $rc -eq "$code" ] || { fail "$* exited $rc, expected $code: $out"; return; }
+  fi
+  if ! grep -qE -- "$pattern" <<<"$out"; then
+    fail "$*: output lacks /$pattern/: $out"
+    return
+  fi
+  pass
+}
+
+for cmd in simulate odometry eval-traj demo; do
+  expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
+done
+expect 0 "0\.1\.0" -- "$PARKSLAM" --version
+expect nonzero "subcommand" -- "$PARKSLAM"
+expect nonzero "--out" -- "$PARKSLAM" simulate
+expect nonzero "nope.yaml" -- "$PARKSLAM" simulate --world "$tmp/nope.yaml" --out "$tmp/x"
+printf 'world:\n  name: x\n  hall_size: 3\n' > "$tmp/bad.yaml"
+expect nonzero "bad.yaml.*world.hall_size" -- "$PARKSLAM" simulate --world "$tmp/bad.yaml" --out "$tmp/x"
+expect nonzero "sensors.ids.nope" -- "$PARKSLAM" simulate --set sensors.ids.nope=1 --out "$tmp/x"
+expect nonzero "confusion" -- "$PARKSLAM" simulate --id-confusion-rate 1.5 --out "$tmp/x"
+expect 0 "confusion_rate: 0.25" -- "$PARKSLAM" simulate --id-confusion-rate 0.25 --dump-config
+
+# A short drive: approach only.
+expect 0 "written to" -- "$PARKSLAM" simulate --seed 3 --set route.laps=0 --out "$tmp/d"
+[ -f "$tmp/d/dataset.yaml" ] && [ -f "$tmp/d/groundtruth/trajectory.tum" ] &&
+  [ -f "$tmp/d/groundtruth/map.json" ] && pass || fail "dataset files missing"
+expect 0 "poses written" -- "$PARKSLAM" odometry "$tmp/d" --out "$tmp/o.tum"
+expect 0 '"ate_rmse_m"' -- "$PARKSLAM" eval-traj --truth "$tmp/d/groundtruth/trajectory.tum" --estimate "$tmp/o.tum" --json
+expect 0 '"length_m"' -- "$PARKSLAM" eval-traj --truth "$tmp/d/groundtruth/trajectory.tum" --estimate "$tmp/o.tum" --json
+expect 0 "ATE" -- "$PARKSLAM" eval-traj --truth "$tmp/d/groundtruth/trajectory.tum" --estimate "$tmp/o.tum"
+
+# Bad inputs name the file and what is wrong.
+expect nonzero "missing|dataset.yaml" -- "$PARKSLAM" odometry "$tmp/none" --out "$tmp/o2.tum"
+expect nonzero "init" -- "$PARKSLAM" odometry "$tmp/d" --out "$tmp/o2.tum" --init 1,2
+printf '0 0 0 0 0 0 0 1\n1 nan 0 0 0 0 0 1\n' > "$tmp/nan.tum"
+expect nonzero "nan.tum:2" -- "$PARKSLAM" eval-traj --truth "$tmp/nan.tum" --estimate "$tmp/o.tum"
+printf '0 0 0 0 0 0 0 1\n0 1 0 0 0 0 0 1\n' > "$tmp/order.tum"
+expect nonzero "order.tum:2" -- "$PARKSLAM" eval-traj --truth "$tmp/order.tum" --estimate "$tmp/o.tum"
+cp -r "$tmp/d" "$tmp/corrupt"
+sed -i '5s/.*/123,abc/' "$tmp/corrupt/sensors/wheel_speed.csv"
+expect nonzero "wheel_speed.csv:5" -- "$PARKSLAM" odometry "$tmp/corrupt" --out "$tmp/o3.tum"
+[ ! -e "$tmp/o3.tum" ] && pass || fail "a failed odometry run left an output file"
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,38 @@
+#ifndef PARKSLAM_APPS_COMMANDS_H_
+#define PARKSLAM_APPS_COMMANDS_H_
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "parkslam/common/se2.h"
+#include "parkslam/sim/scenario_config.h"
+
+namespace parkslam::app {
+
+inline constexpr const char* kVersion = "0.1.0";
+
+// Each subcommand registers itself; its callback throws on failure and
+// main() turns the exception into a message and a non-zero exit code.
+void AddSimulateCommand(CLI::App& app);
+void AddOdometryCommand(CLI::App& app);
+void AddEvalTrajCommand(CLI::App& app);
+void AddDemoCommand(CLI::App& app);
+
+// Options shared by `simulate` and `demo` that pick and tune the scenario.
+struct ScenarioOptions {
+  std::string world = "default";
+  std::vector<std::string> overrides;
+  double id_confusion_rate = -1.0;  // < 0: keep the scenario's
+  double id_partial_rate = -1.0;
+};
+void AddScenarioOptions(CLI::App* command, ScenarioOptions* options);
+sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options);
+
+// Parses "x,y,yaw" (metres, metres, radians).
+SE2 ParsePose(const std::string& text, const std::string& option_name);
+
+}  // namespace parkslam::app
+
+#endif  // PARKSLAM_APPS_COMMANDS_H_

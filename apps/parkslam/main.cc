@@ -1,0 +1,33 @@
+// parkslam: the command-line front end. Each subcommand reads files, calls
+// the core libraries and writes files; nothing here holds an algorithm.
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "commands.h"
+#include "parkslam/io/io_error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "parkslam: vision-based semantic mapping and localization for autonomous indoor "
+      "parking.\nRun `parkslam demo --out DIR` for the whole pipeline on the built-in lot."};
+  app.set_version_flag("--version", parkslam::app::kVersion);
+  app.require_subcommand(1);
+  parkslam::app::AddSimulateCommand(app);
+  parkslam::app::AddOdometryCommand(app);
+  parkslam::app::AddEvalTrajCommand(app);
+  parkslam::app::AddDemoCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const parkslam::io::IoError& e) {
+    std::fprintf(stderr, "parkslam: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "parkslam: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

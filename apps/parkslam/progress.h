@@ -1,0 +1,31 @@
+#ifndef PARKSLAM_APPS_PROGRESS_H_
+#define PARKSLAM_APPS_PROGRESS_H_
+
+#include <chrono>
+#include <string>
+
+namespace parkslam::app {
+
+// A one-line progress bar on stderr. On a terminal it redraws in place; when
+// stderr is a file or pipe it prints only the finished line, so logs stay
+// clean.
+class Progress {
+ public:
+  Progress(std::string label, int total);
+  ~Progress();
+  void Update(int done);
+  void Finish();
+
+ private:
+  void Draw(int done, bool final_line);
+
+  std::string label_;
+  int total_;
+  bool tty_;
+  bool finished_ = false;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace parkslam::app
+
+#endif  // PARKSLAM_APPS_PROGRESS_H_

@@ -1,0 +1,67 @@
+#include <cmath>
+#include <stdexcept>
+
+#include "commands.h"
+#include "parkslam/io/scenario_yaml.h"
+
+namespace parkslam::app {
+
+void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
+  command->add_option("--world", options->world,
+                      "Built-in world `default` or a scenario YAML file")
+      ->capture_default_str();
+  command->add_option("--id-confusion-rate", options->id_confusion_rate,
+                      "Share of ID readings with one digit confused (3/8, 1/7 ...)")
+      ->check(CLI::Range(0.0, 1.0));
+  command->add_option("--id-partial-rate", options->id_partial_rate,
+                      "Share of ID readings with one digit unread")
+      ->check(CLI::Range(0.0, 1.0));
+  command->add_option("--set", options->overrides,
+                      "Override a scenario key, e.g. --set route.laps=4 "
+                      "--set sensors.slots.miss_rate=0.1 (repeatable)");
+}
+
+sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options) {
+  sim::ScenarioConfig scenario = options.world == "default"
+                                     ? sim::DefaultScenario()
+                                     : io::LoadScenarioFile(options.world);
+  if (options.id_confusion_rate >= 0.0) {
+    scenario.sensors.ids.confusion_rate = options.id_confusion_rate;
+  }
+  if (options.id_partial_rate >= 0.0) {
+    scenario.sensors.ids.partial_rate = options.id_partial_rate;
+  }
+  for (const std::string& assignment : options.overrides) {
+    io::ApplyOverride(&scenario, assignment);
+  }
+  std::string error;
+  if (!scenario.IsValid(&error)) {
+    throw std::invalid_argument("invalid scenario: " + error);
+  }
+  return scenario;
+}
+
+SE2 ParsePose(const std::string& text, const std::string& option_name) {
+  double values[3];
+  size_t start = 0;
+  for (int i = 0; i < 3; ++i) {
+    const size_t end = text.find(',', start);
+    const std::string part = text.substr(start, end == std::string::npos ? end : end - start);
+    try {
+      size_t used = 0;
+      values[i] = std::stod(part, &used);
+      if (used != part.size() || !std::isfinite(values[i])) throw std::invalid_argument(part);
+    } catch (const std::exception&) {
+      throw std::invalid_argument(option_name + ": expected x,y,yaw (metres, radians), got '" +
+                                  text + "'");
+    }
+    if ((end == std::string::npos) != (i == 2)) {
+      throw std::invalid_argument(option_name + ": expected x,y,yaw (metres, radians), got '" +
+                                  text + "'");
+    }
+    start = end + 1;
+  }
+  return SE2(values[0], values[1], values[2]);
+}
+
+}  // namespace parkslam::app

@@ -1,0 +1,39 @@
+#ifndef PARKSLAM_EVAL_CONSISTENCY_H_
+#define PARKSLAM_EVAL_CONSISTENCY_H_
+
+// Filter consistency checks (Bar-Shalom, Li, Kirubarajan, "Estimation with
+// Applications to Tracking and Navigation", 2001, section 5.4.2).
+
+#include <Eigen/Core>
+
+namespace parkslam::eval {
+
+// Normalised estimation error squared, error^T covariance^-1 error, for an
+// error over (x_m, y_m, yaw_rad) whose yaw the caller has already wrapped.
+// The covariance must be symmetric positive definite.
+double Nees(const Eigen::Vector3d& error, const Eigen::Matrix3d& covariance);
+
+// The p-quantile of the chi-square distribution with dof degrees of freedom:
+// the x with P(dof / 2, x / 2) = p for the regularised lower incomplete gamma
+// function P. Solved by bisection to about 1e-12 relative. Throws
+// std::invalid_argument unless 0 < p < 1 and dof >= 1.
+double ChiSquareQuantile(double p, int dof);
+
+// The regularised lower incomplete gamma function P(a, x), a > 0, x >= 0.
+double RegularizedLowerGamma(double a, double x);
+
+struct NeesBand {
+  double lower = 0.0;
+  double upper = 0.0;
+};
+
+// Two-sided confidence band for the NEES averaged over `runs` independent
+// runs of a dof-dimensional state: runs times the average is chi-square with
+// dof * runs degrees of freedom, so the band is
+//   [chi2((1 - c) / 2, dof * runs), chi2((1 + c) / 2, dof * runs)] / runs.
+// Throws std::invalid_argument unless dof >= 1, runs >= 1, 0 < confidence < 1.
+NeesBand AverageNeesBand(int dof, int runs, double confidence = 0.95);
+
+}  // namespace parkslam::eval
+
+#endif  // PARKSLAM_EVAL_CONSISTENCY_H_

@@ -1,0 +1,76 @@
+#ifndef PARKSLAM_IO_DATASET_H_
+#define PARKSLAM_IO_DATASET_H_
+
+// A recorded drive on disk (a folder):
+//
+//   dataset.yaml                   format "parkslam-dataset", version 1, name,
+//                                  seed, created_by, duration_s, counts per
+//                                  file, and the scenario it was made with.
+//                                  Written last: it marks a complete dataset.
+//   sensors/wheel_speed.csv        t_ns,speed_mps
+//   sensors/steering.csv           t_ns,steering_wheel_rad
+//   sensors/imu.csv                t_ns,yaw_rate_radps,heading_rad
+//   observations/slots.jsonl       one slot frame a line:
+//     {"t_ns": 100000000, "slots": [{"corners": [[x, y] x4], "observed":
+//      [true, true, false, false], "sigma_m": 0.05, "confidence": 0.9,
+//      "id": [[["3", 0.8], ["8", 0.15]], []]}]}
+//     (vehicle frame; "id" holds per digit its [digit, probability]
+//     hypotheses, [] for an unread digit; "id": [] when nothing was read)
+//   observations/tags.jsonl        one tag frame a line:
+//     {"t_ns": ..., "tags": [{"id": 7, "x_m": 5.1, "y_m": -0.4, "range_m": 5.1,
+//      "bearing_rad": -0.1, "yaw_rad": 3.1, "cov": [xx, xy, yy],
+//      "yaw_sigma_rad": 0.03}]}
+//   groundtruth/trajectory.tum     the vehicle's true poses (TUM, io/tum.h)
+//   groundtruth/map.json           the true map (io/map_json.h)
+//   groundtruth/slot_labels.jsonl  per slot frame: {"t_ns": ..., "slots": [3, -1]},
+//                                  the true slot of each observation, -1 false
+//
+// Ground-truth files are optional. Timestamps strictly increase within every
+// file; numbers are written to read back exactly.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "parkslam/common/trajectory.h"
+#include "parkslam/map/semantic_map.h"
+#include "parkslam/sensor/sensor_log.h"
+#include "parkslam/sim/scenario_config.h"
+#include "parkslam/sim/simulator.h"
+
+namespace parkslam::io {
+
+inline constexpr char kDatasetFormatName[] = "parkslam-dataset";
+inline constexpr int kDatasetFormatVersion = 1;
+inline constexpr char kDatasetManifestFile[] = "dataset.yaml";
+
+struct Dataset {
+  std::string name;        // "default-seed1"
+  std::uint64_t seed = 0;
+  std::string created_by;  // "parkslam simulate 0.1.0"
+  // The world, route, vehicle and sensor configuration it was made with.
+  sim::ScenarioConfig scenario;
+  SensorLog log;
+  Trajectory groundtruth_trajectory;           // empty when absent
+  std::optional<SemanticMap> groundtruth_map;  // absent when no ground truth
+  // Empty when absent; else one vector per slot frame of the log.
+  sim::SlotObservationLabels slot_labels;
+};
+
+// Writes every file atomically, dataset.yaml last (after removing an old
+// one), and removes ground-truth files of an earlier dataset in `dir` that
+// this one lacks. Throws IoError, naming the file, for data that would not
+// read back: non-finite numbers, timestamps not strictly increasing, labels
+// that do not match the slot frames.
+void WriteDataset(const std::filesystem::path& dir, const Dataset& dataset);
+
+// Reads and checks a dataset: exact CSV headers, finite numbers, strictly
+// increasing t_ns in every file, well-formed JSON lines with known keys only,
+// counts as announced in dataset.yaml, labels matching the slot frames.
+// Throws IoError naming the file, the line and the field.
+Dataset ReadDataset(const std::filesystem::path& dir);
+
+}  // namespace parkslam::io
+
+#endif  // PARKSLAM_IO_DATASET_H_

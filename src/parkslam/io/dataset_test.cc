@@ -1,0 +1,468 @@
+#include "parkslam/io/dataset.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "parkslam/common/angles.h"
+#include "parkslam/io/io_error.h"
+#include "parkslam/io/test_util.h"
+
+namespace parkslam::io {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::TempDir;
+
+template <typename F>
+std::string ErrorOf(F f) {
+  try {
+    f();
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+DigitReading Digit(std::vector<DigitHypothesis> hypotheses) { return {std::move(hypotheses)}; }
+
+SlotObservation Slot(double x, SlotIdReading id) {
+  SlotObservation slot;
+  slot.corners_vehicle = {Eigen::Vector2d(x, 1.5), Eigen::Vector2d(x + 2.5, 1.5),
+                          Eigen::Vector2d(x + 2.5, 6.8), Eigen::Vector2d(x, 6.8)};
+  slot.corner_observed = {true, true, false, true};
+  slot.corner_sigma_m = 0.031;
+  slot.detection_confidence = 0.875;
+  slot.id = std::move(id);
+  return slot;
+}
+
+TagObservation Tag(int id, double x) {
+  TagObservation tag;
+  tag.tag_id = id;
+  tag.p_vehicle = Eigen::Vector2d(x, -0.4);
+  tag.range_m = std::hypot(x - 1.8, 0.7);
+  tag.bearing_rad = -0.1234567890123;
+  tag.yaw_vehicle_rad = 3.0;
+  tag.covariance_vehicle << 0.0004, -0.0001, -0.0001, 0.0009;
+  tag.yaw_sigma_rad = 0.03;
+  return tag;
+}
+
+// A small dataset with every kind of record: full, partial and empty ID
+// readings, frames without detections, and all ground truth.
+Dataset SampleDataset() {
+  Dataset d;
+  d.name = "hand-made";
+  d.seed = 18'446'744'073'709'551'615ULL;  // the largest seed
+  d.created_by = "io test";
+  d.scenario = sim::DefaultScenario();
+  d.scenario.world.name = "test lot";
+  d.scenario.route.laps = 1;
+  SensorLog& log = d.log;
+  log.wheel_speeds = {{0, 1.25}, {20'000'000, -0.5}, {40'000'000, 1e-7}};
+  log.steering_angles = {{0, 0.1}, {20'000'000, -3.3}};
+  log.imu_samples = {{0, 0.01, -3.14159}, {10'000'000, 0.1 + 0.2, 3.1}};
+  const SlotIdReading full{{Digit({{'3', 0.8}, {'8', 0.15}}), Digit({{'9', 0.9}})}};
+  const SlotIdReading partial{{Digit({{'1', 0.6}}), Digit({})}};
+  log.slot_frames = {{100'000'000, {Slot(1.0, full), Slot(-4.0, partial)}},
+                     {200'000'000, {Slot(0.5, SlotIdReading{})}},
+                     {300'000'000, {}}};
+  log.tag_frames = {{100'000'000, {Tag(7, 5.1), Tag(12, 9.0)}}, {250'000'000, {}}};
+  d.groundtruth_trajectory = {{0, SE2(-37.0, 9.1, 0.0)},
+                              {10'000'000, SE2(-36.99, 9.1001, 0.001)},
+                              {20'000'000, SE2(-36.98, 9.1003, 0.002)}};
+  SemanticMap map;
+  map.metadata = {{"source", "test"}};
+  for (int i = 0; i < 3; ++i) {
+    MapSlot slot;
+    slot.id = std::to_string(38 + i);
+    slot.corners_map = {Eigen::Vector2d(2.5 * i, 0), Eigen::Vector2d(2.5 * i + 2.5, 0),
+                        Eigen::Vector2d(2.5 * i + 2.5, 5.3), Eigen::Vector2d(2.5 * i, 5.3)};
+    map.slots.push_back(slot);
+  }
+  d.groundtruth_map = map;
+  d.slot_labels = {{0, -1}, {2}, {}};
+  return d;
+}
+
+void ExpectSlotsEqual(const SlotObservation& a, const SlotObservation& b) {
+  for (int c = 0; c < kSlotCorners; ++c) {
+    EXPECT_EQ(a.corners_vehicle[c], b.corners_vehicle[c]);
+    EXPECT_EQ(a.corner_observed[c], b.corner_observed[c]);
+  }
+  EXPECT_EQ(a.corner_sigma_m, b.corner_sigma_m);
+  EXPECT_EQ(a.detection_confidence, b.detection_confidence);
+  ASSERT_EQ(a.id.digits.size(), b.id.digits.size());
+  for (std::size_t d = 0; d < a.id.digits.size(); ++d) {
+    const auto& ha = a.id.digits[d].hypotheses;
+    const auto& hb = b.id.digits[d].hypotheses;
+    ASSERT_EQ(ha.size(), hb.size());
+    for (std::size_t h = 0; h < ha.size(); ++h) {
+      EXPECT_EQ(ha[h].digit, hb[h].digit);
+      EXPECT_EQ(ha[h].probability, hb[h].probability);
+    }
+  }
+}
+
+void ExpectDatasetsEqual(const Dataset& a, const Dataset& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.seed, b.seed);
+  EXPECT_EQ(a.created_by, b.created_by);
+  EXPECT_EQ(a.scenario.world.name, b.scenario.world.name);
+  EXPECT_EQ(a.scenario.route.laps, b.scenario.route.laps);
+  EXPECT_EQ(a.scenario.world.rows.size(), b.scenario.world.rows.size());
+  EXPECT_EQ(a.scenario.route.loop_m, b.scenario.route.loop_m);
+
+  ASSERT_EQ(a.log.wheel_speeds.size(), b.log.wheel_speeds.size());
+  for (std::size_t i = 0; i < a.log.wheel_speeds.size(); ++i) {
+    EXPECT_EQ(a.log.wheel_speeds[i].t_ns, b.log.wheel_speeds[i].t_ns);
+    EXPECT_EQ(a.log.wheel_speeds[i].speed_mps, b.log.wheel_speeds[i].speed_mps);
+  }
+  ASSERT_EQ(a.log.steering_angles.size(), b.log.steering_angles.size());
+  for (std::size_t i = 0; i < a.log.steering_angles.size(); ++i) {
+    EXPECT_EQ(a.log.steering_angles[i].t_ns, b.log.steering_angles[i].t_ns);
+    EXPECT_EQ(a.log.steering_angles[i].steering_wheel_rad,
+              b.log.steering_angles[i].steering_wheel_rad);
+  }
+  ASSERT_EQ(a.log.imu_samples.size(), b.log.imu_samples.size());
+  for (std::size_t i = 0; i < a.log.imu_samples.size(); ++i) {
+    EXPECT_EQ(a.log.imu_samples[i].t_ns, b.log.imu_samples[i].t_ns);
+    EXPECT_EQ(a.log.imu_samples[i].yaw_rate_radps, b.log.imu_samples[i].yaw_rate_radps);
+    EXPECT_EQ(a.log.imu_samples[i].heading_rad, b.log.imu_samples[i].heading_rad);
+  }
+  ASSERT_EQ(a.log.slot_frames.size(), b.log.slot_frames.size());
+  for (std::size_t f = 0; f < a.log.slot_frames.size(); ++f) {
+    EXPECT_EQ(a.log.slot_frames[f].t_ns, b.log.slot_frames[f].t_ns);
+    ASSERT_EQ(a.log.slot_frames[f].slots.size(), b.log.slot_frames[f].slots.size());
+    for (std::size_t i = 0; i < a.log.slot_frames[f].slots.size(); ++i) {
+      ExpectSlotsEqual(a.log.slot_frames[f].slots[i], b.log.slot_frames[f].slots[i]);
+    }
+  }
+  ASSERT_EQ(a.log.tag_frames.size(), b.log.tag_frames.size());
+  for (std::size_t f = 0; f < a.log.tag_frames.size(); ++f) {
+    EXPECT_EQ(a.log.tag_frames[f].t_ns, b.log.tag_frames[f].t_ns);
+    ASSERT_EQ(a.log.tag_frames[f].tags.size(), b.log.tag_frames[f].tags.size());
+    for (std::size_t i = 0; i < a.log.tag_frames[f].tags.size(); ++i) {
+      const TagObservation& ta = a.log.tag_frames[f].tags[i];
+      const TagObservation& tb = b.log.tag_frames[f].tags[i];
+      EXPECT_EQ(ta.tag_id, tb.tag_id);
+      EXPECT_EQ(ta.p_vehicle, tb.p_vehicle);
+      EXPECT_EQ(ta.range_m, tb.range_m);
+      EXPECT_EQ(ta.bearing_rad, tb.bearing_rad);
+      EXPECT_EQ(ta.yaw_vehicle_rad, tb.yaw_vehicle_rad);
+      EXPECT_EQ(ta.covariance_vehicle, tb.covariance_vehicle);
+      EXPECT_EQ(ta.yaw_sigma_rad, tb.yaw_sigma_rad);
+    }
+  }
+  ASSERT_EQ(a.groundtruth_trajectory.size(), b.groundtruth_trajectory.size());
+  for (std::size_t i = 0; i < a.groundtruth_trajectory.size(); ++i) {
+    EXPECT_EQ(a.groundtruth_trajectory[i].t_ns, b.groundtruth_trajectory[i].t_ns);
+    EXPECT_NEAR(a.groundtruth_trajectory[i].T_map_vehicle.x(),
+                b.groundtruth_trajectory[i].T_map_vehicle.x(), 5e-7);
+    EXPECT_NEAR(a.groundtruth_trajectory[i].T_map_vehicle.y(),
+                b.groundtruth_trajectory[i].T_map_vehicle.y(), 5e-7);
+    EXPECT_NEAR(AngleDiff(a.groundtruth_trajectory[i].T_map_vehicle.yaw(),
+                          b.groundtruth_trajectory[i].T_map_vehicle.yaw()),
+                0.0, 1e-9);
+  }
+  ASSERT_EQ(a.groundtruth_map.has_value(), b.groundtruth_map.has_value());
+  if (a.groundtruth_map) {
+    ASSERT_EQ(a.groundtruth_map->slots.size(), b.groundtruth_map->slots.size());
+    for (std::size_t i = 0; i < a.groundtruth_map->slots.size(); ++i) {
+      EXPECT_EQ(a.groundtruth_map->slots[i].id, b.groundtruth_map->slots[i].id);
+      EXPECT_NEAR((a.groundtruth_map->slots[i].corners_map[2] -
+                   b.groundtruth_map->slots[i].corners_map[2]).norm(),
+                  0.0, 5e-4);
+    }
+    EXPECT_EQ(a.groundtruth_map->metadata, b.groundtruth_map->metadata);
+  }
+  EXPECT_EQ(a.slot_labels, b.slot_labels);
+}
+
+// Replaces the first occurrence of `from` by `to` in a file of the dataset.
+void EditFile(const std::filesystem::path& file, const std::string& from,
+              const std::string& to) {
+  std::string content = ReadTextFile(file);
+  const std::size_t at = content.find(from);
+  ASSERT_NE(at, std::string::npos) << from << " not in " << file;
+  content.replace(at, from.size(), to);
+  WriteFileAtomically(file, content);
+}
+
+TEST(DatasetTest, RoundTripKeepsEveryRecord) {
+  const TempDir dir;
+  const Dataset original = SampleDataset();
+  WriteDataset(dir / "d", original);
+  ExpectDatasetsEqual(ReadDataset(dir / "d"), original);
+}
+
+TEST(DatasetTest, RoundTripWithoutGroundTruth) {
+  const TempDir dir;
+  Dataset original = SampleDataset();
+  original.groundtruth_trajectory.clear();
+  original.groundtruth_map.reset();
+  original.slot_labels.clear();
+  WriteDataset(dir / "d", original);
+  const Dataset read = ReadDataset(dir / "d");
+  ExpectDatasetsEqual(read, original);
+  EXPECT_FALSE(std::filesystem::exists(dir / "d/groundtruth/map.json"));
+}
+
+TEST(DatasetTest, RewritingWithoutGroundTruthRemovesTheOldFiles) {
+  const TempDir dir;
+  Dataset dataset = SampleDataset();
+  WriteDataset(dir / "d", dataset);
+  ASSERT_TRUE(std::filesystem::exists(dir / "d/groundtruth/trajectory.tum"));
+  dataset.groundtruth_trajectory.clear();
+  dataset.groundtruth_map.reset();
+  dataset.slot_labels.clear();
+  WriteDataset(dir / "d", dataset);
+  EXPECT_FALSE(std::filesystem::exists(dir / "d/groundtruth/trajectory.tum"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "d/groundtruth/map.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "d/groundtruth/slot_labels.jsonl"));
+  EXPECT_FALSE(ReadDataset(dir / "d").groundtruth_map.has_value());
+}
+
+TEST(DatasetTest, WritesTheDocumentedFileContents) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EXPECT_EQ(ReadTextFile(dir / "d/sensors/wheel_speed.csv"),
+            "t_ns,speed_mps\n0,1.25\n20000000,-0.5\n40000000,1e-07\n");
+  EXPECT_EQ(ReadTextFile(dir / "d/sensors/steering.csv"),
+            "t_ns,steering_wheel_rad\n0,0.1\n20000000,-3.3\n");
+  EXPECT_EQ(ReadTextFile(dir / "d/sensors/imu.csv"),
+            "t_ns,yaw_rate_radps,heading_rad\n0,0.01,-3.14159\n"
+            "10000000,0.30000000000000004,3.1\n");
+  EXPECT_EQ(ReadTextFile(dir / "d/groundtruth/slot_labels.jsonl"),
+            "{\"t_ns\":100000000,\"slots\":[0,-1]}\n{\"t_ns\":200000000,\"slots\":[2]}\n"
+            "{\"t_ns\":300000000,\"slots\":[]}\n");
+  const std::string slots = ReadTextFile(dir / "d/observations/slots.jsonl");
+  EXPECT_THAT(slots, HasSubstr("\"id\":[[[\"3\",0.8],[\"8\",0.15]],[[\"9\",0.9]]]"));
+  EXPECT_THAT(slots, HasSubstr("\"id\":[[[\"1\",0.6]],[]]"));
+  EXPECT_THAT(slots, HasSubstr("{\"t_ns\":300000000,\"slots\":[]}"));
+  const std::string manifest = ReadTextFile(dir / "d/dataset.yaml");
+  EXPECT_THAT(manifest, HasSubstr("format: \"parkslam-dataset\"\nversion: 1\n"));
+  EXPECT_THAT(manifest, HasSubstr("counts:\n  wheel_speed: 3\n  steering: 2\n  imu: 2\n"));
+  EXPECT_THAT(manifest, HasSubstr("duration_s: 0.3\n"));
+  EXPECT_THAT(manifest, HasSubstr("\nscenario:\n  world:\n    name: \"test lot\"\n"));
+}
+
+TEST(DatasetTest, MissingDatasetYamlIsReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  std::filesystem::remove(dir / "d/dataset.yaml");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("d/dataset.yaml: missing"));
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "nowhere"); }),
+              HasSubstr("nowhere/dataset.yaml: missing"));
+}
+
+TEST(DatasetTest, NaNInCsvNamesFileLineAndField) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/sensors/imu.csv", "0,0.01,-3.14159", "0,0.01,nan");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
+            (dir / "d/sensors/imu.csv").string() + ":2: heading_rad: not a finite number");
+}
+
+TEST(DatasetTest, NonNumberInCsvIsReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/sensors/steering.csv", "-3.3", "-3.3x");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
+            (dir / "d/sensors/steering.csv").string() +
+                ":3: steering_wheel_rad: not a number '-3.3x'");
+}
+
+TEST(DatasetTest, NonIncreasingTimestampsNameFileAndLine) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/sensors/wheel_speed.csv", "40000000,", "20000000,");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
+            (dir / "d/sensors/wheel_speed.csv").string() +
+                ":4: t_ns: not strictly increasing (20000000 after 20000000)");
+}
+
+TEST(DatasetTest, NonIncreasingFrameTimesAreReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/observations/tags.jsonl", "250000000", "100000000");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("tags.jsonl:2: t_ns: not strictly increasing"));
+}
+
+TEST(DatasetTest, WrongCsvHeaderIsReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/sensors/wheel_speed.csv", "t_ns,speed_mps", "t_ns,speed");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("wheel_speed.csv:1: expected the header 't_ns,speed_mps'"));
+}
+
+TEST(DatasetTest, WrongCsvFieldCountIsReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/sensors/imu.csv", "0,0.01,-3.14159", "0,0.01");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("imu.csv:2: expected 3 fields, got 2"));
+}
+
+TEST(DatasetTest, TruncatedJsonLineIsReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  const std::filesystem::path file = dir / "d/observations/slots.jsonl";
+  std::string content = ReadTextFile(file);
+  content.resize(content.size() - 10);  // cut into the last line
+  WriteFileAtomically(file, content);
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr(file.string() + ":3: invalid JSON"));
+}
+
+TEST(DatasetTest, UnknownKeyInJsonLineNamesItsPath) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/observations/tags.jsonl", "\"yaw_sigma_rad\"", "\"yaw_sigma\"");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
+            (dir / "d/observations/tags.jsonl").string() + ":1: tags[0].yaw_sigma: unknown key");
+}
+
+TEST(DatasetTest, WrongTypeInJsonLineNamesItsPath) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/observations/slots.jsonl", "[\"8\",0.15]", "[8,0.15]");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
+            (dir / "d/observations/slots.jsonl").string() +
+                ":1: slots[0].id[0][1][0]: expected a string, got an integer");
+}
+
+TEST(DatasetTest, UnknownTopLevelKeyInDatasetYamlIsRejected) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/dataset.yaml", "counts:", "colour: red\ncounts:");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("dataset.yaml:9: colour: unknown key"));
+}
+
+TEST(DatasetTest, UnknownKeyInEmbeddedScenarioNamesItsPath) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/dataset.yaml", "    laps: 1\n", "    lap: 1\n");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("scenario.route.lap: unknown key (did you mean 'laps'?)"));
+}
+
+TEST(DatasetTest, WrongFormatIsRejected) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/dataset.yaml", "version: 1", "version: 2");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("version: unsupported version 2"));
+}
+
+TEST(DatasetTest, FileShorterThanAnnouncedIsReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/sensors/imu.csv", "10000000,0.30000000000000004,3.1\n", "");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("counts.imu: announces 2, but sensors/imu.csv has 1"));
+}
+
+TEST(DatasetTest, LabelsNotMatchingSlotFramesAreReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/groundtruth/slot_labels.jsonl", "\"slots\":[2]", "\"slots\":[2,1]");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
+            (dir / "d/groundtruth/slot_labels.jsonl").string() +
+                ":2: slots: 2 labels for 1 observations");
+}
+
+TEST(DatasetTest, LabelBeyondTheMapIsReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/groundtruth/slot_labels.jsonl", "\"slots\":[2]", "\"slots\":[3]");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("slot_labels.jsonl:2: slots[0]: label 3 out of range"));
+}
+
+TEST(DatasetTest, MissingSensorFileIsReported) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  std::filesystem::remove(dir / "d/sensors/steering.csv");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }), HasSubstr("sensors/steering.csv"));
+}
+
+TEST(DatasetTest, WritingRefusesNaNAndLeavesNoManifest) {
+  const TempDir dir;
+  Dataset dataset = SampleDataset();
+  dataset.log.tag_frames[0].tags[1].range_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THAT(ErrorOf([&] { WriteDataset(dir / "d", dataset); }),
+              HasSubstr("tags.jsonl: tags[1].range_m: not a finite number (entry 0"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "d/dataset.yaml"));
+}
+
+TEST(DatasetTest, WritingRefusesUnsortedSamples) {
+  const TempDir dir;
+  Dataset dataset = SampleDataset();
+  std::swap(dataset.log.imu_samples[0], dataset.log.imu_samples[1]);
+  EXPECT_THAT(ErrorOf([&] { WriteDataset(dir / "d", dataset); }),
+              HasSubstr("imu.csv: t_ns: not strictly increasing"));
+}
+
+TEST(DatasetTest, WritingRefusesLabelsThatDoNotMatch) {
+  const TempDir dir;
+  Dataset dataset = SampleDataset();
+  dataset.slot_labels.pop_back();
+  EXPECT_THAT(ErrorOf([&] { WriteDataset(dir / "d", dataset); }),
+              HasSubstr("2 label frames for 3 slot frames"));
+}
+
+// A 10-minute drive: 30k wheel, 30k steering, 60k IMU samples, 6000 slot and
+// tag frames, 60k ground-truth poses.
+Dataset LargeDataset() {
+  Dataset d = SampleDataset();
+  d.log = {};
+  d.groundtruth_trajectory.clear();
+  d.slot_labels.clear();
+  constexpr TimeNs kMs = 1'000'000;
+  for (TimeNs t = 0; t < 600'000 * kMs; t += 20 * kMs) {
+    const double s = static_cast<double>(t) * 1e-9;
+    d.log.wheel_speeds.push_back({t, 2.5 + 0.1 * std::sin(s)});
+    d.log.steering_angles.push_back({t + kMs, 0.3 * std::cos(0.1 * s)});
+  }
+  for (TimeNs t = 0; t < 600'000 * kMs; t += 10 * kMs) {
+    const double s = static_cast<double>(t) * 1e-9;
+    d.log.imu_samples.push_back({t, 0.01 * std::sin(s), NormalizeAngle(0.05 * s)});
+    d.groundtruth_trajectory.push_back({t, SE2(0.1 * s, std::sin(s), 0.05 * s)});
+  }
+  const SlotIdReading id{{Digit({{'3', 0.8}, {'8', 0.15}}), Digit({{'9', 0.9}})}};
+  for (TimeNs t = 0; t < 600'000 * kMs; t += 100 * kMs) {
+    d.log.slot_frames.push_back({t, {Slot(1.0, id), Slot(3.5, SlotIdReading{})}});
+    d.log.tag_frames.push_back({t + kMs, {Tag(3, 4.0)}});
+    d.slot_labels.push_back({0, 1});
+  }
+  return d;
+}
+
+TEST(DatasetTest, TenMinuteDriveWritesAndReadsWellUnderTwoSeconds) {
+  const TempDir dir;
+  const Dataset dataset = LargeDataset();
+  const auto start = std::chrono::steady_clock::now();
+  WriteDataset(dir / "d", dataset);
+  const Dataset read = ReadDataset(dir / "d");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(read.log.imu_samples.size(), 60'000u);
+  EXPECT_EQ(read.log.imu_samples.back().heading_rad, dataset.log.imu_samples.back().heading_rad);
+  EXPECT_EQ(read.slot_labels.size(), 6'000u);
+  RecordProperty("write_read_seconds", std::to_string(seconds));
+#ifdef NDEBUG
+  EXPECT_LT(seconds, 2.0);
+#endif
+}
+
+}  // namespace
+}  // namespace parkslam::io

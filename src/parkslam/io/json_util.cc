@@ -1,0 +1,223 @@
+#include "parkslam/io/json_util.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "parkslam/io/io_error.h"
+
+namespace parkslam::io::json_util {
+namespace {
+
+constexpr std::size_t kMaxInlineWidth = 100;
+constexpr int kMaxInlineDepth = 2;
+constexpr int kIndent = 2;
+
+const char* TypeName(const Json& j) {
+  switch (j.type()) {
+    case Json::value_t::null: return "null";
+    case Json::value_t::object: return "an object";
+    case Json::value_t::array: return "an array";
+    case Json::value_t::string: return "a string";
+    case Json::value_t::boolean: return "a boolean";
+    case Json::value_t::number_integer:
+    case Json::value_t::number_unsigned: return "an integer";
+    case Json::value_t::number_float: return "a number";
+    default: return "something else";
+  }
+}
+
+int Depth(const Json& j) {
+  if (!j.is_structured()) return 0;
+  int deepest = 0;
+  for (const Json& child : j) deepest = std::max(deepest, Depth(child));
+  return deepest + 1;
+}
+
+// The object's keys: those of key_order first, in that order, then the rest.
+std::vector<std::string> OrderedKeys(const Json& object,
+                                     const std::vector<std::string>& key_order) {
+  std::vector<std::string> keys;
+  for (const std::string& key : key_order) {
+    if (object.contains(key)) keys.push_back(key);
+  }
+  for (const auto& item : object.items()) {
+    if (std::find(key_order.begin(), key_order.end(), item.key()) == key_order.end()) {
+      keys.push_back(item.key());
+    }
+  }
+  return keys;
+}
+
+void AppendInline(const Json& j, const std::vector<std::string>& key_order,
+                  std::string* out) {
+  if (j.is_array()) {
+    out->push_back('[');
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      if (i > 0) out->append(", ");
+      AppendInline(j[i], key_order, out);
+    }
+    out->push_back(']');
+  } else if (j.is_object()) {
+    out->push_back('{');
+    bool first = true;
+    for (const std::string& key : OrderedKeys(j, key_order)) {
+      if (!first) out->append(", ");
+      first = false;
+      AppendJsonString(out, key);
+      out->append(": ");
+      AppendInline(j.at(key), key_order, out);
+    }
+    out->push_back('}');
+  } else {
+    out->append(j.dump(-1, ' ', false, Json::error_handler_t::replace));
+  }
+}
+
+void AppendPretty(const Json& j, int indent,
+                  const std::vector<std::string>& key_order, std::string* out) {
+  std::string inline_text;
+  AppendInline(j, key_order, &inline_text);
+  const bool fits = inline_text.size() + static_cast<std::size_t>(indent) <= kMaxInlineWidth;
+  if (!j.is_structured() || j.empty() ||
+      (indent > 0 && fits && Depth(j) <= kMaxInlineDepth)) {
+    out->append(inline_text);
+    return;
+  }
+  const std::string inner(static_cast<std::size_t>(indent + kIndent), ' ');
+  out->push_back(j.is_array() ? '[' : '{');
+  out->push_back('\n');
+  if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      out->append(inner);
+      AppendPretty(j[i], indent + kIndent, key_order, out);
+      out->append(i + 1 < j.size() ? ",\n" : "\n");
+    }
+  } else {
+    const std::vector<std::string> keys = OrderedKeys(j, key_order);
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      out->append(inner);
+      AppendJsonString(out, keys[i]);
+      out->append(": ");
+      AppendPretty(j.at(keys[i]), indent + kIndent, key_order, out);
+      out->append(i + 1 < keys.size() ? ",\n" : "\n");
+    }
+  }
+  out->append(static_cast<std::size_t>(indent), ' ');
+  out->push_back(j.is_array() ? ']' : '}');
+}
+
+}  // namespace
+
+void JsonPath::AppendTo(std::string* out) const {
+  if (parent_ == nullptr) return;
+  parent_->AppendTo(out);
+  if (key_ != nullptr) {
+    if (!out->empty()) out->push_back('.');
+    out->append(key_);
+  } else {
+    out->push_back('[');
+    out->append(std::to_string(index_));
+    out->push_back(']');
+  }
+}
+
+std::string JsonPath::ToString() const {
+  std::string text;
+  AppendTo(&text);
+  return text;
+}
+
+void JsonReader::Fail(const JsonPath& path, std::string_view what) const {
+  ThrowIoError(source_, line_, path.ToString(), what);
+}
+
+void JsonReader::FailType(const Json& j, const JsonPath& path,
+                          const char* expected) const {
+  Fail(path, std::string("expected ") + expected + ", got " + TypeName(j));
+}
+
+void JsonReader::ExpectObject(const Json& j, const JsonPath& path,
+                              std::initializer_list<const char*> keys) const {
+  if (!j.is_object()) FailType(j, path, "an object");
+  for (const auto& item : j.items()) {
+    const bool known = std::any_of(keys.begin(), keys.end(), [&](const char* key) {
+      return item.key() == key;
+    });
+    if (!known) Fail(path.Key(item.key().c_str()), "unknown key");
+  }
+  for (const char* key : keys) {
+    if (!j.contains(key)) Fail(path.Key(key), "missing key");
+  }
+}
+
+void JsonReader::ExpectArray(const Json& j, const JsonPath& path) const {
+  if (!j.is_array()) FailType(j, path, "an array");
+}
+
+void JsonReader::ExpectArray(const Json& j, const JsonPath& path, std::size_t size,
+                             const char* what) const {
+  ExpectArray(j, path);
+  if (j.size() != size) {
+    Fail(path, "expected " + std::to_string(size) + " " + what + ", got " +
+                   std::to_string(j.size()));
+  }
+}
+
+double JsonReader::Number(const Json& j, const JsonPath& path) const {
+  if (!j.is_number()) FailType(j, path, "a number");
+  const double value = j.get<double>();
+  if (!std::isfinite(value)) Fail(path, "not a finite number");
+  return value;
+}
+
+std::int64_t JsonReader::Integer(const Json& j, const JsonPath& path) const {
+  if (j.is_number_unsigned()) {
+    const auto value = j.get<std::uint64_t>();
+    if (value > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+      Fail(path, "integer out of range");
+    }
+    return static_cast<std::int64_t>(value);
+  }
+  if (!j.is_number_integer()) FailType(j, path, "an integer");
+  return j.get<std::int64_t>();
+}
+
+int JsonReader::Int(const Json& j, const JsonPath& path) const {
+  const std::int64_t value = Integer(j, path);
+  if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max()) {
+    Fail(path, "integer out of range");
+  }
+  return static_cast<int>(value);
+}
+
+bool JsonReader::Bool(const Json& j, const JsonPath& path) const {
+  if (!j.is_boolean()) FailType(j, path, "a boolean");
+  return j.get<bool>();
+}
+
+const std::string& JsonReader::String(const Json& j, const JsonPath& path) const {
+  if (!j.is_string()) FailType(j, path, "a string");
+  return j.get_ref<const std::string&>();
+}
+
+Eigen::Vector2d JsonReader::Point(const Json& j, const JsonPath& path) const {
+  ExpectArray(j, path, 2, "coordinates [x, y]");
+  const JsonPath x_path = path.Index(0);
+  const JsonPath y_path = path.Index(1);
+  return Eigen::Vector2d(Number(j[0], x_path), Number(j[1], y_path));
+}
+
+std::string PrettyJson(const Json& j, const std::vector<std::string>& key_order) {
+  std::string out;
+  AppendPretty(j, 0, key_order, &out);
+  out.push_back('\n');
+  return out;
+}
+
+void AppendJsonString(std::string* out, std::string_view value) {
+  out->append(Json(std::string(value)).dump(-1, ' ', false,
+                                            Json::error_handler_t::replace));
+}
+
+}  // namespace parkslam::io::json_util

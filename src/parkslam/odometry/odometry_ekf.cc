@@ -1,0 +1,163 @@
+#include "parkslam/odometry/odometry_ekf.h"
+
+#include <cmath>
+
+#include "parkslam/common/angles.h"
+
+namespace parkslam::odometry {
+namespace {
+
+using RowVector = Eigen::Matrix<double, 1, OdometryEkf::kStateSize>;
+
+double Square(double x) { return x * x; }
+
+}  // namespace
+
+bool OdometryEkfOptions::IsValid(std::string* error) const {
+  std::string vehicle_error;
+  if (!vehicle.IsValid(&vehicle_error)) {
+    if (error != nullptr) *error = vehicle_error;
+    return false;
+  }
+  const double sigmas[] = {wheel_speed_sigma_mps, steering_wheel_sigma_rad,
+                           steering_model_sigma_radps, gyro_sigma_radps,
+                           heading_sigma_rad, accel_sigma_mps2_per_sqrt_hz,
+                           yaw_accel_sigma_radps2_per_sqrt_hz,
+                           gyro_bias_walk_radps_per_sqrt_s,
+                           heading_bias_walk_rad_per_sqrt_s, initial_position_sigma_m,
+                           initial_speed_sigma_mps, initial_yaw_rate_sigma_radps,
+                           gyro_bias_sigma_radps, heading_bias_sigma_rad,
+                           wheel_scale_sigma};
+  for (double s : sigmas) {
+    if (!(std::isfinite(s) && s >= 0.0)) {
+      if (error != nullptr) *error = "odometry noise parameters must be finite and non-negative";
+      return false;
+    }
+  }
+  if (!(wheel_speed_sigma_mps > 0 && gyro_sigma_radps > 0 && heading_sigma_rad > 0 &&
+        steering_wheel_sigma_rad + steering_model_sigma_radps > 0)) {
+    if (error != nullptr) *error = "measurement noise must be positive";
+    return false;
+  }
+  return true;
+}
+
+OdometryEkf::OdometryEkf(const OdometryEkfOptions& options) : options_(options) {}
+
+void OdometryEkf::Initialize(TimeNs t_ns, const SE2& T_map_vehicle, double yaw_sigma_rad) {
+  t_ns_ = t_ns;
+  x_.setZero();
+  x_[kX] = T_map_vehicle.x();
+  x_[kY] = T_map_vehicle.y();
+  x_[kYaw] = T_map_vehicle.yaw();
+  const OdometryEkfOptions& o = options_;
+  StateVector sigma;
+  sigma << o.initial_position_sigma_m, o.initial_position_sigma_m, yaw_sigma_rad,
+      o.initial_speed_sigma_mps, o.initial_yaw_rate_sigma_radps, o.gyro_bias_sigma_radps,
+      o.heading_bias_sigma_rad, o.wheel_scale_sigma;
+  P_ = sigma.cwiseAbs2().asDiagonal();
+  initialized_ = true;
+}
+
+void OdometryEkf::InitializeFromHeading(TimeNs t_ns, const Eigen::Vector2d& p_map,
+                                        double heading_rad) {
+  const OdometryEkfOptions& o = options_;
+  Initialize(t_ns, SE2(p_map, heading_rad),
+             std::hypot(o.heading_bias_sigma_rad, o.heading_sigma_rad));
+  // yaw = heading - b_h - noise: the yaw error is minus the bias error plus
+  // the heading noise, so the two are correlated.
+  P_(kYaw, kHeadingBias) = P_(kHeadingBias, kYaw) = -Square(o.heading_bias_sigma_rad);
+}
+
+void OdometryEkf::Predict(double dt_s) {
+  if (dt_s <= 0.0) return;
+  const double yaw = x_[kYaw], v = x_[kSpeed], omega = x_[kYawRate];
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  x_[kX] += v * c * dt_s;
+  x_[kY] += v * s * dt_s;
+  x_[kYaw] = NormalizeAngle(yaw + omega * dt_s);
+
+  StateMatrix F = StateMatrix::Identity();
+  F(kX, kYaw) = -v * s * dt_s;
+  F(kX, kSpeed) = c * dt_s;
+  F(kY, kYaw) = v * c * dt_s;
+  F(kY, kSpeed) = s * dt_s;
+  F(kYaw, kYawRate) = dt_s;
+
+  const OdometryEkfOptions& o = options_;
+  StateMatrix Q = StateMatrix::Zero();
+  Q(kSpeed, kSpeed) = Square(o.accel_sigma_mps2_per_sqrt_hz) * dt_s;
+  Q(kYawRate, kYawRate) = Square(o.yaw_accel_sigma_radps2_per_sqrt_hz) * dt_s;
+  Q(kGyroBias, kGyroBias) = Square(o.gyro_bias_walk_radps_per_sqrt_s) * dt_s;
+  Q(kHeadingBias, kHeadingBias) = Square(o.heading_bias_walk_rad_per_sqrt_s) * dt_s;
+  P_ = F * P_ * F.transpose() + Q;
+}
+
+void OdometryEkf::PredictTo(TimeNs t_ns) {
+  if (t_ns <= t_ns_) return;
+  Predict(ToSeconds(t_ns - t_ns_));
+  t_ns_ = t_ns;
+}
+
+void OdometryEkf::Update(double innovation, const RowVector& h, double r) {
+  const double s = (h * P_ * h.transpose())(0, 0) + r;
+  const StateVector k = P_ * h.transpose() / s;
+  x_ += k * innovation;
+  x_[kYaw] = NormalizeAngle(x_[kYaw]);
+  // Joseph form keeps P symmetric and positive definite.
+  const StateMatrix i_kh = StateMatrix::Identity() - k * h;
+  P_ = i_kh * P_ * i_kh.transpose() + k * r * k.transpose();
+}
+
+void OdometryEkf::UpdateWheelSpeed(const WheelSpeed& m) {
+  RowVector h = RowVector::Zero();
+  h[kSpeed] = 1.0 + x_[kWheelScale];
+  h[kWheelScale] = x_[kSpeed];
+  Update(m.speed_mps - (1.0 + x_[kWheelScale]) * x_[kSpeed], h,
+         Square(options_.wheel_speed_sigma_mps));
+}
+
+void OdometryEkf::UpdateSteering(const SteeringAngle& m) {
+  const VehicleParameters& vehicle = options_.vehicle;
+  const double delta = m.steering_wheel_rad / vehicle.steering_ratio;
+  const double tan_delta = std::tan(delta);
+  const double v = x_[kSpeed];
+  RowVector h = RowVector::Zero();
+  h[kYawRate] = 1.0;
+  h[kSpeed] = -tan_delta / vehicle.wheelbase_m;
+  // d(v tan(delta) / L)/d(steering) = v / (L ratio cos^2(delta)).
+  const double d_omega = v / (vehicle.wheelbase_m * vehicle.steering_ratio *
+                              Square(std::cos(delta)));
+  const double r = Square(d_omega * options_.steering_wheel_sigma_rad) +
+                   Square(options_.steering_model_sigma_radps);
+  Update(0.0 - (x_[kYawRate] - v * tan_delta / vehicle.wheelbase_m), h, r);
+}
+
+void OdometryEkf::UpdateImu(const ImuSample& m) {
+  RowVector h = RowVector::Zero();
+  h[kYawRate] = 1.0;
+  h[kGyroBias] = 1.0;
+  Update(m.yaw_rate_radps - (x_[kYawRate] + x_[kGyroBias]), h,
+         Square(options_.gyro_sigma_radps));
+  h.setZero();
+  h[kYaw] = 1.0;
+  h[kHeadingBias] = 1.0;
+  Update(AngleDiff(m.heading_rad, x_[kYaw] + x_[kHeadingBias]), h,
+         Square(options_.heading_sigma_rad));
+}
+
+bool OdometryEkf::Process(const SensorEvent& event) {
+  const TimeNs t = EventTime(event);
+  if (!initialized_ || t < t_ns_) return false;
+  PredictTo(t);
+  if (const auto* w = std::get_if<WheelSpeed>(&event)) {
+    UpdateWheelSpeed(*w);
+  } else if (const auto* st = std::get_if<SteeringAngle>(&event)) {
+    UpdateSteering(*st);
+  } else if (const auto* imu = std::get_if<ImuSample>(&event)) {
+    UpdateImu(*imu);
+  }
+  return true;
+}
+
+}  // namespace parkslam::odometry

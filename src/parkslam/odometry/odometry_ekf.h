@@ -1,0 +1,102 @@
+#ifndef PARKSLAM_ODOMETRY_ODOMETRY_EKF_H_
+#define PARKSLAM_ODOMETRY_ODOMETRY_EKF_H_
+
+// Kalman dead reckoning from wheel speed, steering angle and a cheap IMU
+// (paper III-C: "a Kalman-based extrapolation with the steering wheel, car
+// speed and the compass readings from a cheap IMU").
+//
+// State x (8): [x_m, y_m, yaw_rad, v_mps, omega_radps, gyro_bias_radps,
+//               heading_bias_rad, wheel_scale_error]
+// Process (constant speed and yaw rate over dt, random-walk inputs):
+//   x += v cos(yaw) dt,  y += v sin(yaw) dt,  yaw += omega dt,
+//   v, omega, biases and scale: random walks.
+// Measurements:
+//   wheel speed      z = (1 + s) v                         (R = sigma_w^2)
+//   steering angle   0 = omega - v tan(z_sw / ratio) / L   (bicycle model)
+//   gyroscope        z = omega + b_g                       (R = sigma_g^2)
+//   AHRS heading     z = yaw + b_h                         (R = sigma_h^2)
+
+#include <Eigen/Core>
+#include <string>
+
+#include "parkslam/common/se2.h"
+#include "parkslam/common/time.h"
+#include "parkslam/sensor/sensor_data.h"
+#include "parkslam/sensor/vehicle.h"
+
+namespace parkslam::odometry {
+
+struct OdometryEkfOptions {
+  VehicleParameters vehicle;
+  // Measurement noise (standard deviations).
+  double wheel_speed_sigma_mps = 0.02;
+  double steering_wheel_sigma_rad = 0.01;
+  double steering_model_sigma_radps = 0.002;  // slip, beyond the bicycle model
+  double gyro_sigma_radps = 0.005;
+  double heading_sigma_rad = 0.01;
+  // Process noise (random-walk densities).
+  double accel_sigma_mps2_per_sqrt_hz = 1.0;
+  double yaw_accel_sigma_radps2_per_sqrt_hz = 0.5;
+  double gyro_bias_walk_radps_per_sqrt_s = 0.00005;
+  double heading_bias_walk_rad_per_sqrt_s = 0.0005;
+  // Prior standard deviations at initialization.
+  double initial_position_sigma_m = 1e-3;
+  double initial_speed_sigma_mps = 0.5;
+  double initial_yaw_rate_sigma_radps = 0.2;
+  double gyro_bias_sigma_radps = 0.003;
+  double heading_bias_sigma_rad = 0.02;
+  double wheel_scale_sigma = 0.003;
+
+  bool IsValid(std::string* error) const;
+};
+
+class OdometryEkf {
+ public:
+  static constexpr int kStateSize = 8;
+  using StateVector = Eigen::Matrix<double, kStateSize, 1>;
+  using StateMatrix = Eigen::Matrix<double, kStateSize, kStateSize>;
+  enum Index { kX = 0, kY, kYaw, kSpeed, kYawRate, kGyroBias, kHeadingBias, kWheelScale };
+
+  explicit OdometryEkf(const OdometryEkfOptions& options);
+
+  // Starts the filter at t_ns with a known pose; yaw_sigma_rad is the
+  // uncertainty of its yaw.
+  void Initialize(TimeNs t_ns, const SE2& T_map_vehicle, double yaw_sigma_rad);
+  // Starts the filter at t_ns at a known position with the yaw read from the
+  // AHRS heading, whose error is the heading bias plus its noise.
+  void InitializeFromHeading(TimeNs t_ns, const Eigen::Vector2d& p_map,
+                             double heading_rad);
+  bool initialized() const { return initialized_; }
+
+  // Predicts to the event's time and applies it. Slot and tag frames are
+  // ignored here. Events older than the filter time are rejected (false).
+  bool Process(const SensorEvent& event);
+
+  // Propagates the state to t_ns without a measurement.
+  void PredictTo(TimeNs t_ns);
+
+  TimeNs time_ns() const { return t_ns_; }
+  SE2 pose() const { return SE2(x_[kX], x_[kY], x_[kYaw]); }
+  // Covariance of (x_m, y_m, yaw_rad).
+  Eigen::Matrix3d pose_covariance() const { return P_.topLeftCorner<3, 3>(); }
+  const StateVector& state() const { return x_; }
+  const StateMatrix& covariance() const { return P_; }
+
+ private:
+  void Predict(double dt_s);
+  // Scalar update: innovation y, Jacobian row h, variance r.
+  void Update(double innovation, const Eigen::Matrix<double, 1, kStateSize>& h, double r);
+  void UpdateWheelSpeed(const WheelSpeed& m);
+  void UpdateSteering(const SteeringAngle& m);
+  void UpdateImu(const ImuSample& m);
+
+  OdometryEkfOptions options_;
+  bool initialized_ = false;
+  TimeNs t_ns_ = 0;
+  StateVector x_ = StateVector::Zero();
+  StateMatrix P_ = StateMatrix::Identity();
+};
+
+}  // namespace parkslam::odometry
+
+#endif  // PARKSLAM_ODOMETRY_ODOMETRY_EKF_H_

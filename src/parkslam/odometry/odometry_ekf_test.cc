@@ -1,0 +1,105 @@
+#include "parkslam/odometry/odometry_ekf.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <cmath>
+
+#include "parkslam/common/angles.h"
+
+namespace parkslam::odometry {
+namespace {
+
+constexpr TimeNs kMs = 1'000'000;
+
+// Feeds perfect measurements of a vehicle moving at speed v on a circle of
+// road-wheel angle delta (straight for delta = 0) for `seconds`.
+void Drive(OdometryEkf& ekf, const OdometryEkfOptions& o, double v, double delta,
+           double gyro_bias, double seconds) {
+  const double omega = v * std::tan(delta) / o.vehicle.wheelbase_m;
+  const TimeNs start = ekf.time_ns();
+  double yaw = ekf.pose().yaw();
+  for (TimeNs t = start + 10 * kMs; t <= start + FromSeconds(seconds); t += 10 * kMs) {
+    yaw += omega * 0.01;
+    ekf.Process(WheelSpeed{t, v});
+    ekf.Process(SteeringAngle{t, delta * o.vehicle.steering_ratio});
+    ekf.Process(ImuSample{t, omega + gyro_bias, NormalizeAngle(yaw)});
+  }
+}
+
+TEST(OdometryEkfTest, StraightDriveIntegratesDistance) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.Initialize(0, SE2(0, 0, 0), 0.01);
+  Drive(ekf, o, 2.0, 0.0, 0.0, 10.0);
+  // The speed state starts at 0 and converges within a few samples.
+  EXPECT_NEAR(ekf.pose().x(), 20.0, 0.1);
+  EXPECT_NEAR(ekf.pose().y(), 0.0, 1e-3);
+  EXPECT_NEAR(ekf.state()[OdometryEkf::kSpeed], 2.0, 1e-3);
+}
+
+TEST(OdometryEkfTest, CircleReturnsToStart) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.Initialize(0, SE2(0, 0, 0), 0.01);
+  const double v = 2.0, delta = 0.2;
+  const double omega = v * std::tan(delta) / o.vehicle.wheelbase_m;
+  Drive(ekf, o, v, delta, 0.0, 2 * kPi / omega + 0.05);
+  EXPECT_LT(ekf.pose().translation().norm(), 0.3);
+  EXPECT_NEAR(ekf.state()[OdometryEkf::kYawRate], omega, 1e-3);
+}
+
+TEST(OdometryEkfTest, GyroBiasIsEstimatedFromSteering) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.Initialize(0, SE2(0, 0, 0), 0.01);
+  Drive(ekf, o, 2.0, 0.1, 0.004, 60.0);
+  EXPECT_NEAR(ekf.state()[OdometryEkf::kGyroBias], 0.004, 3e-4);
+}
+
+TEST(OdometryEkfTest, HeadingInitialisationCorrelatesYawAndBias) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.InitializeFromHeading(0, {1.0, 2.0}, 0.5);
+  const auto& P = ekf.covariance();
+  EXPECT_NEAR(P(OdometryEkf::kYaw, OdometryEkf::kHeadingBias), -o.heading_bias_sigma_rad * o.heading_bias_sigma_rad, 1e-15);
+  EXPECT_NEAR(std::sqrt(P(OdometryEkf::kYaw, OdometryEkf::kYaw)),
+              std::hypot(o.heading_bias_sigma_rad, o.heading_sigma_rad), 1e-12);
+  EXPECT_EQ(ekf.pose().x(), 1.0);
+}
+
+TEST(OdometryEkfTest, CovarianceGrowsWhileDriving) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.Initialize(0, SE2(0, 0, 0), 0.01);
+  Drive(ekf, o, 2.0, 0.0, 0.0, 5.0);
+  const double early = ekf.pose_covariance().trace();
+  Drive(ekf, o, 2.0, 0.0, 0.0, 50.0);
+  EXPECT_GT(ekf.pose_covariance().trace(), 2.0 * early);
+  // Symmetric and positive definite throughout.
+  const auto& P = ekf.covariance();
+  EXPECT_LT((P - P.transpose()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_GT(P.ldlt().vectorD().minCoeff(), 0.0);
+}
+
+TEST(OdometryEkfTest, RejectsEventsBeforeFilterTimeOrBeforeInit) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  EXPECT_FALSE(ekf.Process(WheelSpeed{0, 1.0}));
+  ekf.Initialize(100 * kMs, SE2(), 0.01);
+  EXPECT_FALSE(ekf.Process(WheelSpeed{50 * kMs, 1.0}));
+  EXPECT_TRUE(ekf.Process(WheelSpeed{100 * kMs, 1.0}));
+}
+
+TEST(OdometryEkfTest, InvalidOptionsAreRejected) {
+  OdometryEkfOptions o;
+  std::string error;
+  EXPECT_TRUE(o.IsValid(&error));
+  o.gyro_sigma_radps = -1.0;
+  EXPECT_FALSE(o.IsValid(&error));
+  o.gyro_sigma_radps = 0.0;
+  EXPECT_FALSE(o.IsValid(&error));
+}
+
+}  // namespace
+}  // namespace parkslam::odometry
