@@ -3,7 +3,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -447,21 +446,17 @@ Dataset LargeDataset() {
   return d;
 }
 
-TEST(DatasetTest, TenMinuteDriveWritesAndReadsWellUnderTwoSeconds) {
+// A ten-minute drive round-trips whole. Its speed is measured by
+// bench/io_bench.cc, not here: timed tests are flaky on shared machines.
+TEST(DatasetTest, TenMinuteDriveRoundTrips) {
   const TempDir dir;
   const Dataset dataset = LargeDataset();
-  const auto start = std::chrono::steady_clock::now();
   WriteDataset(dir / "d", dataset);
   const Dataset read = ReadDataset(dir / "d");
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_EQ(read.log.imu_samples.size(), 60'000u);
   EXPECT_EQ(read.log.imu_samples.back().heading_rad, dataset.log.imu_samples.back().heading_rad);
+  EXPECT_EQ(read.log.wheel_speeds[12345].speed_mps, dataset.log.wheel_speeds[12345].speed_mps);
   EXPECT_EQ(read.slot_labels.size(), 6'000u);
-  RecordProperty("write_read_seconds", std::to_string(seconds));
-#ifdef NDEBUG
-  EXPECT_LT(seconds, 2.0);
-#endif
 }
 
 }  // namespace

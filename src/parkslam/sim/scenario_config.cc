@@ -1,6 +1,7 @@
 #include "parkslam/sim/scenario_config.h"
 
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "parkslam/map/semantic_map.h"
@@ -67,6 +68,21 @@ void CheckWorld(const WorldConfig& w, Checker& c) {
     c.Require(r.id_digits >= 1 && r.id_digits <= 4, p + "id_digits", "must be in [1, 4]");
     c.Require(std::isfinite(r.origin_m.x()) && std::isfinite(r.origin_m.y()),
               p + "origin_m", "must be finite");
+  }
+  // Painted IDs must be unique across rows: the map keys slots by them.
+  std::set<std::string> painted;
+  for (size_t i = 0; i < w.rows.size() && c.ok(); ++i) {
+    const SlotRowConfig& r = w.rows[i];
+    for (int k = 0; k < r.count; ++k) {
+      std::string id = std::to_string(r.first_id + k * r.id_step);
+      if (static_cast<int>(id.size()) < r.id_digits) {
+        id.insert(0, static_cast<size_t>(r.id_digits) - id.size(), '0');
+      }
+      c.Require(painted.insert(id).second,
+                "world.rows[" + std::to_string(i) + "].first_id",
+                "gives a painted ID that another slot already has");
+      if (!c.ok()) break;
+    }
   }
   c.Positive(w.pillar_size_m, "world.pillar_size_m");
   c.Require(w.tag_count >= 0 && w.tag_count <= 587, "world.tag_count",

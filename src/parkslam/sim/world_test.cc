@@ -104,6 +104,16 @@ TEST(WorldTest, InvalidConfigThrowsNamingTheField) {
   }
 }
 
+TEST(WorldTest, OverlappingIdRangesAreRejected) {
+  WorldConfig config = DefaultScenario().world;
+  config.rows[1].first_id = 24;  // row A ends at 24
+  std::string error;
+  EXPECT_FALSE(config.IsValid(&error));
+  EXPECT_NE(error.find("world.rows[1].first_id"), std::string::npos) << error;
+  config.rows[1].first_id = 25;
+  EXPECT_TRUE(config.IsValid(&error)) << error;
+}
+
 TEST(WorldTest, PillarBlocksLineOfSight) {
   World world;
   world.pillars.push_back({{5.0, 0.0}, 0.3});
