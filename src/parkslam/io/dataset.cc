@@ -378,20 +378,28 @@ SlotObservation ParseSlot(const Json& j, const JsonReader& r, const JsonPath& pa
   return slot;
 }
 
-SlotObservationFrame ParseSlotFrame(const Json& j, const JsonReader& r) {
+// One JSON line of a frame file: {"t_ns": ..., "<list_key>": [item, ...]},
+// each item read by parse_item(json, reader, path).
+template <typename Frame, typename ParseItem>
+Frame ParseFrame(const Json& j, const JsonReader& r, const char* list_key,
+                 auto Frame::*items, ParseItem parse_item) {
   const JsonPath root;
-  r.ExpectObject(j, root, {"t_ns", "slots"});
-  SlotObservationFrame frame;
+  r.ExpectObject(j, root, {"t_ns", list_key});
+  Frame frame;
   frame.t_ns = r.Integer(j["t_ns"], root.Key("t_ns"));
-  const JsonPath slots = root.Key("slots");
-  const Json& slots_json = j["slots"];
-  r.ExpectArray(slots_json, slots);
-  frame.slots.reserve(slots_json.size());
-  for (std::size_t i = 0; i < slots_json.size(); ++i) {
-    const JsonPath slot = slots.Index(i);
-    frame.slots.push_back(ParseSlot(slots_json[i], r, slot));
+  const JsonPath list = root.Key(list_key);
+  const Json& list_json = j[list_key];
+  r.ExpectArray(list_json, list);
+  (frame.*items).reserve(list_json.size());
+  for (std::size_t i = 0; i < list_json.size(); ++i) {
+    (frame.*items).push_back(parse_item(list_json[i], r, list.Index(i)));
   }
   return frame;
+}
+
+SlotObservationFrame ParseSlotFrame(const Json& j, const JsonReader& r) {
+  return ParseFrame<SlotObservationFrame>(j, r, "slots", &SlotObservationFrame::slots,
+                                          ParseSlot);
 }
 
 TagObservation ParseTag(const Json& j, const JsonReader& r, const JsonPath& path) {
@@ -419,35 +427,17 @@ TagObservation ParseTag(const Json& j, const JsonReader& r, const JsonPath& path
 }
 
 TagObservationFrame ParseTagFrame(const Json& j, const JsonReader& r) {
-  const JsonPath root;
-  r.ExpectObject(j, root, {"t_ns", "tags"});
-  TagObservationFrame frame;
-  frame.t_ns = r.Integer(j["t_ns"], root.Key("t_ns"));
-  const JsonPath tags = root.Key("tags");
-  const Json& tags_json = j["tags"];
-  r.ExpectArray(tags_json, tags);
-  frame.tags.reserve(tags_json.size());
-  for (std::size_t i = 0; i < tags_json.size(); ++i) {
-    const JsonPath tag = tags.Index(i);
-    frame.tags.push_back(ParseTag(tags_json[i], r, tag));
-  }
-  return frame;
+  return ParseFrame<TagObservationFrame>(j, r, "tags", &TagObservationFrame::tags, ParseTag);
 }
 
 LabelFrame ParseLabelFrame(const Json& j, const JsonReader& r) {
-  const JsonPath root;
-  r.ExpectObject(j, root, {"t_ns", "slots"});
-  LabelFrame frame;
-  frame.t_ns = r.Integer(j["t_ns"], root.Key("t_ns"));
-  const JsonPath slots = root.Key("slots");
-  const Json& slots_json = j["slots"];
-  r.ExpectArray(slots_json, slots);
-  for (std::size_t i = 0; i < slots_json.size(); ++i) {
-    const JsonPath label = slots.Index(i);
-    frame.slots.push_back(r.Int(slots_json[i], label));
-    if (frame.slots.back() < -1) r.Fail(label, "must be a slot index or -1");
-  }
-  return frame;
+  return ParseFrame<LabelFrame>(
+      j, r, "slots", &LabelFrame::slots,
+      [](const Json& item, const JsonReader& reader, const JsonPath& path) {
+        const int label = reader.Int(item, path);
+        if (label < -1) reader.Fail(path, "must be a slot index or -1");
+        return label;
+      });
 }
 
 // ---------------------------------------------------------------------------

@@ -14,17 +14,8 @@ namespace parkslam::io {
 namespace {
 
 using ::testing::HasSubstr;
+using testing::ErrorOf;
 using testing::TempDir;
-
-template <typename F>
-std::string ErrorOf(F f) {
-  try {
-    f();
-  } catch (const IoError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 DigitReading Digit(std::vector<DigitHypothesis> hypotheses) { return {std::move(hypotheses)}; }
 

@@ -11,8 +11,20 @@
 #include <system_error>
 
 #include "parkslam/io/atomic_file.h"
+#include "parkslam/io/io_error.h"
 
 namespace parkslam::io::testing {
+
+// The message of the IoError that f throws; "" when it throws none.
+template <typename F>
+std::string ErrorOf(F f) {
+  try {
+    f();
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "";
+}
 
 // A fresh folder under the system's temporary folder, named after the
 // running test and the process, removed at the end of the test.
