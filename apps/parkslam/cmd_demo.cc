@@ -26,7 +26,7 @@ void AddDemoCommand(CLI::App& app) {
     ScenarioOptions scenario;
     std::uint64_t seed = 1;
     std::string out;
-    int consistency_runs = 20;
+    int consistency_runs = 50;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
