@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
+  libceres-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -19,6 +19,9 @@ void AddSimulateCommand(CLI::App& app);
 void AddOdometryCommand(CLI::App& app);
 void AddEvalTrajCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
+void AddMapCommand(CLI::App& app);
+void AddEvalMapCommand(CLI::App& app);
+void AddRenderCommand(CLI::App& app);
 
 // Options shared by `simulate` and `demo` that pick and tune the scenario.
 struct ScenarioOptions {

@@ -17,6 +17,9 @@ int main(int argc, char** argv) {
   parkslam::app::AddSimulateCommand(app);
   parkslam::app::AddOdometryCommand(app);
   parkslam::app::AddEvalTrajCommand(app);
+  parkslam::app::AddMapCommand(app);
+  parkslam::app::AddEvalMapCommand(app);
+  parkslam::app::AddRenderCommand(app);
   parkslam::app::AddDemoCommand(app);
   try {
     app.parse(argc, argv);

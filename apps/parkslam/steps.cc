@@ -5,6 +5,8 @@
 #include "commands.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/sim/simulator.h"
+#include "progress.h"
+#include <algorithm>
 
 namespace parkslam::app {
 
@@ -50,6 +52,92 @@ nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& m) {
   j["drift_percent"] = std::isfinite(m.drift_percent) ? nlohmann::json(m.drift_percent)
                                                       : nlohmann::json(nullptr);
   return j;
+}
+
+mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
+                         std::optional<SE2> initial_pose, bool progress) {
+  mapping::Mapper mapper(options,
+                         pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
+                                                            dataset.scenario.vehicle),
+                         initial_pose);
+  const SensorLog& log = dataset.log;
+  const size_t total = log.wheel_speeds.size() + log.steering_angles.size() +
+                       log.imu_samples.size() + log.slot_frames.size() + log.tag_frames.size();
+  std::optional<Progress> bar;
+  if (progress) bar.emplace("  mapping", static_cast<int>(total / 1000) + 1);
+  SensorLogSource source(log);
+  size_t done = 0;
+  while (const auto event = source.Next()) {
+    mapper.Process(*event);
+    if (bar && ++done % 1000 == 0) bar->Update(static_cast<int>(done / 1000));
+  }
+  mapper.Finish();
+  if (bar) bar->Finish();
+  return mapper;
+}
+
+std::string DescribeMapping(const mapping::Mapper& mapper, double total_s) {
+  const mapping::MapperStats& st = mapper.stats();
+  std::vector<double> ms = st.keyframe_update_ms;
+  double median = 0.0, worst = 0.0;
+  if (!ms.empty()) {
+    std::sort(ms.begin(), ms.end());
+    median = ms[ms.size() / 2];
+    worst = ms.back();
+  }
+  const SemanticMap map = mapper.Map();
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "%d keyframes, %d slot observations (%d with several candidates), %d tag "
+                "observations; %d slots created, %d merged, %zu in the map, %zu tags; "
+                "keyframe update median %.2f ms, max %.2f ms; final %.2f s; total %.2f s",
+                st.keyframes, st.slot_observations, st.mixture_observations,
+                st.tag_observations, st.slots_created, st.slots_merged, map.slots.size(),
+                map.tags.size(), median, worst, st.final_solve_ms / 1000.0, total_s);
+  return text;
+}
+
+std::vector<bool> PassedSlots(const io::Dataset& dataset, size_t truth_slots, int min_sightings) {
+  if (dataset.slot_labels.empty()) return {};
+  std::vector<int> sightings(truth_slots, 0);
+  for (const auto& frame : dataset.slot_labels) {
+    for (int label : frame) {
+      if (label >= 0 && static_cast<size_t>(label) < truth_slots) ++sightings[label];
+    }
+  }
+  std::vector<bool> passed(truth_slots);
+  for (size_t i = 0; i < truth_slots; ++i) passed[i] = sightings[i] >= min_sightings;
+  return passed;
+}
+
+nlohmann::json MapMetricsToJson(const eval::MapMetrics& m) {
+  return {{"slot_corner_rmse_m", m.slot_corner_rmse_m},
+          {"slot_corner_max_m", m.slot_corner_max_m},
+          {"slots_true", m.slots_true},
+          {"slots_matched", m.slots_matched},
+          {"slots_missed", m.slots_missed},
+          {"slots_spurious", m.slots_spurious},
+          {"slots_duplicate", m.slots_duplicate},
+          {"id_accuracy", m.id_accuracy},
+          {"temporary_id_share", m.temporary_id_share},
+          {"tags_true", m.tags_true},
+          {"tags_matched", m.tags_matched},
+          {"tag_rmse_m", m.tag_rmse_m}};
+}
+
+std::string DescribeMapMetrics(const eval::MapMetrics& m) {
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "slots: %d of %d matched (%.1f %%), %d missed, %d spurious, %d duplicate\n"
+                "slot corner RMSE %.3f m (max %.3f m)\n"
+                "ID accuracy %.1f %%, temporary IDs %.1f %%\n"
+                "tags: %d of %d matched, RMSE %.3f m",
+                m.slots_matched, m.slots_true,
+                m.slots_true > 0 ? 100.0 * m.slots_matched / m.slots_true : 0.0, m.slots_missed,
+                m.slots_spurious, m.slots_duplicate, m.slot_corner_rmse_m, m.slot_corner_max_m,
+                100.0 * m.id_accuracy, 100.0 * m.temporary_id_share, m.tags_matched, m.tags_true,
+                m.tag_rmse_m);
+  return text;
 }
 
 std::string DescribeDataset(const io::Dataset& d) {

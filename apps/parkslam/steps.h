@@ -7,8 +7,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "parkslam/eval/map_metrics.h"
 #include "parkslam/eval/trajectory_metrics.h"
 #include "parkslam/io/dataset.h"
+#include "parkslam/mapping/mapper.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 
 namespace parkslam::app {
@@ -21,6 +23,18 @@ pipeline::DeadReckoningResult RunOdometry(const io::Dataset& dataset,
                                           const pipeline::DeadReckoningOptions& options);
 
 nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& metrics);
+
+// Runs the mapper over a dataset, tuned from its sensor spec; with a
+// progress bar on stderr when `progress`.
+mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
+                         std::optional<SE2> initial_pose, bool progress);
+std::string DescribeMapping(const mapping::Mapper& mapper, double total_s);
+
+// Which truth slots the car passed: detected at least min_sightings times
+// according to the dataset's slot labels. Empty when it has no labels.
+std::vector<bool> PassedSlots(const io::Dataset& dataset, size_t truth_slots, int min_sightings);
+nlohmann::json MapMetricsToJson(const eval::MapMetrics& metrics);
+std::string DescribeMapMetrics(const eval::MapMetrics& metrics);
 
 // A short human-readable summary of a dataset.
 std::string DescribeDataset(const io::Dataset& dataset);

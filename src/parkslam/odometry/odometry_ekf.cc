@@ -51,12 +51,14 @@ void OdometryEkf::Initialize(TimeNs t_ns, const SE2& T_map_vehicle, double yaw_s
   x_[kY] = T_map_vehicle.y();
   x_[kYaw] = T_map_vehicle.yaw();
   const OdometryEkfOptions& o = options_;
-  StateVector sigma;
-  sigma << o.initial_position_sigma_m, o.initial_position_sigma_m, yaw_sigma_rad,
+  StateVector sigma = StateVector::Zero();
+  sigma.head<8>() << o.initial_position_sigma_m, o.initial_position_sigma_m, yaw_sigma_rad,
       o.initial_speed_sigma_mps, o.initial_yaw_rate_sigma_radps, o.gyro_bias_sigma_radps,
       o.heading_bias_sigma_rad, o.wheel_scale_sigma;
-  P_ = sigma.cwiseAbs2().asDiagonal();
+  P_.setZero();
+  P_.topLeftCorner<8, 8>() = sigma.head<8>().cwiseAbs2().asDiagonal();
   initialized_ = true;
+  ClonePose();
 }
 
 void OdometryEkf::InitializeFromHeading(TimeNs t_ns, const Eigen::Vector2d& p_map,
@@ -67,6 +69,36 @@ void OdometryEkf::InitializeFromHeading(TimeNs t_ns, const Eigen::Vector2d& p_ma
   // yaw = heading - b_h - noise: the yaw error is minus the bias error plus
   // the heading noise, so the two are correlated.
   P_(kYaw, kHeadingBias) = P_(kHeadingBias, kYaw) = -Square(o.heading_bias_sigma_rad);
+  ClonePose();
+}
+
+void OdometryEkf::ClonePose() {
+  x_.segment<3>(kCloneX) = x_.head<3>();
+  // The clone equals the pose: same rows and columns, same block.
+  P_.block<3, kStateSize>(kCloneX, 0) = P_.block<3, kStateSize>(kX, 0);
+  P_.block<kStateSize, 3>(0, kCloneX) = P_.block<kStateSize, 3>(0, kX);
+  P_.block<3, 3>(kCloneX, kCloneX) = P_.block<3, 3>(kX, kX);
+}
+
+OdometryEkf::RelativeMotion OdometryEkf::MotionSinceClone() const {
+  // delta_t = R(yaw_c)^T (t - t_c), delta_yaw = yaw - yaw_c; J over
+  // (clone x, y, yaw, pose x, y, yaw).
+  const double c = std::cos(x_[kCloneYaw]), s = std::sin(x_[kCloneYaw]);
+  const Eigen::Vector2d d = x_.head<2>() - x_.segment<2>(kCloneX);
+  Eigen::Matrix<double, 3, 6> J = Eigen::Matrix<double, 3, 6>::Zero();
+  J.block<2, 2>(0, 0) << -c, -s, s, -c;
+  J(0, 2) = -s * d.x() + c * d.y();
+  J(1, 2) = -c * d.x() - s * d.y();
+  J.block<2, 2>(0, 3) << c, s, -s, c;
+  J(2, 2) = -1.0;
+  J(2, 5) = 1.0;
+  Eigen::Matrix<double, 6, 6> P_sub;
+  P_sub << P_.block<3, 3>(kCloneX, kCloneX), P_.block<3, 3>(kCloneX, kX),
+      P_.block<3, 3>(kX, kCloneX), P_.block<3, 3>(kX, kX);
+  RelativeMotion motion;
+  motion.T_clone_now = SE2(x_[kCloneX], x_[kCloneY], x_[kCloneYaw]).inverse() * pose();
+  motion.covariance = J * P_sub * J.transpose();
+  return motion;
 }
 
 void OdometryEkf::Predict(double dt_s) {

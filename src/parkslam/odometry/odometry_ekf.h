@@ -5,8 +5,13 @@
 // (paper III-C: "a Kalman-based extrapolation with the steering wheel, car
 // speed and the compass readings from a cheap IMU").
 //
-// State x (8): [x_m, y_m, yaw_rad, v_mps, omega_radps, gyro_bias_radps,
-//               heading_bias_rad, wheel_scale_error]
+// State x (11): [x_m, y_m, yaw_rad, v_mps, omega_radps, gyro_bias_radps,
+//                heading_bias_rad, wheel_scale_error, clone_x_m, clone_y_m,
+//                clone_yaw_rad]
+// The last three are a stochastic clone of the pose at the last keyframe
+// (Roumeliotis and Burdick, "Stochastic cloning", ICRA 2002): they stay fixed
+// in prediction but keep their cross-covariance with the moving pose, so the
+// motion since the keyframe comes with its own covariance (RelativeMotion()).
 // Process (constant speed and yaw rate over dt, random-walk inputs):
 //   x += v cos(yaw) dt,  y += v sin(yaw) dt,  yaw += omega dt,
 //   v, omega, biases and scale: random walks.
@@ -54,10 +59,20 @@ struct OdometryEkfOptions {
 
 class OdometryEkf {
  public:
-  static constexpr int kStateSize = 8;
+  static constexpr int kStateSize = 11;
   using StateVector = Eigen::Matrix<double, kStateSize, 1>;
   using StateMatrix = Eigen::Matrix<double, kStateSize, kStateSize>;
-  enum Index { kX = 0, kY, kYaw, kSpeed, kYawRate, kGyroBias, kHeadingBias, kWheelScale };
+  enum Index {
+    kX = 0, kY, kYaw, kSpeed, kYawRate, kGyroBias, kHeadingBias, kWheelScale,
+    kCloneX, kCloneY, kCloneYaw
+  };
+
+  // The motion from the cloned keyframe pose to the current pose,
+  // T_clone_now, with the covariance of (dx_m, dy_m, dyaw_rad).
+  struct RelativeMotion {
+    SE2 T_clone_now;
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  };
 
   explicit OdometryEkf(const OdometryEkfOptions& options);
 
@@ -76,6 +91,10 @@ class OdometryEkf {
 
   // Propagates the state to t_ns without a measurement.
   void PredictTo(TimeNs t_ns);
+
+  // Starts a new keyframe: the clone takes the current pose.
+  void ClonePose();
+  RelativeMotion MotionSinceClone() const;
 
   TimeNs time_ns() const { return t_ns_; }
   SE2 pose() const { return SE2(x_[kX], x_[kY], x_[kYaw]); }

@@ -82,6 +82,39 @@ TEST(OdometryEkfTest, CovarianceGrowsWhileDriving) {
   EXPECT_GT(P.ldlt().vectorD().minCoeff(), 0.0);
 }
 
+TEST(OdometryEkfTest, RelativeMotionSinceCloneHasItsOwnCovariance) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.Initialize(0, SE2(5, 5, 1.0), 0.05);
+  Drive(ekf, o, 2.0, 0.0, 0.0, 30.0);  // the absolute covariance has grown
+  ekf.ClonePose();
+  const double absolute_before = ekf.pose_covariance().trace();
+  Drive(ekf, o, 2.0, 0.1, 0.0, 1.0);
+  const auto motion = ekf.MotionSinceClone();
+  // About 2 m of motion, expressed in the clone's frame.
+  EXPECT_NEAR(motion.T_clone_now.translation().norm(), 2.0, 0.05);
+  EXPECT_GT(motion.T_clone_now.yaw(), 0.0);
+  // The increment is far more certain than the absolute pose.
+  EXPECT_LT(motion.covariance.trace(), 0.1 * absolute_before);
+  EXPECT_GT(motion.covariance(0, 0), 0.0);
+  EXPECT_GT(motion.covariance(2, 2), 0.0);
+  EXPECT_LT((motion.covariance - motion.covariance.transpose()).cwiseAbs().maxCoeff(), 1e-15);
+}
+
+TEST(OdometryEkfTest, CloneDoesNotChangeTheEstimate) {
+  OdometryEkfOptions o;
+  OdometryEkf a(o), b(o);
+  a.Initialize(0, SE2(0, 0, 0), 0.01);
+  b.Initialize(0, SE2(0, 0, 0), 0.01);
+  Drive(a, o, 2.0, 0.1, 0.002, 5.0);
+  Drive(b, o, 2.0, 0.1, 0.002, 5.0);
+  b.ClonePose();
+  Drive(a, o, 2.0, 0.1, 0.002, 5.0);
+  Drive(b, o, 2.0, 0.1, 0.002, 5.0);
+  EXPECT_NEAR(a.pose().x(), b.pose().x(), 1e-9);
+  EXPECT_NEAR(a.pose_covariance()(0, 0), b.pose_covariance()(0, 0), 1e-12);
+}
+
 TEST(OdometryEkfTest, RejectsEventsBeforeFilterTimeOrBeforeInit) {
   OdometryEkfOptions o;
   OdometryEkf ekf(o);

@@ -1,0 +1,70 @@
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "commands.h"
+#include "parkslam/io/dataset.h"
+#include "parkslam/io/map_json.h"
+#include "parkslam/io/tum.h"
+#include "parkslam/pipeline/dead_reckoning.h"
+#include "progress.h"
+#include "steps.h"
+
+namespace parkslam::app {
+
+void AddMapCommand(CLI::App& app) {
+  struct Options {
+    std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init, solver = "lm";
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "map",
+      "Build the semantic map (slots with IDs, tags) of a dataset: association by ID and "
+      "nearest neighbour, a factor graph with rectangular slot constraints and a Max-Mixture "
+      "back-end");
+  cmd->add_option("DIR", options->dataset, "Dataset folder")->required();
+  cmd->add_option("--out", options->out, "Map JSON to write")->required();
+  cmd->add_option("--trajectory-out", options->trajectory_out,
+                  "TUM file for the optimized keyframe trajectory");
+  cmd->add_option("--robust", options->robust,
+                  "maxmix: Max-Mixture back-end; none: the plain Gaussian graph (the paper's "
+                  "baseline)")
+      ->check(CLI::IsMember({"maxmix", "none"}))
+      ->capture_default_str();
+  cmd->add_option("--mode", options->mode,
+                  "online: a bounded windowed update per keyframe; batch: a full optimization "
+                  "at the end")
+      ->check(CLI::IsMember({"online", "batch"}))
+      ->capture_default_str();
+  cmd->add_option("--solver", options->solver, "Trust region of the final solve: lm or dogleg")
+      ->check(CLI::IsMember({"lm", "dogleg"}))
+      ->capture_default_str();
+  cmd->add_option("--init", options->init,
+                  "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
+                  "map frame starts at the first pose");
+  cmd->callback([options] {
+    const io::Dataset dataset = io::ReadDataset(options->dataset);
+    mapping::MapperOptions mapper_options;
+    mapper_options.robust =
+        options->robust == "none" ? mapping::RobustMode::kNone : mapping::RobustMode::kMaxMixture;
+    mapper_options.mode =
+        options->mode == "online" ? mapping::MappingMode::kOnline : mapping::MappingMode::kBatch;
+    mapper_options.trust_region = options->solver == "dogleg"
+                                      ? mapping::TrustRegion::kDogleg
+                                      : mapping::TrustRegion::kLevenbergMarquardt;
+    std::optional<SE2> init;
+    if (!options->init.empty()) init = ParsePose(options->init, "--init");
+    const auto start = std::chrono::steady_clock::now();
+    mapping::Mapper mapper = BuildMap(dataset, mapper_options, init, true);
+    const double total_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    io::WriteMap(options->out, mapper.Map());
+    if (!options->trajectory_out.empty()) {
+      io::WriteTum(options->trajectory_out, mapper.KeyframeTrajectory());
+    }
+    std::printf("%s\n", DescribeMapping(mapper, total_s).c_str());
+    std::printf("map written to %s\n", options->out.c_str());
+  });
+}
+
+}  // namespace parkslam::app

@@ -1,0 +1,77 @@
+#ifndef PARKSLAM_EVAL_MAP_METRICS_H_
+#define PARKSLAM_EVAL_MAP_METRICS_H_
+
+// Quality of a semantic map against the ground-truth map (paper IV-A, Fig. 7):
+// how many slots were found, missed, invented or mapped twice, how far their
+// corners lie from the truth, and how many carry the right ID.
+
+#include <vector>
+
+#include "parkslam/common/se2.h"
+#include "parkslam/map/semantic_map.h"
+
+namespace parkslam::eval {
+
+struct MapMetricsOptions {
+  // A map slot matches a truth slot when their entrance midpoints (the middle
+  // of corners 0-1) lie closer than this after the alignment.
+  double match_radius_m = 1.0;
+  // Estimate an SE(2) alignment of the map onto the truth (the map may be in
+  // an odometry frame, rotated and shifted); otherwise compare as given.
+  bool align = true;
+  // Empty: every truth slot counts. Otherwise one flag per truth slot: which
+  // count (e.g. those the car passed). Truth slots that do not count still
+  // take part in the matching and absorb their map slots silently.
+  std::vector<bool> truth_slot_mask;
+};
+
+struct MapMetrics {
+  int slots_true = 0;       // truth slots that count (mask)
+  int slots_matched = 0;    // counted truth slots with a matching map slot
+  int slots_missed = 0;     // counted truth slots with none
+  int slots_spurious = 0;   // map slots with no truth slot within the radius
+  int slots_duplicate = 0;  // extra map slots near a counted truth slot that already has a nearer match
+  // Over the 4 corners of each matched slot (index by index), after the alignment.
+  double slot_corner_rmse_m = 0.0;
+  double slot_corner_max_m = 0.0;
+  // Share of matched slots whose ID is right: the truth's painted ID when it
+  // is legible (and the map's ID not temporary), a temporary ID when the
+  // truth has none or an illegible one.
+  double id_accuracy = 0.0;
+  // Share of matched slots that carry a temporary ID.
+  double temporary_id_share = 0.0;
+  // Tags matched by ID; position error after the alignment.
+  int tags_true = 0;
+  int tags_matched = 0;
+  double tag_rmse_m = 0.0;
+  // The alignment used: aligned map point = T_truth_map * map point
+  // (identity when !align or when no alignment could be found).
+  SE2 T_truth_map;
+};
+
+// Compares a map with the truth.
+//
+// Alignment (when options.align): correspondences by identity (tags with equal
+// IDs: their centres; slots with equal, non-empty, non-temporary IDs: their
+// entrance midpoints) give a robust initial guess by RANSAC over pairs, each
+// pair defining an SE(2) hypothesis (deterministic: all pairs of up to 200
+// correspondences, else all pairs of an evenly spaced subset of 200),
+// refined on its inliers with AlignPointSets; with fewer than 2
+// correspondences the initial guess is the identity. Then, 3 times: slots are
+// matched one to one and the alignment is re-estimated on the corners of all
+// matched slots.
+//
+// Matching: greedy by increasing entrance-midpoint distance, one to one, below
+// options.match_radius_m. An unmatched map slot is a duplicate when its
+// nearest truth slot within the radius already has a (nearer) match, else
+// spurious; both are ignored for truth slots outside the mask.
+//
+// Empty maps give zero rates and errors, never NaN. Throws
+// std::invalid_argument when the mask is neither empty nor one flag per truth
+// slot, or when match_radius_m is not positive and finite.
+MapMetrics EvaluateMap(const SemanticMap& map, const SemanticMap& truth,
+                       const MapMetricsOptions& options = {});
+
+}  // namespace parkslam::eval
+
+#endif  // PARKSLAM_EVAL_MAP_METRICS_H_

@@ -1,0 +1,632 @@
+#include "parkslam/mapping/mapper.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "parkslam/common/angles.h"
+#include "parkslam/mapping/costs/angle.h"
+#include "parkslam/mapping/costs/max_mixture_corner_factor.h"
+#include "parkslam/mapping/costs/odometry_factor.h"
+#include "parkslam/mapping/costs/slot_shape_factor.h"
+#include "parkslam/mapping/costs/tag_observation_factor.h"
+#include "parkslam/mapping/slot_id.h"
+
+namespace parkslam::mapping {
+namespace {
+
+double Square(double x) { return x * x; }
+
+Eigen::Vector2d CornerOf(const Mapper::SlotLandmark& slot, int j) {
+  return {slot.corners[j][0], slot.corners[j][1]};
+}
+
+// Per-corner standard deviation of an observation: the detector's for seen
+// corners (with a floor), a loose one for guessed corners.
+double CornerSigma(const SlotObservation& obs, int j, const MapperOptions& o) {
+  return obs.corner_observed[j] ? std::max(obs.corner_sigma_m, o.min_corner_sigma_m)
+                                : o.guessed_corner_sigma_m;
+}
+
+double ElapsedMs(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// The corner angle of a slot observation at corner 0, counter-clockwise
+// from the entrance to the side; plausible slots lie in (0, pi).
+double SlotAngle(const SlotObservation& obs) {
+  const Eigen::Vector2d entrance = obs.corners_vehicle[1] - obs.corners_vehicle[0];
+  const Eigen::Vector2d side = obs.corners_vehicle[3] - obs.corners_vehicle[0];
+  return std::atan2(entrance.x() * side.y() - entrance.y() * side.x(), entrance.dot(side));
+}
+
+bool PlausibleSlot(const SlotObservation& obs) {
+  constexpr double kMinAngleRad = 0.35, kMinSideM = 0.5;  // 20 degrees
+  const double angle = SlotAngle(obs);
+  bool finite = true;
+  for (const Eigen::Vector2d& c : obs.corners_vehicle) finite &= c.allFinite();
+  return finite && angle > kMinAngleRad && angle < kPi - kMinAngleRad &&
+         (obs.corners_vehicle[1] - obs.corners_vehicle[0]).norm() > kMinSideM &&
+         (obs.corners_vehicle[3] - obs.corners_vehicle[0]).norm() > kMinSideM;
+}
+
+}  // namespace
+
+bool MapperOptions::IsValid(std::string* error) const {
+  auto fail = [error](const char* message) {
+    if (error != nullptr) *error = message;
+    return false;
+  };
+  if (!(keyframe_distance_m > 0 && keyframe_yaw_rad > 0 && idle_keyframe_distance_m > 0 &&
+        keyframe_interval_s > 0))
+    return fail("keyframe thresholds must be positive");
+  if (!(min_corner_sigma_m > 0 && guessed_corner_sigma_m > 0))
+    return fail("corner sigmas must be positive");
+  if (!(shape_angle_sigma_rad > 0 && shape_length_sigma_m > 0))
+    return fail("shape sigmas must be positive");
+  if (!(nn_search_radius_m > 0 && id_search_radius_m > 0 && max_candidates >= 1))
+    return fail("search radii must be positive and max_candidates at least 1");
+  if (!(geometry_weight > 0 && geometry_weight <= 1 && null_weight > 0 && null_weight <= 1 &&
+        null_chi2 > 0))
+    return fail("mixture weights must be in (0, 1] and null_chi2 positive");
+  if (!(merge_distance_m >= 0 && min_observations >= 1 && id_min_votes > 0))
+    return fail("slot management thresholds out of range");
+  if (!(window_keyframes >= 2 && online_iterations >= 1 && batch_window_every >= 1 &&
+        final_iterations >= 1 && final_rounds >= 1 && initial_trust_region_radius > 0))
+    return fail("solver settings out of range");
+  return true;
+}
+
+Mapper::Mapper(const MapperOptions& options, const odometry::OdometryEkfOptions& ekf_options,
+               std::optional<SE2> initial_pose)
+    : options_(options),
+      ekf_(std::make_unique<odometry::OdometryEkf>(ekf_options)),
+      initial_pose_(initial_pose) {
+  std::string error;
+  if (!options_.IsValid(&error)) throw std::invalid_argument("mapper options: " + error);
+  if (!ekf_options.IsValid(&error)) throw std::invalid_argument("odometry options: " + error);
+}
+
+Mapper::~Mapper() = default;
+Mapper::Mapper(Mapper&&) noexcept = default;
+Mapper& Mapper::operator=(Mapper&&) noexcept = default;
+
+SE2 Mapper::PoseOf(int keyframe) const {
+  const auto& p = keyframes_[keyframe].pose;
+  return SE2(p[0], p[1], p[2]);
+}
+
+void Mapper::Process(const SensorEvent& event) {
+  const TimeNs t_ns = EventTime(event);
+  if (!ekf_->initialized()) {
+    if (initial_pose_) {
+      ekf_->Initialize(t_ns, *initial_pose_, 0.01);
+    } else if (const auto* imu = std::get_if<ImuSample>(&event)) {
+      ekf_->InitializeFromHeading(t_ns, Eigen::Vector2d::Zero(), imu->heading_rad);
+    } else {
+      return;
+    }
+  }
+  if (!ekf_->Process(event)) return;  // older than the filter: dropped
+  const auto* slot_frame = std::get_if<SlotObservationFrame>(&event);
+  const auto* tag_frame = std::get_if<TagObservationFrame>(&event);
+  if (slot_frame == nullptr && tag_frame == nullptr) return;
+  const auto start = std::chrono::steady_clock::now();
+  const bool has_observations = slot_frame != nullptr ? !slot_frame->slots.empty()
+                                                     : !tag_frame->tags.empty();
+  if (!MaybeAddKeyframe(t_ns, has_observations)) return;
+  const int k = static_cast<int>(keyframes_.size()) - 1;
+  if (slot_frame != nullptr) {
+    for (const SlotObservation& obs : slot_frame->slots) AssociateSlot(k, obs);
+  } else {
+    for (const TagObservation& obs : tag_frame->tags) AddTag(k, obs);
+  }
+  AfterKeyframe();
+  stats_.keyframe_update_ms.push_back(ElapsedMs(start));
+}
+
+bool Mapper::MaybeAddKeyframe(TimeNs t_ns, bool has_observations) {
+  const odometry::OdometryEkf::RelativeMotion motion = ekf_->MotionSinceClone();
+  Keyframe keyframe;
+  keyframe.t_ns = t_ns;
+  if (keyframes_.empty()) {
+    const SE2 pose = ekf_->pose();
+    keyframe.pose = {pose.x(), pose.y(), pose.yaw()};
+  } else {
+    const Keyframe& last = keyframes_.back();
+    const double moved_m = motion.T_clone_now.translation().norm();
+    const bool moved = has_observations
+                           ? moved_m >= options_.keyframe_distance_m ||
+                                 std::abs(motion.T_clone_now.yaw()) >= options_.keyframe_yaw_rad
+                           : moved_m >= options_.idle_keyframe_distance_m;
+    if (!moved && ToSeconds(t_ns - last.t_ns) < options_.keyframe_interval_s) return false;
+    const SE2 pose = PoseOf(static_cast<int>(keyframes_.size()) - 1) * motion.T_clone_now;
+    keyframe.pose = {pose.x(), pose.y(), pose.yaw()};
+    keyframe.T_previous_this = motion.T_clone_now;
+    // A floor keeps the information finite when the car stands still.
+    keyframe.covariance = 0.5 * (motion.covariance + motion.covariance.transpose()) +
+                          Eigen::Matrix3d::Identity() * 1e-8;
+    distance_since_solve_m_ += moved_m;
+  }
+  ekf_->ClonePose();
+  keyframes_.push_back(keyframe);
+  ++stats_.keyframes;
+  return true;
+}
+
+double Mapper::IdSupport(const SlotLandmark& slot, const SlotObservation& obs) const {
+  double total = 0.0;
+  for (const auto& [id, votes] : slot.votes) total += votes;
+  if (total <= 0.0) return 0.0;
+  double support = 0.0;
+  for (const IdHypothesis& h : FullIdHypotheses(obs.id, options_.id_hypothesis_min)) {
+    const auto it = slot.votes.find(h.id);
+    if (it != slot.votes.end()) support += h.probability * it->second / total;
+  }
+  const std::string pattern = PartialPattern(obs.id);
+  if (!pattern.empty()) {
+    // One digit read: the slot's IDs that agree with it, at the read digit's
+    // confidence.
+    for (const auto& [id, votes] : slot.votes) {
+      if (MatchesPattern(id, pattern)) support += obs.id.confidence() * votes / total;
+    }
+  }
+  return std::min(support, 1.0);
+}
+
+void Mapper::AssociateSlot(int keyframe, const SlotObservation& obs) {
+  if (!PlausibleSlot(obs)) {
+    ++stats_.rejected_slot_observations;
+    return;
+  }
+  ++stats_.slot_observations;
+  const SE2 pose = PoseOf(keyframe);
+  std::array<Eigen::Vector2d, kSlotCorners> predicted;
+  for (int j = 0; j < kSlotCorners; ++j) predicted[j] = pose * obs.corners_vehicle[j];
+  const double prediction_sigma =
+      options_.prediction_sigma_m + options_.prediction_sigma_per_m * distance_since_solve_m_;
+
+  struct Candidate {
+    int slot;
+    double weight, chi2, cost, entrance_distance_m;
+  };
+  std::vector<Candidate> candidates;
+  const std::vector<IdHypothesis> hypotheses =
+      FullIdHypotheses(obs.id, options_.id_hypothesis_min);
+  for (int s = 0; s < static_cast<int>(slots_.size()); ++s) {
+    const SlotLandmark& slot = slots_[s];
+    if (!slot.alive) continue;
+    const double d0 = (CornerOf(slot, 0) - predicted[0]).norm();
+    const double d1 = (CornerOf(slot, 1) - predicted[1]).norm();
+    const double entrance_m = std::max(d0, d1);
+    if (entrance_m > options_.id_search_radius_m) continue;
+    const double support = IdSupport(slot, obs);
+    const bool neighbour = entrance_m <= options_.nn_search_radius_m;
+    if (!neighbour && support < options_.id_hypothesis_min) continue;
+    Candidate c{s, std::min(1.0, options_.geometry_weight + support), 0.0, 0.0, entrance_m};
+    for (int j = 0; j < kSlotCorners; ++j) {
+      c.chi2 += (CornerOf(slot, j) - predicted[j]).squaredNorm() /
+                (Square(CornerSigma(obs, j, options_)) + Square(prediction_sigma));
+    }
+    c.cost = -std::log(c.weight) + 0.5 * c.chi2;
+    candidates.push_back(c);
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  if (static_cast<int>(candidates.size()) > options_.max_candidates) {
+    candidates.resize(options_.max_candidates);
+  }
+
+  SlotRecord record;
+  record.keyframe = keyframe;
+  record.observation = obs;
+  if (options_.robust == RobustMode::kNone) {
+    // The plain front-end of the paper's baseline: a confident ID decides;
+    // otherwise the nearest neighbour within the gate; otherwise a new slot.
+    int chosen = -1;
+    const bool confident = !obs.id.empty() && !obs.id.partial() &&
+                           obs.id.confidence() >= options_.id_confidence_min;
+    if (confident) {
+      const auto owner = id_owner_.find(obs.id.best());
+      if (owner != id_owner_.end() && slots_[owner->second.first].alive) {
+        const double d = (CornerOf(slots_[owner->second.first], 0) - predicted[0]).norm();
+        if (d <= options_.id_search_radius_m) chosen = owner->second.first;
+      }
+    }
+    if (chosen < 0) {
+      double best_chi2 = options_.null_chi2;
+      for (const Candidate& c : candidates) {
+        if (c.entrance_distance_m <= options_.nn_search_radius_m && c.chi2 < best_chi2) {
+          best_chi2 = c.chi2;
+          chosen = c.slot;
+        }
+      }
+    }
+    if (chosen < 0) {
+      CreateSlot(keyframe, obs);
+      return;
+    }
+    record.candidates = {chosen};
+    record.weights = {1.0};
+    record.chosen = chosen;
+  } else {
+    const double null_cost = -std::log(options_.null_weight) + 0.5 * options_.null_chi2;
+    if (candidates.empty() || candidates.front().cost > null_cost) {
+      // Neither a confident ID nor a neighbour: a new slot, added lazily
+      // under a temporary ID (paper III-C).
+      CreateSlot(keyframe, obs);
+      return;
+    }
+    for (const Candidate& c : candidates) {
+      record.candidates.push_back(c.slot);
+      record.weights.push_back(c.weight);
+    }
+    record.has_null = true;
+    record.chosen = candidates.front().slot;
+    if (record.candidates.size() > 1) ++stats_.mixture_observations;
+  }
+  SlotLandmark& slot = slots_[record.chosen];
+  for (const IdHypothesis& h : hypotheses) slot.votes[h.id] += h.probability;
+  ++slot.observations;
+  slot_records_.push_back(std::move(record));
+  UpdateIdOwner(slot_records_.back().chosen);
+}
+
+int Mapper::CreateSlot(int keyframe, const SlotObservation& obs) {
+  const SE2 pose = PoseOf(keyframe);
+  SlotLandmark slot;
+  for (int j = 0; j < kSlotCorners; ++j) {
+    const Eigen::Vector2d p = pose * obs.corners_vehicle[j];
+    slot.corners[j] = {p.x(), p.y()};
+  }
+  const Eigen::Vector2d entrance = obs.corners_vehicle[1] - obs.corners_vehicle[0];
+  const Eigen::Vector2d side = obs.corners_vehicle[3] - obs.corners_vehicle[0];
+  slot.angle_rad = SlotAngle(obs);
+  if (std::abs(slot.angle_rad - kPi / 2) < options_.right_angle_tolerance_rad) {
+    slot.angle_rad = kPi / 2;
+  }
+  slot.width_m = entrance.norm();
+  slot.depth_m = side.norm();
+  slot.temporary_number = next_temporary_number_++;
+  for (const IdHypothesis& h : FullIdHypotheses(obs.id, options_.id_hypothesis_min)) {
+    slot.votes[h.id] += h.probability;
+  }
+  slot.observations = 1;
+  slots_.push_back(slot);
+  ++stats_.slots_created;
+  const int index = static_cast<int>(slots_.size()) - 1;
+
+  // The creating observation is tied to its slot without a null component,
+  // so that no slot is ever left without a factor.
+  SlotRecord record;
+  record.keyframe = keyframe;
+  record.observation = obs;
+  record.candidates = {index};
+  record.weights = {1.0};
+  record.chosen = index;
+  slot_records_.push_back(std::move(record));
+  UpdateIdOwner(index);
+  return index;
+}
+
+void Mapper::UpdateIdOwner(int s) {
+  for (const auto& [id, votes] : slots_[s].votes) {
+    auto it = id_owner_.find(id);
+    if (it == id_owner_.end() || !slots_[it->second.first].alive ||
+        votes > it->second.second || it->second.first == s) {
+      id_owner_[id] = {s, votes};
+    }
+  }
+}
+
+void Mapper::AddTag(int keyframe, const TagObservation& obs) {
+  ++stats_.tag_observations;
+  auto it = tag_index_.find(obs.tag_id);
+  if (it == tag_index_.end()) {
+    const SE2 pose = PoseOf(keyframe);
+    const Eigen::Vector2d p = pose * obs.p_vehicle;
+    TagLandmark tag;
+    tag.tag_id = obs.tag_id;
+    tag.pose = {p.x(), p.y(), NormalizeAngle(pose.yaw() + obs.yaw_vehicle_rad)};
+    tags_.push_back(tag);
+    it = tag_index_.emplace(obs.tag_id, static_cast<int>(tags_.size()) - 1).first;
+  }
+  ++tags_[it->second].observations;
+  tag_records_.push_back({keyframe, obs, it->second});
+}
+
+void Mapper::AfterKeyframe() {
+  const int count = static_cast<int>(keyframes_.size());
+  const int every = options_.mode == MappingMode::kOnline ? 1 : options_.batch_window_every;
+  if (count % every != 0) return;
+  Solve(std::max(0, count - options_.window_keyframes), options_.online_iterations, false);
+}
+
+void Mapper::Solve(int first_free, int max_iterations, bool final) {
+  const int count = static_cast<int>(keyframes_.size());
+  if (count == 0) return;
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  Pose2Manifold pose_manifold;
+
+  auto add_pose = [&](int k) {
+    double* block = keyframes_[k].pose.data();
+    if (!problem.HasParameterBlock(block)) {
+      problem.AddParameterBlock(block, 3, &pose_manifold);
+      if (k < first_free || k == 0) problem.SetParameterBlockConstant(block);
+    }
+    return block;
+  };
+
+  // Odometry between consecutive keyframes (the first links to the last
+  // fixed one).
+  for (int k = std::max(1, first_free); k < count; ++k) {
+    problem.AddResidualBlock(
+        OdometryFactor::Create(keyframes_[k].T_previous_this, keyframes_[k].covariance),
+        nullptr, add_pose(k - 1), add_pose(k));
+  }
+  if (count == 1) add_pose(0);
+
+  // Slot observations: one block per observation over all its candidates.
+  // Slots seen in the window are free; all their observations enter (older
+  // poses held fixed), so a revisited slot keeps its earlier evidence.
+  std::set<int> free_slots;
+  for (const SlotRecord& record : slot_records_) {
+    if (record.keyframe >= first_free) free_slots.insert(record.candidates.begin(), record.candidates.end());
+  }
+  struct MixtureBlock {
+    size_t record;
+    const MaxMixtureCornerFactor* factor;
+    std::vector<double*> blocks;
+  };
+  std::vector<MixtureBlock> mixtures;
+  std::set<int> fixed_slots;
+  for (size_t r = 0; r < slot_records_.size(); ++r) {
+    const SlotRecord& record = slot_records_[r];
+    const bool touches_free = std::any_of(record.candidates.begin(), record.candidates.end(),
+                                          [&](int s) { return free_slots.count(s) > 0; });
+    if (record.keyframe < first_free && !touches_free) continue;
+    std::vector<CornerMeasurement> measurements;
+    for (int j = 0; j < kSlotCorners; ++j) {
+      measurements.push_back({record.observation.corners_vehicle[j],
+                              Eigen::Matrix2d::Identity() *
+                                  Square(CornerSigma(record.observation, j, options_))});
+    }
+    std::vector<double*> blocks{add_pose(record.keyframe)};
+    for (int s : record.candidates) {
+      for (int j = 0; j < kSlotCorners; ++j) blocks.push_back(slots_[s].corners[j].data());
+      if (free_slots.count(s) == 0) fixed_slots.insert(s);
+    }
+    auto* factor = new MaxMixtureCornerFactor(
+        measurements, record.weights, record.has_null ? options_.null_weight : 0.0,
+        options_.null_chi2);
+    problem.AddResidualBlock(factor, nullptr, blocks);
+    if (record.has_null || record.candidates.size() > 1) mixtures.push_back({r, factor, blocks});
+  }
+  for (int s : fixed_slots) {
+    for (int j = 0; j < kSlotCorners; ++j) problem.SetParameterBlockConstant(slots_[s].corners[j].data());
+  }
+  // The rectangular constraint of every slot in play (paper III-A).
+  for (int s : free_slots) {
+    SlotLandmark& slot = slots_[s];
+    problem.AddResidualBlock(
+        SlotShapeFactor::Create(slot.angle_rad, slot.width_m, slot.depth_m,
+                                options_.shape_angle_sigma_rad, options_.shape_length_sigma_m),
+        nullptr, slot.corners[0].data(), slot.corners[1].data(), slot.corners[2].data(),
+        slot.corners[3].data());
+  }
+  std::set<int> free_tags;
+  for (const TagRecord& record : tag_records_) {
+    if (record.keyframe >= first_free) free_tags.insert(record.tag);
+  }
+  for (const TagRecord& record : tag_records_) {
+    if (free_tags.count(record.tag) == 0) continue;
+    double* tag_block = tags_[record.tag].pose.data();
+    if (!problem.HasParameterBlock(tag_block)) {
+      problem.AddParameterBlock(tag_block, 3, &pose_manifold);
+    }
+    problem.AddResidualBlock(
+        TagObservationFactor::Create(record.observation.p_vehicle,
+                                     record.observation.yaw_vehicle_rad,
+                                     record.observation.covariance_vehicle,
+                                     record.observation.yaw_sigma_rad),
+        nullptr, add_pose(record.keyframe), tag_block);
+  }
+
+  ceres::Solver::Options solver_options;
+  solver_options.max_num_iterations = max_iterations;
+  solver_options.num_threads = 1;
+  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver_options.trust_region_strategy_type =
+      options_.trust_region == TrustRegion::kDogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+  solver_options.initial_trust_region_radius = options_.initial_trust_region_radius;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  if (final) {
+    stats_.final_iterations += static_cast<int>(summary.iterations.size());
+    stats_.final_cost = summary.final_cost;
+  }
+
+  // Which component each mixture picked at the solution.
+  bool changed = false;
+  for (const MixtureBlock& m : mixtures) {
+    const int component = m.factor->ChosenComponent(m.blocks.data());
+    SlotRecord& record = slot_records_[m.record];
+    const int chosen = component < 0 ? -1 : record.candidates[component];
+    changed |= chosen != record.chosen;
+    record.chosen = chosen;
+  }
+  if (changed) RecomputeSlotEvidence();
+  distance_since_solve_m_ = 0.0;
+}
+
+void Mapper::RecomputeSlotEvidence() {
+  for (SlotLandmark& slot : slots_) {
+    slot.votes.clear();
+    slot.observations = 0;
+    slot.corner_observations = {};
+  }
+  for (const SlotRecord& record : slot_records_) {
+    if (record.chosen < 0) continue;
+    SlotLandmark& slot = slots_[record.chosen];
+    ++slot.observations;
+    for (int j = 0; j < kSlotCorners; ++j) {
+      slot.corner_observations[j] += record.observation.corner_observed[j];
+    }
+    for (const IdHypothesis& h : FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
+      slot.votes[h.id] += h.probability;
+    }
+  }
+  id_owner_.clear();
+  for (int s = 0; s < static_cast<int>(slots_.size()); ++s) {
+    if (slots_[s].alive) UpdateIdOwner(s);
+  }
+}
+
+void Mapper::MergeDuplicates() {
+  const int n = static_cast<int>(slots_.size());
+  std::vector<int> target(n);
+  for (int s = 0; s < n; ++s) target[s] = s;
+  for (int a = 0; a < n; ++a) {
+    if (!slots_[a].alive) continue;
+    for (int b = a + 1; b < n; ++b) {
+      if (!slots_[b].alive) continue;
+      if ((CornerOf(slots_[a], 0) - CornerOf(slots_[b], 0)).norm() > options_.merge_distance_m ||
+          (CornerOf(slots_[a], 1) - CornerOf(slots_[b], 1)).norm() > options_.merge_distance_m) {
+        continue;
+      }
+      // Keep the better-observed slot.
+      const bool keep_a = slots_[a].observations >= slots_[b].observations;
+      const int keep = keep_a ? a : b, drop = keep_a ? b : a;
+      slots_[drop].alive = false;
+      target[drop] = keep;
+      ++stats_.slots_merged;
+      if (drop == a) break;
+    }
+  }
+  auto resolve = [&target](int s) {
+    while (target[s] != s) s = target[s];
+    return s;
+  };
+  for (SlotRecord& record : slot_records_) {
+    std::vector<int> candidates;
+    std::vector<double> weights;
+    for (size_t i = 0; i < record.candidates.size(); ++i) {
+      const int s = resolve(record.candidates[i]);
+      const auto it = std::find(candidates.begin(), candidates.end(), s);
+      if (it == candidates.end()) {
+        candidates.push_back(s);
+        weights.push_back(record.weights[i]);
+      } else {
+        double& w = weights[it - candidates.begin()];
+        w = std::max(w, record.weights[i]);
+      }
+    }
+    record.candidates = std::move(candidates);
+    record.weights = std::move(weights);
+    if (record.chosen >= 0) record.chosen = resolve(record.chosen);
+  }
+}
+
+void Mapper::AssignIds() {
+  struct Claim {
+    double votes;
+    int slot;
+    std::string id;
+  };
+  std::vector<Claim> claims;
+  for (int s = 0; s < static_cast<int>(slots_.size()); ++s) {
+    SlotLandmark& slot = slots_[s];
+    slot.id.clear();
+    if (!slot.alive) continue;
+    double total = 0.0;
+    for (const auto& [id, votes] : slot.votes) total += votes;
+    for (const auto& [id, votes] : slot.votes) {
+      // A name needs enough agreeing readings and most of the slot's votes.
+      if (votes >= options_.id_min_votes && votes > 0.5 * total) claims.push_back({votes, s, id});
+    }
+  }
+  std::sort(claims.begin(), claims.end(), [](const Claim& a, const Claim& b) {
+    return a.votes > b.votes || (a.votes == b.votes && a.slot < b.slot);
+  });
+  std::set<std::string> taken;
+  for (const Claim& claim : claims) {
+    SlotLandmark& slot = slots_[claim.slot];
+    if (!slot.id.empty() || taken.count(claim.id) > 0) continue;
+    slot.id = claim.id;
+    taken.insert(claim.id);
+  }
+}
+
+void Mapper::Finish() {
+  const auto start = std::chrono::steady_clock::now();
+  if (options_.mode == MappingMode::kBatch) {
+    for (int round = 0; round < options_.final_rounds; ++round) {
+      Solve(0, options_.final_iterations, true);
+      RecomputeSlotEvidence();
+      MergeDuplicates();
+    }
+  } else {
+    RecomputeSlotEvidence();
+    MergeDuplicates();
+  }
+  RecomputeSlotEvidence();
+  AssignIds();
+  stats_.final_solve_ms = ElapsedMs(start);
+}
+
+SemanticMap Mapper::Map() const {
+  SemanticMap map;
+  map.metadata["source"] = "parkslam mapper";
+  map.metadata["robust"] = options_.robust == RobustMode::kMaxMixture ? "maxmix" : "none";
+  map.metadata["mode"] = options_.mode == MappingMode::kBatch ? "batch" : "online";
+  for (const SlotLandmark& slot : slots_) {
+    if (!slot.alive || slot.observations < options_.min_observations) continue;
+    MapSlot s;
+    s.id = slot.id.empty() ? "t" + std::to_string(slot.temporary_number) : slot.id;
+    s.temporary = slot.id.empty();
+    if (std::abs(slot.angle_rad - kPi / 2) > 1e-6) {
+      s.kind = SlotKind::kAngled;
+    } else {
+      s.kind = slot.width_m > 4.0 ? SlotKind::kParallel : SlotKind::kPerpendicular;
+    }
+    for (int j = 0; j < kSlotCorners; ++j) {
+      s.corners_map[j] = CornerOf(slot, j);
+      s.corner_observed[j] = slot.corner_observations[j] > 0;
+      // Approximate: the detector's typical sigma over the evidence; guessed
+      // corners rest on the shape constraint.
+      s.corner_sigma_m[j] = s.corner_observed[j]
+                                ? 0.05 / std::sqrt(static_cast<double>(slot.corner_observations[j]))
+                                : options_.shape_length_sigma_m;
+    }
+    s.observation_count = slot.observations;
+    map.slots.push_back(s);
+  }
+  // Each tag implies an obstacle: the face of the wall or pillar it hangs on,
+  // drawn as a segment one metre wide behind it.
+  for (const TagLandmark& tag : tags_) {
+    const Eigen::Vector2d p(tag.pose[0], tag.pose[1]);
+    const Eigen::Vector2d along(-std::sin(tag.pose[2]), std::cos(tag.pose[2]));
+    map.obstacles.push_back({ObstacleKind::kWall, {p - 0.5 * along, p + 0.5 * along}});
+    map.tags.push_back({tag.tag_id, p, tag.pose[2], options_.tag_size_m,
+                        static_cast<int>(map.obstacles.size()) - 1});
+  }
+  return map;
+}
+
+Trajectory Mapper::KeyframeTrajectory() const {
+  Trajectory trajectory;
+  for (int k = 0; k < static_cast<int>(keyframes_.size()); ++k) {
+    trajectory.push_back({keyframes_[k].t_ns, PoseOf(k)});
+  }
+  return trajectory;
+}
+
+}  // namespace parkslam::mapping

@@ -1,0 +1,79 @@
+#ifndef PARKSLAM_MAPPING_MAPPER_OPTIONS_H_
+#define PARKSLAM_MAPPING_MAPPER_OPTIONS_H_
+
+#include <string>
+
+namespace parkslam::mapping {
+
+enum class RobustMode { kMaxMixture, kNone };
+enum class MappingMode { kOnline, kBatch };
+enum class TrustRegion { kLevenbergMarquardt, kDogleg };
+
+struct MapperOptions {
+  RobustMode robust = RobustMode::kMaxMixture;
+  MappingMode mode = MappingMode::kBatch;
+
+  // Keyframes: a slot or tag frame with observations becomes one after this
+  // much motion since the last keyframe; a frame without any only after the
+  // longer idle thresholds (keeping the odometry chain short where nothing
+  // is seen).
+  double keyframe_distance_m = 0.1;
+  double keyframe_yaw_rad = 0.05;
+  double idle_keyframe_distance_m = 2.0;
+  double keyframe_interval_s = 2.0;
+
+  // Observation model. Slot corners: the detector's sigma, at least
+  // min_corner_sigma_m; guessed far corners only loosely.
+  double min_corner_sigma_m = 0.03;
+  double guessed_corner_sigma_m = 0.5;
+
+  // The rectangular constraint (paper III-A): angles with high confidence,
+  // side lengths with lower confidence. Observed slot angles within
+  // right_angle_tolerance_rad of 90 degrees are taken as right angles.
+  double shape_angle_sigma_rad = 0.0175;
+  double shape_length_sigma_m = 0.1;
+  double right_angle_tolerance_rad = 0.17;
+
+  // Association (paper III-C): candidates by ID within id_search_radius_m,
+  // nearest neighbours whose entrance corners lie within nn_search_radius_m
+  // of the prediction.
+  double id_hypothesis_min = 0.05;
+  double id_confidence_min = 0.5;  // a "confident" reading (robust none)
+  double id_search_radius_m = 6.0;
+  double nn_search_radius_m = 2.0;
+  int max_candidates = 6;
+  // Prediction uncertainty added to the corners when choosing at
+  // association time: base plus growth per metre since the last solve.
+  double prediction_sigma_m = 0.05;
+  double prediction_sigma_per_m = 0.01;
+
+  // Max-Mixture: candidate weight floor (a neighbour the ID does not
+  // support) and the null (new slot / outlier) component. A single
+  // candidate of weight w wins over the null iff
+  // chi2 < null_chi2 + 2 log(w / null_weight).
+  double geometry_weight = 0.05;
+  double null_weight = 0.05;
+  double null_chi2 = 40.0;
+
+  // Slot management.
+  double merge_distance_m = 0.6;  // both entrance corners this close: one slot
+  int min_observations = 3;       // fewer: dropped from the map as spurious
+  double id_min_votes = 1.5;      // summed reading probability to name a slot
+
+  // Solver.
+  int window_keyframes = 30;          // online: free keyframes per update
+  int online_iterations = 5;
+  int batch_window_every = 10;        // batch: a windowed solve every n keyframes
+  int final_iterations = 50;
+  int final_rounds = 2;               // final solve, merge, re-choose, repeat
+  TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
+  double initial_trust_region_radius = 1e4;
+
+  double tag_size_m = 0.488;
+
+  bool IsValid(std::string* error) const;
+};
+
+}  // namespace parkslam::mapping
+
+#endif  // PARKSLAM_MAPPING_MAPPER_OPTIONS_H_

@@ -1,0 +1,236 @@
+#include "parkslam/mapping/mapper.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+
+#include "parkslam/common/angles.h"
+
+namespace parkslam::mapping {
+namespace {
+
+constexpr TimeNs kMs = 1'000'000;
+
+struct TestSlot {
+  std::array<Eigen::Vector2d, 4> corners_map;
+};
+
+// A perpendicular slot whose entrance runs along y = 3 from x to x + 2.5,
+// the slot extending to +y (counter-clockwise corners).
+TestSlot SlotAt(double x) {
+  return {{Eigen::Vector2d(x, 3.0), Eigen::Vector2d(x + 2.5, 3.0), Eigen::Vector2d(x + 2.5, 8.3),
+           Eigen::Vector2d(x, 8.3)}};
+}
+
+SlotIdReading Reading(const std::string& id, double p = 0.9) {
+  SlotIdReading r;
+  for (char c : id) r.digits.push_back(DigitReading{{{c, p}}});
+  return r;
+}
+
+// Which ID the detector reads for slot `s` in frame `f`.
+using ReadingFn = std::function<SlotIdReading(int s, int f)>;
+
+// A straight drive along +x at 1 m/s from x = x0 to x1 (perfect odometry),
+// the top view seeing slots whose entrance corners are within 5 m of the car.
+void Drive(Mapper& mapper, const std::vector<TestSlot>& slots, const ReadingFn& reading,
+           double x0, double x1, double y = 0.0, TimeNs t0 = 0, int frame0 = 0) {
+  const double speed = 1.0;
+  const int steps = static_cast<int>((x1 - x0) / speed * 100);
+  for (int i = 0; i <= steps; ++i) {
+    const TimeNs t = t0 + i * 10 * kMs;
+    const double x = x0 + speed * i * 0.01;
+    mapper.Process(ImuSample{t, 0.0, 0.0});
+    if (i % 2 == 0) {
+      mapper.Process(WheelSpeed{t, speed});
+      mapper.Process(SteeringAngle{t, 0.0});
+    }
+    if (i % 10 == 5) {
+      SlotObservationFrame frame;
+      frame.t_ns = t;
+      const int f = frame0 + i / 10;
+      for (int s = 0; s < static_cast<int>(slots.size()); ++s) {
+        SlotObservation obs;
+        bool visible = true;
+        for (int j = 0; j < 4; ++j) {
+          obs.corners_vehicle[j] = slots[s].corners_map[j] - Eigen::Vector2d(x, y);
+          if (j < 2 && (std::abs(obs.corners_vehicle[j].x()) > 5 ||
+                        std::abs(obs.corners_vehicle[j].y()) > 5)) {
+            visible = false;
+          }
+        }
+        if (!visible) continue;
+        obs.corner_sigma_m = 0.03;
+        obs.id = reading(s, f);
+        frame.slots.push_back(obs);
+      }
+      mapper.Process(frame);
+    }
+  }
+}
+
+MapperOptions Options(RobustMode robust, MappingMode mode = MappingMode::kBatch) {
+  MapperOptions o;
+  o.robust = robust;
+  o.mode = mode;
+  return o;
+}
+
+const MapSlot* FindNear(const SemanticMap& map, const Eigen::Vector2d& corner0) {
+  for (const MapSlot& s : map.slots) {
+    if ((s.corners_map[0] - corner0).norm() < 0.5) return &s;
+  }
+  return nullptr;
+}
+
+TEST(MapperTest, TwoSlotsWithCorrectIdsAreMappedOnce) {
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  const std::vector<TestSlot> slots{SlotAt(5.0), SlotAt(7.5)};
+  Drive(mapper, slots, [](int s, int) { return Reading(s == 0 ? "38" : "39"); }, 0, 15);
+  mapper.Finish();
+  const SemanticMap map = mapper.Map();
+  ASSERT_EQ(map.slots.size(), 2u);
+  const MapSlot* a = FindNear(map, slots[0].corners_map[0]);
+  ASSERT_NE(a, nullptr);
+  EXPECT_EQ(a->id, "38");
+  EXPECT_FALSE(a->temporary);
+  EXPECT_LT((a->corners_map[2] - slots[0].corners_map[2]).norm(), 0.05);
+  EXPECT_EQ(FindNear(map, slots[1].corners_map[0])->id, "39");
+}
+
+TEST(MapperTest, FirstReadingWrongThenCorrected) {
+  // The paper's case: slot 39 read as 38 when first identified.
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  const std::vector<TestSlot> slots{SlotAt(5.0)};
+  Drive(mapper, slots, [](int, int f) { return Reading(f < 3 ? "38" : "39"); }, 0, 12);
+  mapper.Finish();
+  const SemanticMap map = mapper.Map();
+  ASSERT_EQ(map.slots.size(), 1u);
+  EXPECT_EQ(map.slots[0].id, "39");
+}
+
+TEST(MapperTest, TemporaryIdPromotedOnceReadingsAgree) {
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  const std::vector<TestSlot> slots{SlotAt(5.0)};
+  // Unreadable when first seen, then read from frame 60 on.
+  Drive(mapper, slots, [](int, int f) { return f < 60 ? SlotIdReading{} : Reading("12"); },
+        0, 12);
+  mapper.Finish();
+  ASSERT_EQ(mapper.Map().slots.size(), 1u);
+  EXPECT_EQ(mapper.Map().slots[0].id, "12");
+  EXPECT_FALSE(mapper.Map().slots[0].temporary);
+}
+
+TEST(MapperTest, NeverReadSlotKeepsTemporaryId) {
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  Drive(mapper, {SlotAt(5.0)}, [](int, int) { return SlotIdReading{}; }, 0, 12);
+  mapper.Finish();
+  ASSERT_EQ(mapper.Map().slots.size(), 1u);
+  EXPECT_TRUE(mapper.Map().slots[0].temporary);
+  EXPECT_EQ(mapper.Map().slots[0].id.front(), 't');
+}
+
+TEST(MapperTest, PartialReadingsAssociateByGeometry) {
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  Drive(mapper, {SlotAt(5.0)}, [](int, int f) {
+          SlotIdReading r = Reading("45");
+          if (f % 3 == 1) r.digits[0] = DigitReading{};  // "?5"
+          return r;
+        }, 0, 12);
+  mapper.Finish();
+  ASSERT_EQ(mapper.Map().slots.size(), 1u);
+  EXPECT_EQ(mapper.Map().slots[0].id, "45");
+}
+
+// Slot A (ID 38) seen first; then slot B, 5 m further (two slots between), read confidently
+// as "38" as well. The Max-Mixture keeps them apart; the plain front-end
+// trusts the ID and drags A towards B.
+std::vector<TestSlot> FarPair() { return {SlotAt(5.0), SlotAt(10.0)}; }
+SlotIdReading Misread(int, int) { return Reading("38"); }
+
+TEST(MapperTest, MaxMixtureRejectsConfidentWrongIdFarAway) {
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  Drive(mapper, FarPair(), Misread, 0, 18);
+  mapper.Finish();
+  const SemanticMap map = mapper.Map();
+  ASSERT_EQ(map.slots.size(), 2u);
+  const MapSlot* a = FindNear(map, FarPair()[0].corners_map[0]);
+  const MapSlot* b = FindNear(map, FarPair()[1].corners_map[0]);
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  // One of them carries the ID, the other a temporary one: IDs are unique.
+  EXPECT_NE(a->temporary, b->temporary);
+}
+
+TEST(MapperTest, PlainFrontEndMergesSlotsOnConfidentWrongId) {
+  Mapper mapper(Options(RobustMode::kNone), {}, SE2());
+  Drive(mapper, FarPair(), Misread, 0, 18);
+  mapper.Finish();
+  // B's observations went to A: one slot, somewhere between the two.
+  const SemanticMap map = mapper.Map();
+  ASSERT_EQ(map.slots.size(), 1u);
+  EXPECT_EQ(FindNear(map, FarPair()[1].corners_map[0]), nullptr);
+}
+
+TEST(MapperTest, DuplicatesFromEagerCreationAreMerged) {
+  MapperOptions o = Options(RobustMode::kMaxMixture);
+  o.null_chi2 = 1e-3;  // every observation wins as a new slot at first
+  o.null_weight = 1.0;
+  Mapper mapper(o, {}, SE2());
+  Drive(mapper, {SlotAt(5.0)}, [](int, int) { return Reading("21"); }, 0, 12);
+  mapper.Finish();
+  EXPECT_GT(mapper.stats().slots_created, 5);
+  EXPECT_GT(mapper.stats().slots_merged, 5);
+  ASSERT_EQ(mapper.Map().slots.size(), 1u);
+  EXPECT_EQ(mapper.Map().slots[0].id, "21");
+}
+
+TEST(MapperTest, SpuriousSingleDetectionIsDropped) {
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  const std::vector<TestSlot> slots{SlotAt(5.0)};
+  // Frame 40 also sees a false slot far off the row.
+  Drive(mapper, slots, [](int, int) { return Reading("21"); }, 0, 12);
+  SlotObservationFrame frame;
+  frame.t_ns = 13'000 * kMs;
+  SlotObservation ghost;
+  ghost.corners_vehicle = {Eigen::Vector2d(1, -3), Eigen::Vector2d(3.5, -3),
+                           Eigen::Vector2d(3.5, -8.3), Eigen::Vector2d(1, -8.3)};
+  frame.slots.push_back(ghost);
+  mapper.Process(ImuSample{frame.t_ns, 0, 0});
+  mapper.Process(frame);
+  mapper.Finish();
+  EXPECT_EQ(mapper.Map().slots.size(), 1u);
+}
+
+TEST(MapperTest, OnlineModeBuildsTheSameSlots) {
+  Mapper mapper(Options(RobustMode::kMaxMixture, MappingMode::kOnline), {}, SE2());
+  const std::vector<TestSlot> slots{SlotAt(5.0), SlotAt(7.5), SlotAt(10.0)};
+  Drive(mapper, slots, [](int s, int) { return Reading(std::to_string(40 + s)); }, 0, 18);
+  mapper.Finish();
+  const SemanticMap map = mapper.Map();
+  ASSERT_EQ(map.slots.size(), 3u);
+  EXPECT_EQ(FindNear(map, slots[2].corners_map[0])->id, "42");
+  EXPECT_EQ(mapper.stats().keyframe_update_ms.size(),
+            static_cast<size_t>(mapper.stats().keyframes));
+}
+
+TEST(MapperTest, MalformedSlotObservationIsRejected) {
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  // Clockwise corners: the slot would lie right of its entrance.
+  TestSlot mirrored = SlotAt(5.0);
+  std::swap(mirrored.corners_map[0], mirrored.corners_map[1]);
+  std::swap(mirrored.corners_map[2], mirrored.corners_map[3]);
+  Drive(mapper, {mirrored}, [](int, int) { return Reading("21"); }, 0, 12);
+  mapper.Finish();
+  EXPECT_TRUE(mapper.Map().slots.empty());
+  EXPECT_GT(mapper.stats().rejected_slot_observations, 0);
+}
+
+TEST(MapperTest, InvalidOptionsThrow) {
+  MapperOptions o;
+  o.null_weight = 0.0;
+  EXPECT_THROW(Mapper(o, {}, SE2()), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace parkslam::mapping
