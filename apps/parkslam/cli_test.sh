@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo; do
+for cmd in simulate odometry eval-traj demo map eval-map render; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -51,6 +51,20 @@ expect 0 "poses written" -- "$PARKSLAM" odometry "$tmp/d" --out "$tmp/o.tum"
 expect 0 '"ate_rmse_m"' -- "$PARKSLAM" eval-traj --truth "$tmp/d/groundtruth/trajectory.tum" --estimate "$tmp/o.tum" --json
 expect 0 '"length_m"' -- "$PARKSLAM" eval-traj --truth "$tmp/d/groundtruth/trajectory.tum" --estimate "$tmp/o.tum" --json
 expect 0 "ATE" -- "$PARKSLAM" eval-traj --truth "$tmp/d/groundtruth/trajectory.tum" --estimate "$tmp/o.tum"
+
+# Mapping the short drive, evaluating and drawing the map.
+expect 0 "map written" -- "$PARKSLAM" map "$tmp/d" --out "$tmp/m.json" --trajectory-out "$tmp/mt.tum"
+expect 0 '"slot_corner_rmse_m"' -- "$PARKSLAM" eval-map --map "$tmp/m.json" --truth "$tmp/d/groundtruth/map.json" --json
+expect 0 '"slots_duplicate"' -- "$PARKSLAM" eval-map --map "$tmp/m.json" --truth "$tmp/d/groundtruth/map.json" --json
+expect 0 "wrote" -- "$PARKSLAM" render "$tmp/m.json" --out "$tmp/m.svg" --trajectory "$tmp/mt.tum"
+grep -q "</svg>" "$tmp/m.svg" && pass || fail "render wrote no SVG"
+expect 0 "map written" -- "$PARKSLAM" map "$tmp/d" --out "$tmp/m2.json" --robust none --mode online
+expect nonzero "robust" -- "$PARKSLAM" map "$tmp/d" --out "$tmp/m3.json" --robust maybe
+printf '{"format": "parkslam-map", "version": 2}' > "$tmp/badmap.json"
+expect nonzero "badmap.json.*version" -- "$PARKSLAM" eval-map --map "$tmp/badmap.json" --truth "$tmp/d/groundtruth/map.json"
+printf '{"format": "parkslam-map", ' > "$tmp/truncated.json"
+expect nonzero "truncated.json" -- "$PARKSLAM" render "$tmp/truncated.json" --out "$tmp/x.svg"
+[ ! -e "$tmp/x.svg" ] && pass || fail "a failed render left an output file"
 
 # Bad inputs name the file and what is wrong.
 expect nonzero "missing|dataset.yaml" -- "$PARKSLAM" odometry "$tmp/none" --out "$tmp/o2.tum"

@@ -15,6 +15,7 @@ namespace parkslam::app {
 void AddMapCommand(CLI::App& app) {
   struct Options {
     std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init, solver = "lm";
+    double initial_trust_region = 1e8;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -39,6 +40,10 @@ void AddMapCommand(CLI::App& app) {
   cmd->add_option("--solver", options->solver, "Trust region of the final solve: lm or dogleg")
       ->check(CLI::IsMember({"lm", "dogleg"}))
       ->capture_default_str();
+  cmd->add_option("--initial-trust-region", options->initial_trust_region,
+                  "Initial trust-region radius of the final solve")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--init", options->init,
                   "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
                   "map frame starts at the first pose");
@@ -52,6 +57,7 @@ void AddMapCommand(CLI::App& app) {
     mapper_options.trust_region = options->solver == "dogleg"
                                       ? mapping::TrustRegion::kDogleg
                                       : mapping::TrustRegion::kLevenbergMarquardt;
+    mapper_options.initial_trust_region_radius = options->initial_trust_region;
     std::optional<SE2> init;
     if (!options->init.empty()) init = ParsePose(options->init, "--init");
     const auto start = std::chrono::steady_clock::now();
