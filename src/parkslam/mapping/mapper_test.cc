@@ -162,6 +162,25 @@ TEST(MapperTest, MaxMixtureRejectsConfidentWrongIdFarAway) {
   EXPECT_NE(a->temporary, b->temporary);
 }
 
+TEST(MapperTest, EverySlotKeepsAnObservationWhenOthersPickTheNull) {
+  // B's later readings of "38" also name A; those picking the null must not
+  // leave any slot without a factor: the founding observation stays tied.
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  Drive(mapper, FarPair(), Misread, 0, 18);
+  mapper.Finish();
+  const auto& slots = mapper.slots();
+  for (int s = 0; s < static_cast<int>(slots.size()); ++s) {
+    if (!slots[s].alive) continue;
+    EXPECT_GE(slots[s].observations, 1);
+    // A record without a null component ties the slot for good.
+    bool tied = false;
+    for (const auto& record : mapper.slot_records()) {
+      tied |= !record.has_null && record.candidates == std::vector<int>{s};
+    }
+    EXPECT_TRUE(tied) << "slot " << s;
+  }
+}
+
 TEST(MapperTest, PlainFrontEndMergesSlotsOnConfidentWrongId) {
   Mapper mapper(Options(RobustMode::kNone), {}, SE2());
   Drive(mapper, FarPair(), Misread, 0, 18);
