@@ -22,6 +22,7 @@ void AddDemoCommand(CLI::App& app);
 void AddMapCommand(CLI::App& app);
 void AddEvalMapCommand(CLI::App& app);
 void AddRenderCommand(CLI::App& app);
+void AddLocalizeCommand(CLI::App& app);
 
 // Options shared by `simulate` and `demo` that pick and tune the scenario.
 struct ScenarioOptions {

@@ -40,6 +40,7 @@ class Checker {
 
 void CheckWorld(const WorldConfig& w, Checker& c) {
   c.Require(!w.name.empty(), "world.name", "must not be empty");
+  c.Require(w.seed >= 0, "world.seed", "must be non-negative");
   c.Require(w.hall.max_x_m - w.hall.min_x_m >= 10.0 &&
                 w.hall.max_y_m - w.hall.min_y_m >= 10.0,
             "world.hall", "must be at least 10 m x 10 m");
@@ -196,14 +197,15 @@ ScenarioConfig DefaultScenario() {
   ScenarioConfig config;
   WorldConfig& w = config.world;
   w.name = "default";
-  w.hall = {0.0, 0.0, 82.0, 50.5};
+  w.hall = {0.0, 0.0, 87.5, 50.5};
   // The corridor continues aisle 1 (y = 5.6 .. 12.6) westwards.
   w.corridor_center_y_m = 9.1;
 
   // South to north: row A against the south wall facing aisle 1; rows B and C
   // back to back between aisles 1 and 2 with pillars on their shared back
   // line; row D of 60-degree angled slots facing aisle 2; row E facing aisle
-  // 3 with three-digit IDs; a parallel row F along the north wall.
+  // 3 with three-digit IDs; a parallel row F along the north wall; row G
+  // along the east wall, facing the east cross aisle.
   w.rows.push_back(Row("perpendicular", 8.0, 5.6, false, 24, 1, 2));
   w.rows.back().pillars = false;  // against the wall
   w.rows.push_back(Row("perpendicular", 8.0, 12.6, true, 24, 25, 2));
@@ -220,6 +222,10 @@ ScenarioConfig DefaultScenario() {
   parallel.group_size = 0;
   parallel.pillars = false;
   w.rows.push_back(parallel);
+  SlotRowConfig east = Row("perpendicular", 82.2, 11.6, false, 14, 301, 3);
+  east.direction_deg = 90.0;
+  east.pillars = false;  // against the wall
+  w.rows.push_back(east);
 
   // Tags near the entrance and in the corridor (the paper: 60 tags); the
   // eastern part of the hall (x > 30 m) has none.
@@ -229,8 +235,8 @@ ScenarioConfig DefaultScenario() {
 
   RouteConfig& r = config.route;
   const double aisle1_y = 9.1, aisle2_y = 26.7, aisle3_y = 44.2;
-  // Cross aisles: west x = 0 .. 8, east x = 76.1 .. 82 (the angled row's back
-  // corners reach furthest east).
+  // Cross aisles: west x = 0 .. 8, east x = 76.1 .. 82.2 (from the angled
+  // row's back corners to row G's entrance).
   const double west_x = 4.0, east_x = 79.0;
   r.approach_m = {{-37.0, aisle1_y}, {-10.0, aisle1_y}};
   r.loop_m = {{west_x, aisle1_y}, {east_x, aisle1_y}, {east_x, aisle2_y},

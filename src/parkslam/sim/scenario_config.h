@@ -76,6 +76,9 @@ struct RegionConfig {
 
 struct WorldConfig {
   std::string name = "default";
+  // Decides which painted IDs are missing or worn: the lot stays the same
+  // from drive to drive, whatever the drive's own seed.
+  int seed = 1;
   // The hall: a rectangle closed by outer walls.
   RegionConfig hall{0.0, 0.0, 80.0, 50.5};
   // The entrance: a corridor without slots that enters the hall through its
@@ -99,6 +102,7 @@ struct WorldConfig {
   template <typename V>
   void VisitFields(V& v) {
     v("name", name);
+    v("seed", seed);
     v("hall", hall);
     v("corridor", corridor);
     v("corridor_length_m", corridor_length_m);

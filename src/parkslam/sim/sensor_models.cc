@@ -8,8 +8,6 @@
 namespace parkslam::sim {
 namespace {
 
-constexpr std::uint64_t kWheelTag = 0x101, kSteeringTag = 0x102, kImuTag = 0x103;
-
 // The state at time t: the nearest sample of the ground truth (which runs at
 // a higher rate than any sensor).
 const VehicleState& StateAt(const std::vector<VehicleState>& states, TimeNs t_ns) {
@@ -177,36 +175,58 @@ SlotIdReading SimulateIdReading(const std::string& painted_id,
   return reading;
 }
 
+OdometrySensorModel::OdometrySensorModel(const OdometrySensorConfig& config,
+                                         const VehicleParameters& vehicle,
+                                         std::uint64_t seed)
+    : config_(config),
+      vehicle_(vehicle),
+      wheel_rng_(Random::Derive(seed, kWheelStreamTag)),
+      steering_rng_(Random::Derive(seed, kSteeringStreamTag)),
+      imu_rng_(Random::Derive(seed, kImuStreamTag)) {
+  wheel_speed_scale_ = 1.0 + wheel_rng_.Gaussian(config_.wheel_speed_scale_sigma);
+  gyro_bias_radps_ = imu_rng_.Gaussian(config_.gyro_bias_sigma_radps);
+  heading_bias_rad_ = imu_rng_.Gaussian(config_.heading_bias_sigma_rad);
+}
+
+WheelSpeed OdometrySensorModel::MeasureWheel(const VehicleState& true_state, TimeNs t_ns) {
+  return {t_ns, wheel_speed_scale_ * true_state.speed_mps +
+                    wheel_rng_.Gaussian(config_.wheel_speed_sigma_mps)};
+}
+
+SteeringAngle OdometrySensorModel::MeasureSteering(const VehicleState& true_state,
+                                                   TimeNs t_ns) {
+  return {t_ns, vehicle_.steering_ratio * true_state.road_wheel_angle_rad +
+                    steering_rng_.Gaussian(config_.steering_wheel_sigma_rad)};
+}
+
+ImuSample OdometrySensorModel::MeasureImu(const VehicleState& true_state, TimeNs t_ns,
+                                          double dt_s) {
+  // Braced initialisation draws the gyro noise before the heading noise.
+  const ImuSample sample{t_ns,
+                         true_state.yaw_rate_radps + gyro_bias_radps_ +
+                             imu_rng_.Gaussian(config_.gyro_sigma_radps),
+                         NormalizeAngle(true_state.T_map_vehicle.yaw() + heading_bias_rad_ +
+                                        imu_rng_.Gaussian(config_.heading_sigma_rad))};
+  const double sqrt_dt = std::sqrt(dt_s);
+  gyro_bias_radps_ += imu_rng_.Gaussian(config_.gyro_bias_walk_radps_per_sqrt_s * sqrt_dt);
+  heading_bias_rad_ += imu_rng_.Gaussian(config_.heading_bias_walk_rad_per_sqrt_s * sqrt_dt);
+  return sample;
+}
+
 void SimulateOdometrySensors(const std::vector<VehicleState>& states,
                              const OdometrySensorConfig& config,
                              const VehicleParameters& vehicle, std::uint64_t seed,
                              SensorLog* log) {
-  Random wheel_rng = Random::Derive(seed, kWheelTag);
-  const double scale = 1.0 + wheel_rng.Gaussian(config.wheel_speed_scale_sigma);
+  OdometrySensorModel model(config, vehicle, seed);
   for (TimeNs t : SampleTimes(states, config.wheel_rate_hz)) {
-    log->wheel_speeds.push_back(
-        {t, scale * StateAt(states, t).speed_mps + wheel_rng.Gaussian(config.wheel_speed_sigma_mps)});
+    log->wheel_speeds.push_back(model.MeasureWheel(StateAt(states, t), t));
   }
-
-  Random steering_rng = Random::Derive(seed, kSteeringTag);
   for (TimeNs t : SampleTimes(states, config.steering_rate_hz)) {
-    log->steering_angles.push_back(
-        {t, vehicle.steering_ratio * StateAt(states, t).road_wheel_angle_rad +
-                steering_rng.Gaussian(config.steering_wheel_sigma_rad)});
+    log->steering_angles.push_back(model.MeasureSteering(StateAt(states, t), t));
   }
-
-  Random imu_rng = Random::Derive(seed, kImuTag);
-  double gyro_bias = imu_rng.Gaussian(config.gyro_bias_sigma_radps);
-  double heading_bias = imu_rng.Gaussian(config.heading_bias_sigma_rad);
-  const double dt_s = 1.0 / config.imu_rate_hz;
+  const double imu_period_s = 1.0 / config.imu_rate_hz;
   for (TimeNs t : SampleTimes(states, config.imu_rate_hz)) {
-    const VehicleState& s = StateAt(states, t);
-    log->imu_samples.push_back(
-        {t, s.yaw_rate_radps + gyro_bias + imu_rng.Gaussian(config.gyro_sigma_radps),
-         NormalizeAngle(s.T_map_vehicle.yaw() + heading_bias +
-                        imu_rng.Gaussian(config.heading_sigma_rad))});
-    gyro_bias += imu_rng.Gaussian(config.gyro_bias_walk_radps_per_sqrt_s * std::sqrt(dt_s));
-    heading_bias += imu_rng.Gaussian(config.heading_bias_walk_rad_per_sqrt_s * std::sqrt(dt_s));
+    log->imu_samples.push_back(model.MeasureImu(StateAt(states, t), t, imu_period_s));
   }
 }
 

@@ -25,7 +25,46 @@ SlotIdReading SimulateIdReading(const std::string& painted_id,
                                 const IdSensorConfig& config, Random& rng,
                                 IdReadingOutcome* outcome = nullptr);
 
-// Wheel speed, steering angle and IMU samples along the true drive.
+// Tags of the random streams (Random::Derive(seed, tag)) that the sensor
+// models draw from, one per sensor, shared by the batch simulator and the
+// live one so that a seed gives both the same noise.
+inline constexpr std::uint64_t kWheelStreamTag = 0x101;
+inline constexpr std::uint64_t kSteeringStreamTag = 0x102;
+inline constexpr std::uint64_t kImuStreamTag = 0x103;
+inline constexpr std::uint64_t kSlotFrameStreamTag = 0x201;
+inline constexpr std::uint64_t kTagFrameStreamTag = 0x202;
+
+// Wheel speed, steering angle and IMU, one sample at a time, from the true
+// state of the vehicle. Keeps the per-drive errors (wheel-speed scale, gyro
+// and heading biases) and a separate random stream per sensor, so the
+// samples of one sensor do not depend on how many another has taken.
+//   wheel    = (1 + e_scale) v + n_v,         e_scale ~ N(0, wheel_speed_scale_sigma)
+//   steering = steering_ratio delta + n_s
+//   gyro     = yaw_rate + b_g + n_g,          b_g(0) ~ N(0, gyro_bias_sigma_radps)
+//   heading  = yaw + b_h + n_h,               b_h(0) ~ N(0, heading_bias_sigma_rad)
+// with b_g and b_h random walks advanced by MeasureImu.
+class OdometrySensorModel {
+ public:
+  OdometrySensorModel(const OdometrySensorConfig& config,
+                      const VehicleParameters& vehicle, std::uint64_t seed);
+
+  WheelSpeed MeasureWheel(const VehicleState& true_state, TimeNs t_ns);
+  SteeringAngle MeasureSteering(const VehicleState& true_state, TimeNs t_ns);
+  // Measures with the current biases, then advances the bias random walks by
+  // dt_s, the time to the next IMU sample.
+  ImuSample MeasureImu(const VehicleState& true_state, TimeNs t_ns, double dt_s);
+
+ private:
+  OdometrySensorConfig config_;
+  VehicleParameters vehicle_;
+  Random wheel_rng_, steering_rng_, imu_rng_;
+  double wheel_speed_scale_ = 1.0;
+  double gyro_bias_radps_ = 0.0;
+  double heading_bias_rad_ = 0.0;
+};
+
+// Wheel speed, steering angle and IMU samples along the true drive, each
+// sensor at its rate from the first state on, measured at the nearest state.
 void SimulateOdometrySensors(const std::vector<VehicleState>& states,
                              const OdometrySensorConfig& config,
                              const VehicleParameters& vehicle, std::uint64_t seed,

@@ -259,5 +259,79 @@ TEST(OdometrySensorTest, GyroBiasAndNoiseAsConfigured) {
   EXPECT_NEAR(std::sqrt(noise2 / noise_n), config.gyro_sigma_radps, 0.0001);
 }
 
+VehicleState StateWith(double speed_mps, double road_wheel_angle_rad) {
+  VehicleState state;
+  state.speed_mps = speed_mps;
+  state.road_wheel_angle_rad = road_wheel_angle_rad;
+  return state;
+}
+
+TEST(OdometrySensorModelTest, WheelScaleAndNoiseAsConfigured) {
+  OdometrySensorConfig config;  // scale sigma 0.003, noise sigma 0.02 m/s
+  const VehicleState state = StateWith(2.0, 0.0);
+  // The per-drive scale error is drawn per seed: the spread over seeds of
+  // the mean reading matches 2 m/s * wheel_speed_scale_sigma.
+  double scale2 = 0, noise2 = 0;
+  int noise_n = 0;
+  const int seeds = 300, samples = 400;
+  for (int seed = 0; seed < seeds; ++seed) {
+    OdometrySensorModel model(config, VehicleParameters{}, seed);
+    std::vector<double> readings;
+    for (int k = 0; k < samples; ++k) readings.push_back(model.MeasureWheel(state, k).speed_mps);
+    double mean = 0;
+    for (double r : readings) mean += r / samples;
+    scale2 += std::pow(mean / 2.0 - 1.0, 2);
+    for (double r : readings) {
+      noise2 += std::pow(r - mean, 2);
+      ++noise_n;
+    }
+  }
+  // Standard errors: about 0.00013 of the scale sigma (including the
+  // 0.02 / sqrt(400) / 2 of the white noise left in each mean), 0.00004 of
+  // the noise sigma.
+  EXPECT_NEAR(std::sqrt(scale2 / seeds), std::hypot(0.003, 0.02 / 20 / 2), 0.0005);
+  EXPECT_NEAR(std::sqrt(noise2 / noise_n), config.wheel_speed_sigma_mps, 0.0002);
+}
+
+TEST(OdometrySensorModelTest, SteeringIsRatioTimesRoadWheelAngle) {
+  OdometrySensorConfig config;  // 0.01 rad at the steering wheel
+  VehicleParameters vehicle;
+  vehicle.steering_ratio = 15.0;
+  OdometrySensorModel model(config, vehicle, 1);
+  const int n = 10000;
+  double sum = 0, sum2 = 0;
+  for (int k = 0; k < n; ++k) {
+    const double r = model.MeasureSteering(StateWith(0.0, 0.1), k).steering_wheel_rad;
+    sum += r;
+    sum2 += (r - 1.5) * (r - 1.5);
+  }
+  EXPECT_NEAR(sum / n, 1.5, 0.0005);  // 5 standard errors of the mean
+  EXPECT_NEAR(std::sqrt(sum2 / n), config.steering_wheel_sigma_rad, 0.0005);
+}
+
+TEST(OdometrySensorModelTest, GyroBiasWalksBySqrtOfElapsedTime) {
+  OdometrySensorConfig config;
+  config.gyro_sigma_radps = 0.0;
+  config.gyro_bias_sigma_radps = 0.0;
+  config.gyro_bias_walk_radps_per_sqrt_s = 0.001;
+  const VehicleState state;
+  // After 100 s in steps of dt_s the bias has spread to 0.001 * sqrt(100),
+  // whatever the step; a step of 0 leaves it where it is.
+  for (double dt_s : {0.01, 0.1}) {
+    double sum2 = 0;
+    const int seeds = 400;
+    for (int seed = 0; seed < seeds; ++seed) {
+      OdometrySensorModel model(config, VehicleParameters{}, seed);
+      const int steps = static_cast<int>(std::lround(100.0 / dt_s));
+      for (int k = 0; k < steps; ++k) model.MeasureImu(state, k, dt_s);
+      const double bias = model.MeasureImu(state, steps, 0.0).yaw_rate_radps;
+      EXPECT_EQ(model.MeasureImu(state, steps, 0.0).yaw_rate_radps, bias);
+      sum2 += bias * bias;
+    }
+    // Standard error of the estimated sigma: 0.01 / sqrt(800) = 0.00035.
+    EXPECT_NEAR(std::sqrt(sum2 / seeds), 0.01, 0.0015) << dt_s;
+  }
+}
+
 }  // namespace
 }  // namespace parkslam::sim

@@ -33,8 +33,9 @@ struct Simulation {
   SlotObservationLabels slot_labels;
 };
 
-// Runs the whole simulation at observation level: world, human drive,
-// sensors. Deterministic by seed. Throws std::invalid_argument on an invalid
+// Runs the whole simulation at observation level: world (from
+// config.world.seed, the same lot for every drive), human drive and sensors
+// (from `seed`). Deterministic. Throws std::invalid_argument on an invalid
 // configuration (the message names the field).
 Simulation Simulate(const ScenarioConfig& config, std::uint64_t seed);
 

@@ -1,0 +1,125 @@
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "commands.h"
+#include "parkslam/io/dataset.h"
+#include "parkslam/io/map_json.h"
+#include "parkslam/io/tum.h"
+#include "parkslam/localization/localizer.h"
+#include "parkslam/eval/map_metrics.h"
+#include "parkslam/pipeline/dead_reckoning.h"
+#include "parkslam/pipeline/kidnap.h"
+#include "progress.h"
+
+namespace parkslam::app {
+
+void AddLocalizeCommand(CLI::App& app) {
+  struct Options {
+    std::string map, dataset, out, init;
+    bool global = false;
+    int kidnap_trials = 0;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "localize",
+      "Localize a drive on a map built before: the pose at every camera frame, from slot "
+      "corners and tags associated by ID and gated nearest neighbour; writes the tracked "
+      "poses as TUM");
+  cmd->add_option("--map", options->map, "Map JSON")->required();
+  cmd->add_option("DIR", options->dataset, "Dataset folder")->required();
+  cmd->add_option("--out", options->out, "TUM trajectory to write")->required();
+  cmd->add_option("--kidnap-trials", options->kidnap_trials,
+                  "Also run this many kidnapped-robot trials on the drive: the belief is "
+                  "replaced by a confident wrong pose; a trial succeeds when the localizer is "
+                  "back within 0.5 m of the truth within 5 s of driving (needs ground truth)")
+      ->check(CLI::Range(0, 10000));
+  auto* init = cmd->add_option("--init", options->init,
+                               "Known start pose x,y,yaw in the map frame (metres, radians)");
+  auto* global = cmd->add_flag("--global", options->global,
+                               "Start with an unknown pose and localize globally (the default "
+                               "without --init)");
+  init->excludes(global);
+  cmd->callback([options] {
+    const SemanticMap map = io::ReadMap(options->map);
+    const io::Dataset dataset = io::ReadDataset(options->dataset);
+    localization::Localizer localizer(
+        map, localization::LocalizerOptions{},
+        pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
+                                           dataset.scenario.vehicle));
+    if (!options->init.empty()) {
+      const Eigen::Vector3d sigma(0.5, 0.5, 0.1);
+      localizer.SetPose(ParsePose(options->init, "--init"),
+                        sigma.cwiseAbs2().asDiagonal());
+    }
+    Trajectory trajectory;
+    int frames = 0, tracking = 0, lost_events = 0, relocalizations = 0;
+    std::vector<double> update_ms;
+    localization::LocalizerState previous = localizer.state();
+    SensorLogSource source(dataset.log);
+    const size_t total = dataset.log.slot_frames.size() + dataset.log.tag_frames.size();
+    Progress progress("  localizing", static_cast<int>(total));
+    while (const auto event = source.Next()) {
+      const auto start = std::chrono::steady_clock::now();
+      const auto estimate = localizer.Process(*event);
+      if (!estimate) continue;
+      update_ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count());
+      progress.Update(++frames);
+      relocalizations += estimate->relocalized;
+      if (estimate->state == localization::LocalizerState::kLost &&
+          previous != localization::LocalizerState::kLost) {
+        ++lost_events;
+      }
+      previous = estimate->state;
+      if (estimate->state == localization::LocalizerState::kTracking) {
+        ++tracking;
+        trajectory.push_back({estimate->t_ns, estimate->T_map_vehicle});
+      }
+    }
+    progress.Finish();
+    if (trajectory.empty()) {
+      throw std::runtime_error(options->dataset + ": the car was never localized on " +
+                               options->map);
+    }
+    io::WriteTum(options->out, trajectory);
+    std::sort(update_ms.begin(), update_ms.end());
+    const double duration_s = ToSeconds(trajectory.back().t_ns - trajectory.front().t_ns);
+    std::printf("%d camera frames, %d tracked (%.1f %%), %.1f Hz; lost %d times, "
+                "(re)localized %d times; update median %.3f ms, max %.3f ms\n",
+                frames, tracking, 100.0 * tracking / std::max(frames, 1),
+                duration_s > 0 ? (trajectory.size() - 1) / duration_s : 0.0, lost_events,
+                relocalizations, update_ms[update_ms.size() / 2], update_ms.back());
+    std::printf("%zu poses written to %s\n", trajectory.size(), options->out.c_str());
+    if (options->kidnap_trials > 0) {
+      if (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map) {
+        throw std::runtime_error(options->dataset +
+                                 ": --kidnap-trials needs the dataset's ground truth");
+      }
+      // The truth in the map's frame: align the map onto the true lot.
+      const SE2 T_map_world =
+          eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map.inverse();
+      Trajectory truth_map;
+      for (const TimedPose& p : dataset.groundtruth_trajectory) {
+        truth_map.push_back({p.t_ns, T_map_world * p.T_map_vehicle});
+      }
+      pipeline::KidnapOptions kidnap;
+      kidnap.trials = options->kidnap_trials;
+      const pipeline::KidnapResult k = pipeline::RunKidnapTrials(
+          map, dataset.log, truth_map, localization::LocalizerOptions{},
+          pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
+                                             dataset.scenario.vehicle),
+          kidnap);
+      std::vector<double> times = k.recovery_s;
+      std::sort(times.begin(), times.end());
+      std::printf("kidnapped-robot trials: %d of %d recovered within %.0f s of driving "
+                  "(%.1f %%); recovery median %.2f s, max %.2f s\n",
+                  k.successes, k.trials, kidnap.max_recovery_s, 100.0 * k.success_rate(),
+                  times.empty() ? 0.0 : times[times.size() / 2],
+                  times.empty() ? 0.0 : times.back());
+    }
+  });
+}
+
+}  // namespace parkslam::app

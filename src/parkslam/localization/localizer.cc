@@ -1,0 +1,344 @@
+#include "parkslam/localization/localizer.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "parkslam/common/angles.h"
+#include "parkslam/eval/alignment.h"
+#include "parkslam/eval/consistency.h"
+
+namespace parkslam::localization {
+namespace {
+
+double Square(double x) { return x * x; }
+
+// d(R(yaw)^T v)/d(yaw) for R(yaw)^T = [c s; -s c].
+Eigen::Vector2d DRotTransposeDYaw(double yaw, const Eigen::Vector2d& v) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  return {-s * v.x() + c * v.y(), -c * v.x() - s * v.y()};
+}
+
+// The best full ID of a reading when it is confident enough, else "".
+std::string ConfidentId(const SlotIdReading& id, double min_confidence) {
+  if (id.empty() || id.partial() || id.confidence() < min_confidence) return "";
+  return id.best();
+}
+
+}  // namespace
+
+const char* ToString(LocalizerState state) {
+  switch (state) {
+    case LocalizerState::kUninitialized: return "uninitialized";
+    case LocalizerState::kTracking: return "tracking";
+    case LocalizerState::kLost: return "lost";
+  }
+  return "uninitialized";
+}
+
+bool LocalizerOptions::IsValid(std::string* error) const {
+  auto fail = [error](const char* message) {
+    if (error != nullptr) *error = message;
+    return false;
+  };
+  if (!(corner_sigma_floor_m > 0 && guessed_corner_sigma_m > 0 && map_corner_sigma_floor_m >= 0 &&
+        tag_map_sigma_m >= 0 && tag_map_yaw_sigma_rad >= 0))
+    return fail("noise floors must be positive");
+  if (!(gate_probability > 0.5 && gate_probability < 1.0))
+    return fail("gate_probability must be in (0.5, 1)");
+  if (!(nn_radius_m > 0 && lost_after_s > 0 && lost_min_rejected >= 1 && lost_position_sigma_m > 0 && reloc_window_s > 0 &&
+        reloc_inlier_m > 0 && reloc_min_inliers >= 2 && reloc_min_landmarks >= 1 &&
+        reloc_ambiguity_ratio > 0 && reloc_ambiguity_ratio <= 1))
+    return fail("association, lost or relocalization settings out of range");
+  return true;
+}
+
+Localizer::Localizer(const SemanticMap& map, const LocalizerOptions& options,
+                     const odometry::OdometryEkfOptions& odometry_options)
+    : map_(map),
+      options_(options),
+      odometry_(std::make_unique<odometry::OdometryEkf>(odometry_options)) {
+  std::string error;
+  if (!options_.IsValid(&error)) throw std::invalid_argument("localizer options: " + error);
+  if (!odometry_options.IsValid(&error)) throw std::invalid_argument("odometry options: " + error);
+  for (int i = 0; i < static_cast<int>(map_.slots.size()); ++i) {
+    if (!map_.slots[i].temporary && !map_.slots[i].id.empty()) slot_by_id_[map_.slots[i].id] = i;
+  }
+  for (int i = 0; i < static_cast<int>(map_.tags.size()); ++i) {
+    tag_by_id_[map_.tags[i].tag_id] = i;
+  }
+  for (int dof = 1; dof <= 4; ++dof) {
+    gate_chi2_[dof] = eval::ChiSquareQuantile(options_.gate_probability, dof);
+  }
+}
+
+Localizer::~Localizer() = default;
+Localizer::Localizer(Localizer&&) noexcept = default;
+Localizer& Localizer::operator=(Localizer&&) noexcept = default;
+
+void Localizer::SetPose(const SE2& T_map_vehicle, const Eigen::Matrix3d& covariance) {
+  x_ = Eigen::Vector3d(T_map_vehicle.x(), T_map_vehicle.y(), T_map_vehicle.yaw());
+  P_ = covariance;
+  state_ = LocalizerState::kTracking;
+  recent_outcomes_.clear();
+}
+
+SE2 Localizer::PredictedPose() const {
+  if (!odometry_->initialized()) return pose();
+  return pose() * odometry_->MotionSinceClone().T_clone_now;
+}
+
+void Localizer::Predict(const odometry::OdometryEkf::RelativeMotion& motion) {
+  // x' = x (+) delta: t' = t + R(yaw) d, yaw' = yaw + phi.
+  const double c = std::cos(x_[2]), s = std::sin(x_[2]);
+  const Eigen::Vector2d d = motion.T_clone_now.translation();
+  Eigen::Matrix3d J_x = Eigen::Matrix3d::Identity();
+  J_x(0, 2) = -s * d.x() - c * d.y();
+  J_x(1, 2) = c * d.x() - s * d.y();
+  Eigen::Matrix3d J_d = Eigen::Matrix3d::Identity();
+  J_d.topLeftCorner<2, 2>() << c, -s, s, c;
+  x_.head<2>() += J_d.topLeftCorner<2, 2>() * d;
+  x_[2] = NormalizeAngle(x_[2] + motion.T_clone_now.yaw());
+  P_ = J_x * P_ * J_x.transpose() + J_d * motion.covariance * J_d.transpose();
+}
+
+template <int N>
+bool Localizer::Update(const Eigen::Matrix<double, N, 1>& innovation,
+                       const Eigen::Matrix<double, N, 3>& H,
+                       const Eigen::Matrix<double, N, N>& R) {
+  const Eigen::Matrix<double, N, N> S = H * P_ * H.transpose() + R;
+  const Eigen::LLT<Eigen::Matrix<double, N, N>> llt(S);
+  if (llt.info() != Eigen::Success) return false;
+  const double chi2 = innovation.dot(llt.solve(innovation));
+  if (!(chi2 < gate_chi2_[N])) return false;
+  const Eigen::Matrix<double, 3, N> K = P_ * H.transpose() * llt.solve(Eigen::Matrix<double, N, N>::Identity());
+  x_ += K * innovation;
+  x_[2] = NormalizeAngle(x_[2]);
+  const Eigen::Matrix3d I_KH = Eigen::Matrix3d::Identity() - K * H;
+  P_ = I_KH * P_ * I_KH.transpose() + K * R * K.transpose();
+  return true;
+}
+
+bool Localizer::UpdateSlot(const SlotObservation& obs) {
+  // The two entrance corners (the corners a detector really sees).
+  const double obs_sigma = std::max(obs.corner_sigma_m, options_.corner_sigma_floor_m);
+  const SE2 pose = this->pose();
+  const SE2 T_vehicle_map = pose.inverse();
+  Eigen::Vector4d z;
+  z << obs.corners_vehicle[0], obs.corners_vehicle[1];
+  auto innovation_for = [&](const MapSlot& slot) {
+    Eigen::Vector4d h;
+    h << T_vehicle_map * slot.corners_map[0], T_vehicle_map * slot.corners_map[1];
+    return Eigen::Vector4d(z - h);
+  };
+  auto model_for = [&](const MapSlot& slot, Eigen::Matrix<double, 4, 3>* H, Eigen::Matrix4d* R) {
+    H->setZero();
+    R->setZero();
+    const Eigen::Matrix2d Rt = pose.rotation().transpose();
+    for (int j = 0; j < 2; ++j) {
+      H->block<2, 2>(2 * j, 0) = -Rt;
+      H->block<2, 1>(2 * j, 2) = DRotTransposeDYaw(pose.yaw(), slot.corners_map[j] - pose.translation());
+      const double map_sigma = std::max(slot.corner_sigma_m[j], options_.map_corner_sigma_floor_m);
+      R->block<2, 2>(2 * j, 2 * j) = Eigen::Matrix2d::Identity() * (Square(obs_sigma) + Square(map_sigma));
+    }
+  };
+
+  std::vector<int> candidates;
+  const std::string id = ConfidentId(obs.id, options_.id_min_confidence);
+  const auto by_id = id.empty() ? slot_by_id_.end() : slot_by_id_.find(id);
+  if (by_id != slot_by_id_.end()) candidates.push_back(by_id->second);
+  // Nearest neighbours, best first (also the fall-back for a misread ID).
+  std::vector<std::pair<double, int>> near;
+  for (int i = 0; i < static_cast<int>(map_.slots.size()); ++i) {
+    const Eigen::Vector4d y = innovation_for(map_.slots[i]);
+    const double d = std::max(y.head<2>().norm(), y.tail<2>().norm());
+    if (d <= options_.nn_radius_m) near.push_back({d, i});
+  }
+  std::sort(near.begin(), near.end());
+  for (const auto& [d, i] : near) {
+    if (std::find(candidates.begin(), candidates.end(), i) == candidates.end()) candidates.push_back(i);
+  }
+  for (int i : candidates) {
+    Eigen::Matrix<double, 4, 3> H;
+    Eigen::Matrix4d R;
+    model_for(map_.slots[i], &H, &R);
+    if (Update<4>(innovation_for(map_.slots[i]), H, R)) return true;
+  }
+  return false;
+}
+
+bool Localizer::UpdateTag(const TagObservation& obs) {
+  const auto it = tag_by_id_.find(obs.tag_id);
+  if (it == tag_by_id_.end()) return false;
+  const MapTag& tag = map_.tags[it->second];
+  const SE2 pose = this->pose();
+  const Eigen::Matrix2d Rt = pose.rotation().transpose();
+  Eigen::Vector3d y;
+  y.head<2>() = obs.p_vehicle - Rt * (tag.p_map - pose.translation());
+  y[2] = AngleDiff(obs.yaw_vehicle_rad, tag.yaw_map_rad - pose.yaw());
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  H.topLeftCorner<2, 2>() = -Rt;
+  H.block<2, 1>(0, 2) = DRotTransposeDYaw(pose.yaw(), tag.p_map - pose.translation());
+  H(2, 2) = -1.0;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Zero();
+  R.topLeftCorner<2, 2>() = obs.covariance_vehicle + Eigen::Matrix2d::Identity() * Square(options_.tag_map_sigma_m);
+  R(2, 2) = Square(obs.yaw_sigma_rad) + Square(options_.tag_map_yaw_sigma_rad);
+  return Update<3>(y, H, R);
+}
+
+Localizer::Support Localizer::CountInliers(const SE2& T_map_now) const {
+  const SE2 T_odom_now = buffer_.back().T_odom_vehicle;
+  std::set<int> matched;
+  Support support;
+  auto add = [&](const SE2& T_now_frame, const Eigen::Vector2d& p_frame, const Eigen::Vector2d& p_map) {
+    ++support.inliers;
+    support.points_now.push_back(T_now_frame * p_frame);
+    support.points_map.push_back(p_map);
+  };
+  for (const BufferedFrame& frame : buffer_) {
+    const SE2 T_now_frame = T_odom_now.inverse() * frame.T_odom_vehicle;
+    const SE2 T_map_frame = T_map_now * T_now_frame;
+    for (const SlotObservation& obs : frame.slots) {
+      const Eigen::Vector2d c0 = T_map_frame * obs.corners_vehicle[0];
+      const Eigen::Vector2d c1 = T_map_frame * obs.corners_vehicle[1];
+      for (int i = 0; i < static_cast<int>(map_.slots.size()); ++i) {
+        const MapSlot& slot = map_.slots[i];
+        if ((slot.corners_map[0] - c0).norm() < options_.reloc_inlier_m &&
+            (slot.corners_map[1] - c1).norm() < options_.reloc_inlier_m) {
+          add(T_now_frame, obs.corners_vehicle[0], slot.corners_map[0]);
+          add(T_now_frame, obs.corners_vehicle[1], slot.corners_map[1]);
+          --support.inliers;  // one observation, two points
+          matched.insert(i);
+          break;
+        }
+      }
+    }
+    for (const TagObservation& obs : frame.tags) {
+      const auto it = tag_by_id_.find(obs.tag_id);
+      if (it == tag_by_id_.end()) continue;
+      const Eigen::Vector2d p_map = map_.tags[it->second].p_map;
+      if ((p_map - T_map_frame * obs.p_vehicle).norm() < options_.reloc_inlier_m) {
+        add(T_now_frame, obs.p_vehicle, p_map);
+        matched.insert(-1 - it->second);
+      }
+    }
+  }
+  support.landmarks.assign(matched.begin(), matched.end());
+  return support;
+}
+
+bool Localizer::TryRelocalize(TimeNs t_ns) {
+  if (buffer_.empty() || buffer_.back().t_ns != t_ns) return false;
+  const BufferedFrame& now = buffer_.back();
+  // Hypotheses from this frame's confident IDs and tags.
+  std::vector<SE2> hypotheses;
+  for (const SlotObservation& obs : now.slots) {
+    const std::string id = ConfidentId(obs.id, options_.id_min_confidence);
+    const auto it = id.empty() ? slot_by_id_.end() : slot_by_id_.find(id);
+    if (it == slot_by_id_.end()) continue;
+    const MapSlot& slot = map_.slots[it->second];
+    hypotheses.push_back(eval::AlignPointSets({obs.corners_vehicle[0], obs.corners_vehicle[1]},
+                                              {slot.corners_map[0], slot.corners_map[1]}));
+  }
+  for (const TagObservation& obs : now.tags) {
+    const auto it = tag_by_id_.find(obs.tag_id);
+    if (it == tag_by_id_.end()) continue;
+    const MapTag& tag = map_.tags[it->second];
+    const SE2 T_map_tag(tag.p_map, tag.yaw_map_rad);
+    const SE2 T_vehicle_tag(obs.p_vehicle, obs.yaw_vehicle_rad);
+    hypotheses.push_back(T_map_tag * T_vehicle_tag.inverse());
+  }
+  int best = -1, best_inliers = 0, rival_inliers = 0;
+  Support best_support;
+  for (int h = 0; h < static_cast<int>(hypotheses.size()); ++h) {
+    Support support = CountInliers(hypotheses[h]);
+    const int inliers = support.inliers;
+    if (inliers > best_inliers) {
+      // The old best becomes a rival unless it is the same place.
+      if (best >= 0 && (hypotheses[best].translation() - hypotheses[h].translation()).norm() > 1.0) {
+        rival_inliers = std::max(rival_inliers, best_inliers);
+      }
+      best = h;
+      best_inliers = inliers;
+      best_support = std::move(support);
+    } else if (best >= 0 &&
+               (hypotheses[best].translation() - hypotheses[h].translation()).norm() > 1.0) {
+      rival_inliers = std::max(rival_inliers, inliers);
+    }
+  }
+  if (best < 0 || best_inliers < options_.reloc_min_inliers ||
+      static_cast<int>(best_support.landmarks.size()) < options_.reloc_min_landmarks ||
+      rival_inliers > options_.reloc_ambiguity_ratio * best_inliers) {
+    return false;
+  }
+  Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+  P.diagonal() << Square(options_.reloc_position_sigma_m), Square(options_.reloc_position_sigma_m),
+      Square(options_.reloc_yaw_sigma_rad);
+  // Refined on every supporting point of the last seconds.
+  SetPose(eval::AlignPointSets(best_support.points_now, best_support.points_map), P);
+  return true;
+}
+
+std::optional<LocalizationEstimate> Localizer::Process(const SensorEvent& event) {
+  const TimeNs t_ns = EventTime(event);
+  if (!odometry_->initialized()) {
+    // The odometry frame only serves relative motion: any start will do.
+    odometry_->Initialize(t_ns, SE2(), 0.01);
+  }
+  if (!odometry_->Process(event)) return std::nullopt;
+  const auto* slot_frame = std::get_if<SlotObservationFrame>(&event);
+  const auto* tag_frame = std::get_if<TagObservationFrame>(&event);
+  if (slot_frame == nullptr && tag_frame == nullptr) return std::nullopt;
+
+  const odometry::OdometryEkf::RelativeMotion motion = odometry_->MotionSinceClone();
+  odometry_->ClonePose();
+  if (state_ != LocalizerState::kUninitialized) Predict(motion);
+  last_frame_ns_ = t_ns;
+
+  BufferedFrame frame;
+  frame.t_ns = t_ns;
+  frame.T_odom_vehicle = odometry_->pose();
+  if (slot_frame != nullptr) frame.slots = slot_frame->slots;
+  if (tag_frame != nullptr) frame.tags = tag_frame->tags;
+  buffer_.push_back(frame);
+  while (!buffer_.empty() && ToSeconds(t_ns - buffer_.front().t_ns) > options_.reloc_window_s) {
+    buffer_.pop_front();
+  }
+
+  LocalizationEstimate estimate;
+  estimate.t_ns = t_ns;
+  if (state_ == LocalizerState::kTracking) {
+    for (const SlotObservation& obs : frame.slots) {
+      (UpdateSlot(obs) ? estimate.slots_used : estimate.rejected)++;
+    }
+    for (const TagObservation& obs : frame.tags) {
+      (UpdateTag(obs) ? estimate.tags_used : estimate.rejected)++;
+    }
+    const int accepted = estimate.slots_used + estimate.tags_used;
+    for (int i = 0; i < accepted; ++i) recent_outcomes_.push_back({t_ns, true});
+    for (int i = 0; i < estimate.rejected; ++i) recent_outcomes_.push_back({t_ns, false});
+    while (!recent_outcomes_.empty() &&
+           ToSeconds(t_ns - recent_outcomes_.front().first) > options_.lost_after_s) {
+      recent_outcomes_.pop_front();
+    }
+    const bool any_accepted = std::any_of(recent_outcomes_.begin(), recent_outcomes_.end(),
+                                          [](const auto& o) { return o.second; });
+    const double position_sigma = std::sqrt(std::max(P_(0, 0), P_(1, 1)));
+    if ((!any_accepted && static_cast<int>(recent_outcomes_.size()) >= options_.lost_min_rejected) ||
+        position_sigma > options_.lost_position_sigma_m) {
+      state_ = LocalizerState::kLost;
+      recent_outcomes_.clear();
+    }
+  } else {
+    estimate.relocalized = TryRelocalize(t_ns);
+  }
+  estimate.T_map_vehicle = pose();
+  estimate.covariance = P_;
+  estimate.state = state_;
+  return estimate;
+}
+
+}  // namespace parkslam::localization

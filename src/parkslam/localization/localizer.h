@@ -1,0 +1,139 @@
+#ifndef PARKSLAM_LOCALIZATION_LOCALIZER_H_
+#define PARKSLAM_LOCALIZATION_LOCALIZER_H_
+
+// Map-based localization (paper IV-B): the car's pose in a map built before,
+// at every camera frame. Prediction from the Kalman dead reckoning's motion
+// between frames; updates from slot corners and tags associated by ID and by
+// gated nearest neighbour, each checked by a chi-square test so that a
+// misread ID cannot pull the pose; global (re)localization from confidently
+// read slot IDs and tags, confirmed by the geometry of the last seconds.
+
+#include <Eigen/Core>
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "parkslam/common/se2.h"
+#include "parkslam/map/semantic_map.h"
+#include "parkslam/odometry/odometry_ekf.h"
+#include "parkslam/sensor/sensor_data.h"
+
+namespace parkslam::localization {
+
+struct LocalizerOptions {
+  // Measurement noise floors (the detector reports its own sigma).
+  double corner_sigma_floor_m = 0.03;
+  double guessed_corner_sigma_m = 0.5;  // far corners only guessed: unused below this
+  double map_corner_sigma_floor_m = 0.02;
+  double tag_map_sigma_m = 0.03;
+  double tag_map_yaw_sigma_rad = 0.02;
+  // Association: a reading of at least this confidence names its slot; other
+  // observations go to the nearest map slot within nn_radius_m. Every update
+  // must pass the chi-square gate at gate_probability.
+  double id_min_confidence = 0.5;
+  double nn_radius_m = 1.5;
+  double gate_probability = 0.999;
+  // Lost: within the last lost_after_s at least lost_min_rejected
+  // observations were rejected and none accepted (driving where nothing is
+  // seen is dead reckoning, not lost), or the position uncertainty grew
+  // above lost_position_sigma_m.
+  double lost_after_s = 1.0;
+  int lost_min_rejected = 5;
+  double lost_position_sigma_m = 1.5;
+  // Global (re)localization over the frames of the last reloc_window_s.
+  double reloc_window_s = 2.0;
+  double reloc_inlier_m = 0.4;
+  int reloc_min_inliers = 6;
+  int reloc_min_landmarks = 3;
+  double reloc_ambiguity_ratio = 0.7;  // a rival this close in support: wait
+  double reloc_position_sigma_m = 0.3;
+  double reloc_yaw_sigma_rad = 0.05;
+
+  bool IsValid(std::string* error) const;
+};
+
+enum class LocalizerState { kUninitialized, kTracking, kLost };
+const char* ToString(LocalizerState state);
+
+struct LocalizationEstimate {
+  TimeNs t_ns = 0;
+  SE2 T_map_vehicle;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
+  LocalizerState state = LocalizerState::kUninitialized;
+  int slots_used = 0;
+  int tags_used = 0;
+  int rejected = 0;  // observations that failed association or the gate
+  bool relocalized = false;
+};
+
+class Localizer {
+ public:
+  Localizer(const SemanticMap& map, const LocalizerOptions& options,
+            const odometry::OdometryEkfOptions& odometry_options);
+  ~Localizer();
+  Localizer(Localizer&&) noexcept;
+  Localizer& operator=(Localizer&&) noexcept;
+
+  // A known start pose (`--init`); without one the localizer starts
+  // uninitialized and localizes globally.
+  void SetPose(const SE2& T_map_vehicle, const Eigen::Matrix3d& covariance);
+
+  // Feeds one event; returns an estimate at every camera frame (slot or
+  // tag frame), nothing otherwise.
+  std::optional<LocalizationEstimate> Process(const SensorEvent& event);
+
+  LocalizerState state() const { return state_; }
+  // The pose at the last camera frame.
+  SE2 pose() const { return SE2(x_[0], x_[1], x_[2]); }
+  // The pose now: the last estimate moved on by the odometry since that
+  // frame (for a controller running faster than the cameras).
+  SE2 PredictedPose() const;
+  const Eigen::Matrix3d& covariance() const { return P_; }
+
+ private:
+  struct BufferedFrame {
+    TimeNs t_ns = 0;
+    SE2 T_odom_vehicle;
+    std::vector<SlotObservation> slots;
+    std::vector<TagObservation> tags;
+  };
+
+  void Predict(const odometry::OdometryEkf::RelativeMotion& motion);
+  // EKF update with a stacked measurement; false when the gate rejects it.
+  template <int N>
+  bool Update(const Eigen::Matrix<double, N, 1>& innovation,
+              const Eigen::Matrix<double, N, 3>& H, const Eigen::Matrix<double, N, N>& R);
+  bool UpdateSlot(const SlotObservation& observation);
+  bool UpdateTag(const TagObservation& observation);
+  bool TryRelocalize(TimeNs t_ns);
+  // Observations of the buffered frames that land on the map under the
+  // hypothesis T_map_now: their count, the landmarks they hit, and the
+  // point pairs (in the current vehicle frame, in the map).
+  struct Support {
+    int inliers = 0;
+    std::vector<int> landmarks;
+    std::vector<Eigen::Vector2d> points_now, points_map;
+  };
+  Support CountInliers(const SE2& T_map_now) const;
+
+  SemanticMap map_;
+  LocalizerOptions options_;
+  std::unique_ptr<odometry::OdometryEkf> odometry_;
+  std::map<std::string, int> slot_by_id_;
+  std::map<int, int> tag_by_id_;
+  LocalizerState state_ = LocalizerState::kUninitialized;
+  Eigen::Vector3d x_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d P_ = Eigen::Matrix3d::Identity();
+  // Association outcomes of the last lost_after_s: time and accepted.
+  std::deque<std::pair<TimeNs, bool>> recent_outcomes_;
+  TimeNs last_frame_ns_ = 0;
+  std::deque<BufferedFrame> buffer_;
+  double gate_chi2_[5] = {0, 0, 0, 0, 0};  // by measurement dimension
+};
+
+}  // namespace parkslam::localization
+
+#endif  // PARKSLAM_LOCALIZATION_LOCALIZER_H_

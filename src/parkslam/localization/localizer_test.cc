@@ -1,0 +1,155 @@
+#include "parkslam/localization/localizer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "parkslam/common/angles.h"
+#include "parkslam/pipeline/dead_reckoning.h"
+#include "parkslam/sim/simulator.h"
+
+namespace parkslam::localization {
+namespace {
+
+struct Fixture {
+  sim::ScenarioConfig scenario = sim::DefaultScenario();
+  sim::Simulation simulation;
+  Trajectory truth;
+  SemanticMap map;
+};
+
+const Fixture& Default() {
+  static const Fixture f = [] {
+    Fixture x;
+    x.scenario.sensors.ids.confusion_rate = 0.15;
+    x.scenario.sensors.ids.partial_rate = 0.10;
+    x.simulation = sim::Simulate(x.scenario, 7);
+    x.truth = sim::GroundTruthTrajectory(x.simulation);
+    x.map = sim::ToSemanticMap(x.simulation.world);
+    return x;
+  }();
+  return f;
+}
+
+Localizer MakeLocalizer(const Fixture& f) {
+  return Localizer(f.map, LocalizerOptions{},
+                   pipeline::EkfOptionsFromSensorSpec(f.scenario.sensors.odometry, f.scenario.vehicle));
+}
+
+double PositionError(const Fixture& f, const LocalizationEstimate& e) {
+  return (PoseAt(f.truth, e.t_ns)->translation() - e.T_map_vehicle.translation()).norm();
+}
+
+Eigen::Matrix3d Covariance(double sigma_m, double sigma_rad) {
+  return Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
+}
+
+TEST(LocalizerTest, ConvergesFromPerturbedInitialPose) {
+  const Fixture& f = Default();
+  Localizer localizer = MakeLocalizer(f);
+  const SE2 start = f.truth.front().T_map_vehicle;
+  localizer.SetPose(SE2(start.x() + 0.6, start.y() - 0.4, start.yaw() + DegToRad(3.0)),
+                    Covariance(0.7, DegToRad(4.0)));
+  SensorLogSource source(f.simulation.log);
+  double sum2 = 0.0;
+  int n = 0;
+  while (const auto event = source.Next()) {
+    const auto e = localizer.Process(*event);
+    if (!e || ToSeconds(e->t_ns) < 20.0) continue;
+    ASSERT_EQ(e->state, LocalizerState::kTracking) << ToSeconds(e->t_ns);
+    const double err = PositionError(f, *e);
+    sum2 += err * err;
+    ++n;
+  }
+  ASSERT_GT(n, 1000);
+  EXPECT_LT(std::sqrt(sum2 / n), 0.10);
+}
+
+TEST(LocalizerTest, GlobalLocalizationFromUnknownPose) {
+  const Fixture& f = Default();
+  Localizer localizer = MakeLocalizer(f);
+  SensorLogSource source(f.simulation.log);
+  double first_tracking_s = -1.0;
+  while (const auto event = source.Next()) {
+    const auto e = localizer.Process(*event);
+    if (!e || e->state != LocalizerState::kTracking) continue;
+    if (first_tracking_s < 0) first_tracking_s = ToSeconds(e->t_ns);
+    if (ToSeconds(e->t_ns) > first_tracking_s + 5.0) {
+      EXPECT_LT(PositionError(f, *e), 0.15);
+      break;
+    }
+  }
+  ASSERT_GE(first_tracking_s, 0.0);
+  EXPECT_LT(first_tracking_s, 15.0);  // the corridor's tags suffice
+}
+
+TEST(LocalizerTest, RelocalizesAfterKidnap) {
+  const Fixture& f = Default();
+  Localizer localizer = MakeLocalizer(f);
+  localizer.SetPose(f.truth.front().T_map_vehicle, Covariance(0.1, 0.02));
+  SensorLogSource source(f.simulation.log);
+  const double kidnap_s = 120.0;
+  bool kidnapped = false, lost = false;
+  double recovered_s = -1.0;
+  while (const auto event = source.Next()) {
+    const auto e = localizer.Process(*event);
+    if (!e) continue;
+    const double t = ToSeconds(e->t_ns);
+    if (!kidnapped && t >= kidnap_s) {
+      // The filter is told it is 12 m away and sure of it.
+      const SE2 wrong = *PoseAt(f.truth, e->t_ns) * SE2(12.0, 3.0, 0.5);
+      localizer.SetPose(wrong, Covariance(0.05, 0.01));
+      kidnapped = true;
+      continue;
+    }
+    if (!kidnapped) continue;
+    lost |= e->state == LocalizerState::kLost;
+    if (lost && e->state == LocalizerState::kTracking) {
+      recovered_s = t;
+      EXPECT_LT(PositionError(f, *e), 0.5);
+      break;
+    }
+  }
+  ASSERT_TRUE(lost);
+  ASSERT_GT(recovered_s, 0.0);
+  EXPECT_LT(recovered_s - kidnap_s, 5.0);
+}
+
+TEST(LocalizerTest, WrongIdObservationDoesNotMoveThePose) {
+  const Fixture& f = Default();
+  Localizer localizer = MakeLocalizer(f);
+  // Standing still 2 m in front of slot "38" (world slot 37).
+  const MapSlot& slot = f.map.slots[37];
+  const SlotKind kind = slot.kind;
+  ASSERT_EQ(kind, SlotKind::kPerpendicular);
+  const Eigen::Vector2d mid = 0.5 * (slot.corners_map[0] + slot.corners_map[1]);
+  const SE2 pose(mid.x() - 1.0, mid.y() - 2.0, 0.0);
+  localizer.SetPose(pose, Covariance(0.05, 0.01));
+  const SE2 T_vehicle_map = pose.inverse();
+  SlotObservation obs;
+  for (int j = 0; j < 4; ++j) obs.corners_vehicle[j] = T_vehicle_map * slot.corners_map[j];
+  obs.corner_sigma_m = 0.03;
+  // Read as "43", a slot 12.5 m along the row.
+  obs.id.digits = {DigitReading{{{'4', 0.95}}}, DigitReading{{{'3', 0.95}}}};
+  ASSERT_EQ(obs.id.best(), "43");
+  for (TimeNs t = 0; t <= 10; ++t) localizer.Process(ImuSample{t * 10'000'000, 0.0, 0.0});
+  const auto e = localizer.Process(SlotObservationFrame{100'000'000, {obs}});
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->slots_used, 1);  // fell back to the slot it really is
+  EXPECT_LT((e->T_map_vehicle.translation() - pose.translation()).norm(), 0.02);
+  // A slot where the map has none is rejected and leaves the pose alone.
+  SlotObservation ghost = obs;
+  for (auto& c : ghost.corners_vehicle) c += Eigen::Vector2d(0.0, -3.5);
+  const auto g = localizer.Process(SlotObservationFrame{200'000'000, {ghost}});
+  EXPECT_EQ(g->rejected, 1);
+  EXPECT_LT((g->T_map_vehicle.translation() - pose.translation()).norm(), 0.02);
+}
+
+TEST(LocalizerTest, InvalidOptionsThrow) {
+  LocalizerOptions o;
+  o.gate_probability = 1.5;
+  EXPECT_THROW(Localizer(SemanticMap{}, o, {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace parkslam::localization
