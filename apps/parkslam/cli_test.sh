@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render; do
+for cmd in simulate odometry eval-traj demo map eval-map render localize follow; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -65,6 +65,18 @@ expect nonzero "badmap.json.*version" -- "$PARKSLAM" eval-map --map "$tmp/badmap
 printf '{"format": "parkslam-map", ' > "$tmp/truncated.json"
 expect nonzero "truncated.json" -- "$PARKSLAM" render "$tmp/truncated.json" --out "$tmp/x.svg"
 [ ! -e "$tmp/x.svg" ] && pass || fail "a failed render left an output file"
+
+# Localizing on the map and following the trace in closed loop.
+expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --global
+expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0
+expect nonzero "excludes|--global" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0 --global
+expect nonzero "badmap.json" -- "$PARKSLAM" localize --map "$tmp/badmap.json" "$tmp/d" --out "$tmp/l2.tum"
+expect 0 '"repeat_std_m"' -- "$PARKSLAM" follow --map "$tmp/m.json" --runs 2 --speed-kmh 10 --set route.laps=0 --out "$tmp/f" --json
+[ -f "$tmp/f/run_01.tum" ] && [ -f "$tmp/f/traces.svg" ] && pass || fail "follow outputs missing"
+printf '0 0 0 0 0 0 0 1\n1 nan 0 0 0 0 0 1\n' > "$tmp/nan.tum"
+expect nonzero "nan.tum:2" -- "$PARKSLAM" follow --map "$tmp/m.json" --runs 1 --trace "$tmp/nan.tum" --out "$tmp/f2"
+printf '{"format": "parkslam-map", "version": 1, "frame": "map", "units": {"length": "m", "angle": "rad"}, "metadata": {}, "slots": [], "tags": [], "obstacles": []}' > "$tmp/empty.json"
+expect nonzero "fewer than 3 slots" -- "$PARKSLAM" follow --map "$tmp/empty.json" --runs 1 --out "$tmp/f3"
 
 # Bad inputs name the file and what is wrong.
 expect nonzero "missing|dataset.yaml" -- "$PARKSLAM" odometry "$tmp/none" --out "$tmp/o2.tum"

@@ -23,6 +23,7 @@ void AddMapCommand(CLI::App& app);
 void AddEvalMapCommand(CLI::App& app);
 void AddRenderCommand(CLI::App& app);
 void AddLocalizeCommand(CLI::App& app);
+void AddFollowCommand(CLI::App& app);
 
 // Options shared by `simulate` and `demo` that pick and tune the scenario.
 struct ScenarioOptions {

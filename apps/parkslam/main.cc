@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   parkslam::app::AddEvalMapCommand(app);
   parkslam::app::AddRenderCommand(app);
   parkslam::app::AddLocalizeCommand(app);
+  parkslam::app::AddFollowCommand(app);
   parkslam::app::AddDemoCommand(app);
   try {
     app.parse(argc, argv);

@@ -1,0 +1,171 @@
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "commands.h"
+#include "parkslam/eval/map_metrics.h"
+#include "parkslam/io/atomic_file.h"
+#include "parkslam/io/map_json.h"
+#include "parkslam/io/tum.h"
+#include "parkslam/pipeline/trace_following.h"
+#include "parkslam/sim/route.h"
+#include "parkslam/sim/simulator.h"
+#include "parkslam/viz/map_svg.h"
+#include "progress.h"
+#include "steps.h"
+
+namespace parkslam::app {
+namespace {
+
+Trajectory Transform(const SE2& T_b_a, const Trajectory& trajectory_a) {
+  Trajectory out;
+  out.reserve(trajectory_a.size());
+  for (const TimedPose& p : trajectory_a) out.push_back({p.t_ns, T_b_a * p.T_map_vehicle});
+  return out;
+}
+
+std::string Index(int i) {
+  char text[16];
+  std::snprintf(text, sizeof text, "%02d", i);
+  return text;
+}
+
+}  // namespace
+
+nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& r,
+                                    const pipeline::TraceFollowingOptions& o) {
+  const eval::TraceFollowingMetrics& m = r.metrics;
+  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  nlohmann::json j;
+  j["runs"] = static_cast<int>(r.runs.size());
+  j["speed_kmh"] = o.speed_kmh;
+  j["odometry_only"] = o.odometry_only;
+  j["repeat_std_m"] = number(m.repeat_std_m);
+  j["repeat_std_max_m"] = number(m.repeat_std_max_m);
+  j["lateral_mean_m"] = number(m.lateral_mean_all_m);
+  j["lateral_max_m"] = number(m.lateral_max_all_m);
+  j["localization_rmse_m"] = r.localization_rmse_m;
+  j["localization_yaw_rmse_deg"] = r.localization_yaw_rmse_rad * 180.0 / M_PI;
+  int finished = 0;
+  nlohmann::json per_run = nlohmann::json::array();
+  for (size_t i = 0; i < r.runs.size(); ++i) {
+    finished += r.runs[i].finished;
+    per_run.push_back({{"finished", r.runs[i].finished},
+                       {"duration_s", r.runs[i].duration_s},
+                       {"lateral_mean_m", number(i < m.lateral_mean_m.size() ? m.lateral_mean_m[i] : NAN)},
+                       {"lateral_max_m", number(i < m.lateral_max_m.size() ? m.lateral_max_m[i] : NAN)},
+                       {"localization_rmse_m", r.runs[i].localization_rmse_m},
+                       {"lost_frames", r.runs[i].lost_frames}});
+  }
+  j["runs_finished"] = finished;
+  j["per_run"] = per_run;
+  return j;
+}
+
+void AddFollowCommand(CLI::App& app) {
+  struct Options {
+    ScenarioOptions scenario;
+    std::string map, out, trace;
+    int runs = 10;
+    double speed_kmh = 4.0;
+    std::uint64_t seed = 1;
+    bool odometry_only = false, json = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "follow",
+      "Closed-loop trace following in the simulator (the paper's IV-B): localize on the map "
+      "from sensors simulated at the true pose, steer along the trace, repeat; report the "
+      "lateral deviation and the spread of the repeated traces");
+  cmd->add_option("--map", options->map, "Map JSON the car localizes on")->required();
+  cmd->add_option("--out", options->out, "Output folder")->required();
+  cmd->add_option("--runs", options->runs, "Autonomous runs")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  cmd->add_option("--speed-kmh", options->speed_kmh, "Cruise speed")
+      ->check(CLI::Range(0.5, 30.0))
+      ->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Seed of the first run (run r uses seed + r); also "
+                  "the seed of the recorded human drive")
+      ->capture_default_str();
+  cmd->add_option("--trace", options->trace,
+                  "Trace to follow, TUM in the map's frame (default: the recorded human drive "
+                  "of the world)");
+  cmd->add_flag("--odometry-only", options->odometry_only,
+                "Steer from dead reckoning alone (the baseline)");
+  cmd->add_flag("--json", options->json, "Print one JSON object");
+  AddScenarioOptions(cmd, &options->scenario);
+  cmd->callback([options] {
+    const std::filesystem::path out = options->out;
+    const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
+    const SemanticMap map = io::ReadMap(options->map);
+    // The map may live in its own frame: align it onto the simulated lot.
+    const SemanticMap truth =
+        sim::ToSemanticMap(sim::BuildWorld(scenario.world, scenario.world.seed));
+    const eval::MapMetrics alignment = eval::EvaluateMap(map, truth);
+    if (alignment.slots_matched < 3) {
+      throw std::runtime_error(options->map + ": fewer than 3 slots match the world '" +
+                               scenario.world.name + "'; is it a map of this lot?");
+    }
+    const SE2 T_world_map = alignment.T_truth_map;
+    const SE2 T_map_world = T_world_map.inverse();
+    Trajectory trace_world;
+    if (options->trace.empty()) {
+      const std::vector<sim::VehicleState> drive =
+          sim::DriveRoute(scenario.route, scenario.vehicle, options->seed);
+      for (const sim::VehicleState& s : drive) trace_world.push_back({s.t_ns, s.T_map_vehicle});
+    } else {
+      trace_world = Transform(T_world_map, io::ReadTum(options->trace));
+    }
+
+    pipeline::TraceFollowingOptions follow;
+    follow.runs = options->runs;
+    follow.speed_kmh = options->speed_kmh;
+    follow.seed = options->seed;
+    follow.odometry_only = options->odometry_only;
+    Progress progress("  runs", options->runs);
+    const pipeline::TraceFollowingResult result = pipeline::FollowTrace(
+        scenario, map, T_map_world, trace_world, follow,
+        [&progress](int done, int) { progress.Update(done); });
+    progress.Finish();
+
+    io::WriteTum(out / "trace.tum", trace_world);
+    std::vector<viz::SvgTrajectory> drawn{{"trace", "#2a9d2a", Transform(T_map_world, trace_world)}};
+    static const char* kColors[] = {"#d62728", "#1f77b4", "#9467bd", "#ff7f0e", "#8c564b",
+                                    "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#393b79"};
+    for (size_t i = 0; i < result.runs.size(); ++i) {
+      io::WriteTum(out / ("run_" + Index(static_cast<int>(i)) + ".tum"), result.runs[i].truth_world);
+      io::WriteTum(out / ("estimate_" + Index(static_cast<int>(i)) + ".tum"),
+                   result.runs[i].estimate_map);
+      drawn.push_back({i == 0 ? "autonomous runs (true)" : "", kColors[i % 10],
+                       Transform(T_map_world, result.runs[i].truth_world)});
+    }
+    viz::MapSvgOptions svg;
+    char title[256];
+    std::snprintf(title, sizeof title,
+                  "%d autonomous runs at %.0f km/h, %s: repeated-trace std %.3f m",
+                  options->runs, options->speed_kmh,
+                  options->odometry_only ? "dead reckoning only" : "localized on the map",
+                  result.metrics.repeat_std_m);
+    svg.title = title;
+    io::WriteFileAtomically(out / "traces.svg", viz::RenderMapSvg(map, drawn, svg));
+    const nlohmann::json j = TraceFollowingToJson(result, follow);
+    io::WriteFileAtomically(out / "metrics.json", j.dump(2) + "\n");
+    if (options->json) {
+      std::cout << j.dump() << "\n";
+      return;
+    }
+    std::printf("%d of %zu runs finished; lateral deviation from the trace: mean %.3f m, max "
+                "%.3f m; repeated-trace std %.3f m (max %.3f m); localization RMSE %.3f m, "
+                "%.2f deg\n",
+                j["runs_finished"].get<int>(), result.runs.size(),
+                result.metrics.lateral_mean_all_m, result.metrics.lateral_max_all_m,
+                result.metrics.repeat_std_m, result.metrics.repeat_std_max_m,
+                result.localization_rmse_m, result.localization_yaw_rmse_rad * 180.0 / M_PI);
+    std::printf("wrote %s/{trace.tum, run_*.tum, estimate_*.tum, metrics.json, traces.svg}\n",
+                out.string().c_str());
+  });
+}
+
+}  // namespace parkslam::app

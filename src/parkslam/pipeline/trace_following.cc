@@ -1,0 +1,164 @@
+#include "parkslam/pipeline/trace_following.h"
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include "parkslam/common/angles.h"
+#include "parkslam/common/random.h"
+#include "parkslam/control/trace.h"
+#include "parkslam/odometry/odometry_ekf.h"
+#include "parkslam/pipeline/dead_reckoning.h"
+#include "parkslam/sim/live_simulator.h"
+
+namespace parkslam::pipeline {
+namespace {
+
+constexpr std::uint64_t kStartTag = 0x57a7;
+constexpr double kTruthRecordPeriodS = 0.1;
+
+double Square(double x) { return x * x; }
+
+// The heading at the trace's start, from its first metre.
+SE2 TraceStart(const Trajectory& trace) {
+  const Eigen::Vector2d p0 = trace.front().T_map_vehicle.translation();
+  for (const TimedPose& p : trace) {
+    const Eigen::Vector2d d = p.T_map_vehicle.translation() - p0;
+    if (d.norm() > 1.0) return SE2(p0, std::atan2(d.y(), d.x()));
+  }
+  return trace.front().T_map_vehicle;
+}
+
+// The controller's source of the pose: the localizer, or the dead
+// reckoning started at the trace's start (the baseline).
+class PoseSource {
+ public:
+  PoseSource(const SemanticMap& map, const TraceFollowingOptions& options,
+             const odometry::OdometryEkfOptions& odometry_options, const SE2& start_map,
+             const Eigen::Matrix3d& start_covariance, TimeNs t0)
+      : odometry_only_(options.odometry_only) {
+    if (odometry_only_) {
+      ekf_ = std::make_unique<odometry::OdometryEkf>(odometry_options);
+      ekf_->Initialize(t0, start_map, std::sqrt(start_covariance(2, 2)));
+    } else {
+      localizer_ = std::make_unique<localization::Localizer>(map, options.localizer,
+                                                             odometry_options);
+      localizer_->SetPose(start_map, start_covariance);
+    }
+  }
+
+  // Feeds an event; true at a camera frame (with the estimate in *pose).
+  bool Process(const SensorEvent& event, SE2* pose, bool* lost) {
+    const bool frame = std::holds_alternative<SlotObservationFrame>(event) ||
+                       std::holds_alternative<TagObservationFrame>(event);
+    if (odometry_only_) {
+      ekf_->Process(event);
+      *pose = ekf_->pose();
+      *lost = false;
+      return frame;
+    }
+    const auto estimate = localizer_->Process(event);
+    if (!estimate) return false;
+    *pose = estimate->T_map_vehicle;
+    *lost = estimate->state != localization::LocalizerState::kTracking;
+    return true;
+  }
+
+  SE2 Now() const { return odometry_only_ ? ekf_->pose() : localizer_->PredictedPose(); }
+
+ private:
+  bool odometry_only_;
+  std::unique_ptr<odometry::OdometryEkf> ekf_;
+  std::unique_ptr<localization::Localizer> localizer_;
+};
+
+}  // namespace
+
+TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const SemanticMap& map,
+                                 const SE2& T_map_world, const Trajectory& trace_world,
+                                 const TraceFollowingOptions& options,
+                                 const std::function<void(int, int)>& on_run_done) {
+  if (options.runs < 1) throw std::invalid_argument("runs must be at least 1");
+  if (!(options.speed_kmh > 0.0 && options.speed_kmh <= 30.0)) {
+    throw std::invalid_argument("speed must be in (0, 30] km/h");
+  }
+  Trajectory trace_map;
+  for (const TimedPose& p : trace_world) trace_map.push_back({p.t_ns, T_map_world * p.T_map_vehicle});
+  const control::Trace trace(trace_map);  // throws for a degenerate trace
+  const odometry::OdometryEkfOptions odometry_options =
+      EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle);
+  const SE2 start_world = TraceStart(trace_world);
+  const double cruise_mps = options.speed_kmh / 3.6;
+  const double timeout_s = options.timeout_factor * trace.length_m() / cruise_mps + 60.0;
+  Eigen::Matrix3d start_covariance = Eigen::Matrix3d::Zero();
+  start_covariance.diagonal() << Square(2 * options.start_position_sigma_m),
+      Square(2 * options.start_position_sigma_m), Square(2 * options.start_yaw_sigma_rad);
+
+  TraceFollowingResult result;
+  double loc_sum2 = 0.0, yaw_sum2 = 0.0;
+  int loc_n = 0;
+  for (int r = 0; r < options.runs; ++r) {
+    const std::uint64_t seed = options.seed + static_cast<std::uint64_t>(r);
+    Random rng = Random::Derive(seed, kStartTag);
+    const SE2 true_start = start_world * SE2(rng.Gaussian(options.start_position_sigma_m),
+                                             rng.Gaussian(options.start_position_sigma_m),
+                                             rng.Gaussian(options.start_yaw_sigma_rad));
+    sim::LiveSimulator simulator(scenario, seed, true_start);
+    PoseSource source(map, options, odometry_options, T_map_world * start_world,
+                      start_covariance, simulator.time_ns());
+    control::PathFollower follower(trace, scenario.vehicle, options.follower);
+
+    TraceRun run;
+    const double dt_s = 1.0 / 100.0;
+    double measured_speed = 0.0, run_loc2 = 0.0, run_yaw2 = 0.0;
+    int run_n = 0;
+    TimeNs next_record_ns = 0;
+    std::vector<SensorEvent> events;
+    while (true) {
+      const control::PathFollower::Command command =
+          follower.Update(source.Now(), measured_speed, dt_s, cruise_mps);
+      const sim::VehicleState& state =
+          simulator.Step(command.speed_mps, command.road_wheel_angle_rad, &events);
+      if (state.t_ns >= next_record_ns) {
+        run.truth_world.push_back({state.t_ns, state.T_map_vehicle});
+        next_record_ns = state.t_ns + FromSeconds(kTruthRecordPeriodS);
+      }
+      for (const SensorEvent& event : events) {
+        if (const auto* w = std::get_if<WheelSpeed>(&event)) measured_speed = w->speed_mps;
+        SE2 estimate;
+        bool lost = false;
+        if (!source.Process(event, &estimate, &lost)) continue;
+        run.estimate_map.push_back({EventTime(event), estimate});
+        run.lost_frames += lost;
+        // The truth of this frame in the map frame.
+        const SE2 truth_map = T_map_world * simulator.state().T_map_vehicle;
+        run_loc2 += (truth_map.translation() - estimate.translation()).squaredNorm();
+        run_yaw2 += Square(AngleDiff(truth_map.yaw(), estimate.yaw()));
+        ++run_n;
+      }
+      events.clear();
+      run.duration_s = ToSeconds(state.t_ns);
+      if (command.finished) {
+        run.finished = true;
+        break;
+      }
+      if (run.duration_s > timeout_s) break;
+    }
+    run.localization_rmse_m = run_n > 0 ? std::sqrt(run_loc2 / run_n) : 0.0;
+    run.localization_yaw_rmse_rad = run_n > 0 ? std::sqrt(run_yaw2 / run_n) : 0.0;
+    loc_sum2 += run_loc2;
+    yaw_sum2 += run_yaw2;
+    loc_n += run_n;
+    result.runs.push_back(std::move(run));
+    if (on_run_done) on_run_done(r + 1, options.runs);
+  }
+  std::vector<Trajectory> truths;
+  for (const TraceRun& run : result.runs) truths.push_back(run.truth_world);
+  result.metrics = eval::EvaluateTraceFollowing(trace_world, truths, 0.5, options.skip_start_m,
+                                                options.skip_end_m);
+  result.localization_rmse_m = loc_n > 0 ? std::sqrt(loc_sum2 / loc_n) : 0.0;
+  result.localization_yaw_rmse_rad = loc_n > 0 ? std::sqrt(yaw_sum2 / loc_n) : 0.0;
+  return result;
+}
+
+}  // namespace parkslam::pipeline
