@@ -9,6 +9,8 @@
 #include "parkslam/io/tum.h"
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/pipeline/odometry_consistency.h"
+#include "parkslam/pipeline/trace_following.h"
+#include "parkslam/localization/localizer.h"
 #include "parkslam/viz/map_svg.h"
 #include "progress.h"
 #include "steps.h"
@@ -28,25 +30,34 @@ void AddDemoCommand(CLI::App& app) {
     std::uint64_t seed = 1;
     std::string out;
     int consistency_runs = 50;
+    int follow_runs = 10;
+    double follow_speed_kmh = 10.0;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "demo",
       "The main job on the built-in lot: simulate a drive, dead-reckon it, build the semantic "
-      "map, measure everything and draw it. Writes dataset/, odometry.tum, map.json, "
-      "trajectory.tum, metrics.json and map.svg.");
+      "map, localize a second drive on it, follow the recorded drive autonomously, measure "
+      "everything and draw it.");
   cmd->add_option("--out", options->out, "Output folder")->required();
   cmd->add_option("--seed", options->seed, "Random seed")->capture_default_str();
   cmd->add_option("--consistency-runs", options->consistency_runs,
                   "Monte-Carlo runs for the EKF consistency (NEES) check; 0 skips it")
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
+  cmd->add_option("--follow-runs", options->follow_runs,
+                  "Autonomous runs along the recorded trace; 0 skips trace following")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  cmd->add_option("--follow-speed-kmh", options->follow_speed_kmh, "Speed of the autonomous runs")
+      ->check(CLI::Range(0.5, 30.0))
+      ->capture_default_str();
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
     const std::filesystem::path out = options->out;
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     nlohmann::json metrics;
-    const int steps = options->consistency_runs > 0 ? 6 : 5;
+    const int steps = 7 + (options->consistency_runs > 0) + (options->follow_runs > 0) - 1;
     int step = 0;
     auto header = [&](const char* what) { std::fprintf(stderr, "[%d/%d] %s\n", ++step, steps, what); };
 
@@ -91,6 +102,55 @@ void AddDemoCommand(CLI::App& app) {
     metrics["map"] = MapMetricsToJson(map_m);
     metrics["dataset"] = dataset.name;
 
+    header("localizing a second drive on the map (global start)");
+    const io::Dataset second = SimulateDataset(scenario, options->seed + 500);
+    io::WriteDataset(out / "second_drive", second);
+    const SE2 T_world_map =
+        eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map;
+    localization::Localizer localizer(
+        map, localization::LocalizerOptions{},
+        pipeline::EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle));
+    Trajectory localized;
+    {
+      SensorLogSource source(second.log);
+      while (const auto event = source.Next()) {
+        const auto estimate = localizer.Process(*event);
+        if (estimate && estimate->state == localization::LocalizerState::kTracking) {
+          localized.push_back({estimate->t_ns, T_world_map * estimate->T_map_vehicle});
+        }
+      }
+    }
+    io::WriteTum(out / "second_drive_localized.tum", localized);
+    eval::TrajectoryMetricsOptions no_align;
+    no_align.align = false;
+    const eval::TrajectoryMetrics loc_m =
+        eval::EvaluateTrajectory(second.groundtruth_trajectory, localized, no_align);
+    metrics["localization"] = MetricsToJson(loc_m);
+    metrics["localization"]["frames_tracked"] = static_cast<int>(localized.size());
+    std::printf("localization of a second drive: %zu camera frames tracked, RMSE %.3f m, "
+                "%.2f deg (in the lot's frame)\n",
+                localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI);
+
+    pipeline::TraceFollowingResult follow;
+    if (options->follow_runs > 0) {
+      header("following the recorded drive autonomously");
+      pipeline::TraceFollowingOptions follow_options;
+      follow_options.runs = options->follow_runs;
+      follow_options.speed_kmh = options->follow_speed_kmh;
+      follow_options.seed = options->seed + 2000;
+      Progress progress("  runs", options->follow_runs);
+      follow = pipeline::FollowTrace(scenario, map, T_world_map.inverse(),
+                                     dataset.groundtruth_trajectory, follow_options,
+                                     [&progress](int done, int) { progress.Update(done); });
+      progress.Finish();
+      metrics["trace_following"] = TraceFollowingToJson(follow, follow_options);
+      std::printf("trace following, %d runs at %.0f km/h: repeated-trace std %.3f m, lateral "
+                  "deviation mean %.3f m, max %.3f m, localization RMSE %.3f m\n",
+                  options->follow_runs, options->follow_speed_kmh, follow.metrics.repeat_std_m,
+                  follow.metrics.lateral_mean_all_m, follow.metrics.lateral_max_all_m,
+                  follow.localization_rmse_m);
+    }
+
     if (options->consistency_runs > 0) {
       header("EKF consistency (NEES over repeated drives)");
       Progress progress("  drives", options->consistency_runs);
@@ -117,6 +177,24 @@ void AddDemoCommand(CLI::App& app) {
          {"dead reckoning (EKF)", "#d62728", odometry_trajectory},
          {"mapper (optimized keyframes)", "#1f77b4", mapped_trajectory}},
         svg_options);
+    if (options->follow_runs > 0) {
+      std::vector<viz::SvgTrajectory> runs{{"recorded drive (the trace)", "#2a9d2a",
+                                            dataset.groundtruth_trajectory}};
+      for (size_t i = 0; i < follow.runs.size(); ++i) {
+        Trajectory run_map;
+        for (const TimedPose& p : follow.runs[i].truth_world) {
+          run_map.push_back({p.t_ns, T_world_map.inverse() * p.T_map_vehicle});
+        }
+        runs.push_back({i == 0 ? "autonomous runs (true paths)" : "", "#d62728", run_map});
+      }
+      viz::MapSvgOptions follow_svg;
+      char title[200];
+      std::snprintf(title, sizeof title,
+                    "%d autonomous runs at %.0f km/h on the built map: repeated-trace std %.3f m",
+                    options->follow_runs, options->follow_speed_kmh, follow.metrics.repeat_std_m);
+      follow_svg.title = title;
+      io::WriteFileAtomically(out / "traces.svg", viz::RenderMapSvg(map, runs, follow_svg));
+    }
     io::WriteFileAtomically(out / "map.svg", svg);
     io::WriteFileAtomically(out / "metrics.json", metrics.dump(2) + "\n");
 
@@ -125,8 +203,8 @@ void AddDemoCommand(CLI::App& app) {
                 m.length_m, m.ate_rmse_m, m.ate_max_m, m.drift_per_100m_m, m.drift_percent);
     std::printf("map: %s\n", DescribeMapMetrics(map_m).c_str());
     std::printf("mapper trajectory: ATE rmse %.3f m\n", mapped_m.ate_rmse_m);
-    std::printf("wrote %s/{dataset/, odometry.tum, map.json, trajectory.tum, metrics.json, "
-                "map.svg}\n",
+    std::printf("wrote %s/{dataset/, odometry.tum, map.json, trajectory.tum, second_drive/, "
+                "second_drive_localized.tum, metrics.json, map.svg, traces.svg}\n",
                 out.string().c_str());
   });
 }

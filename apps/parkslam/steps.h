@@ -11,6 +11,7 @@
 #include "parkslam/eval/trajectory_metrics.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/mapping/mapper.h"
+#include "parkslam/pipeline/trace_following.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 
 namespace parkslam::app {
@@ -35,6 +36,9 @@ std::string DescribeMapping(const mapping::Mapper& mapper, double total_s);
 std::vector<bool> PassedSlots(const io::Dataset& dataset, size_t truth_slots, int min_sightings);
 nlohmann::json MapMetricsToJson(const eval::MapMetrics& metrics);
 std::string DescribeMapMetrics(const eval::MapMetrics& metrics);
+
+nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& result,
+                                    const pipeline::TraceFollowingOptions& options);
 
 // A short human-readable summary of a dataset.
 std::string DescribeDataset(const io::Dataset& dataset);

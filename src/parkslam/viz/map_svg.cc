@@ -215,6 +215,7 @@ void DrawLegend(const std::vector<SvgTrajectory>& trajectories,
   };
   canvas->BeginGroup({.font_size_px = kFontPx}, "legend");
   for (const SvgTrajectory& t : trajectories) {
+    if (t.label.empty()) continue;  // drawn, but not listed
     canvas->Line(at(x_px, y_px), at(x_px + kSamplePx, y_px),
                  {.stroke = t.color, .width_px = 3.0});
     canvas->Text(at(x_px + kSamplePx + kPadPx, y_px), t.label,

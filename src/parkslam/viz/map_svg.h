@@ -15,7 +15,7 @@
 namespace parkslam::viz {
 
 struct SvgTrajectory {
-  std::string label = "";
+  std::string label = "";  // shown in the legend; empty: drawn but not listed
   std::string color = "";  // any SVG colour: "#d62728", "green"
   Trajectory trajectory = {};
 };

@@ -261,3 +261,22 @@ TEST(DecimatePolylineTest, ShortInputUnchanged) {
 
 }  // namespace
 }  // namespace parkslam::viz
+
+namespace parkslam::viz {
+namespace {
+
+TEST(RenderMapSvgLegendTest, UnlabeledTrajectoriesAreDrawnButNotListed) {
+  Trajectory a{{0, SE2(0, 0, 0)}, {1, SE2(10, 0, 0)}};
+  Trajectory b{{0, SE2(0, 1, 0)}, {1, SE2(10, 1, 0)}};
+  const std::string svg =
+      RenderMapSvg(SemanticMap{}, {{"runs", "#d62728", a}, {"", "#1f77b4", b}});
+  EXPECT_NE(svg.find("#1f77b4"), std::string::npos);  // drawn
+  const size_t legend = svg.find("id=\"legend\"");
+  ASSERT_NE(legend, std::string::npos);
+  const std::string legend_part = svg.substr(legend, svg.find("</g>", legend) - legend);
+  EXPECT_NE(legend_part.find("runs"), std::string::npos);
+  EXPECT_EQ(legend_part.find("#1f77b4"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace parkslam::viz
