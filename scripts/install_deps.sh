@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
-  libceres-dev
+  libceres-dev libopencv-dev libapriltag-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 
