@@ -1,0 +1,178 @@
+#include "parkslam/camera/top_view.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "parkslam/common/random.h"
+
+namespace parkslam::camera {
+
+bool TopViewOptions::IsValid(std::string* error) const {
+  auto fail = [error](const char* message) {
+    if (error != nullptr) *error = message;
+    return false;
+  };
+  if (size_px < 16 || size_px > 4096) return fail("size_px must be in [16, 4096]");
+  if (!(extent_m > 0.5 && extent_m < 100.0)) return fail("extent_m must be in (0.5, 100)");
+  if (!(blend_angle_rad >= 0.0)) return fail("blend_angle_rad must be non-negative");
+  if (!(footprint_length_m > 0 && footprint_width_m > 0 && footprint_rear_overhang_m >= 0))
+    return fail("footprint dimensions must be positive");
+  return true;
+}
+
+Eigen::Vector2d TopViewFusion::PixelToVehicle(const Eigen::Vector2d& pixel) const {
+  const double half = (options_.size_px - 1) / 2.0;
+  const double m_per_px = options_.extent_m / options_.size_px;
+  return {options_.center_x_m + (half - pixel.y()) * m_per_px, (half - pixel.x()) * m_per_px};
+}
+
+Eigen::Vector2d TopViewFusion::VehicleToPixel(const Eigen::Vector2d& p) const {
+  const double half = (options_.size_px - 1) / 2.0;
+  const double px_per_m = options_.size_px / options_.extent_m;
+  return {half - p.y() * px_per_m, half - (p.x() - options_.center_x_m) * px_per_m};
+}
+
+TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string>& names,
+                             const TopViewOptions& options)
+    : options_(options), names_(names) {
+  std::string error;
+  if (!options_.IsValid(&error)) throw std::invalid_argument("top view: " + error);
+  if (names_.empty()) throw std::invalid_argument("top view: no camera given");
+  std::vector<const CameraConfig*> cameras;
+  std::vector<CameraModel> models;
+  std::vector<int> offsets;  // row offset of each camera in the stacked input
+  for (const std::string& name : names_) {
+    const CameraConfig* c = rig.Find(name);
+    if (c == nullptr) throw std::invalid_argument("top view: the rig has no camera '" + name + "'");
+    cameras.push_back(c);
+    models.emplace_back(c->intrinsics);
+    sizes_.emplace_back(c->intrinsics.width, c->intrinsics.height);
+    offsets.push_back(stacked_height_);
+    stacked_height_ += c->intrinsics.height;
+    stacked_width_ = std::max(stacked_width_, c->intrinsics.width);
+  }
+
+  const int n = options_.size_px;
+  cv::Mat primary(n, n, CV_32FC2, cv::Scalar(-1, -1)), secondary(n, n, CV_32FC2, cv::Scalar(-1, -1));
+  primary_weight_ = cv::Mat(n, n, CV_8U, cv::Scalar(0));
+  valid_ = cv::Mat(n, n, CV_8U, cv::Scalar(0));
+  const double x_front = options_.footprint_length_m - options_.footprint_rear_overhang_m;
+  for (int v = 0; v < n; ++v) {
+    for (int u = 0; u < n; ++u) {
+      const Eigen::Vector2d g = PixelToVehicle({u, v});
+      if (options_.mask_footprint && g.x() > -options_.footprint_rear_overhang_m &&
+          g.x() < x_front && std::abs(g.y()) < options_.footprint_width_m / 2) {
+        continue;
+      }
+      // Each camera that sees the point, weighted by closeness to its axis.
+      double best_w = 0.0, second_w = 0.0;
+      bool has_best = false, has_second = false;
+      cv::Point2f best_px(-1, -1), second_px(-1, -1);
+      for (size_t c = 0; c < cameras.size(); ++c) {
+        const Eigen::Vector3d p_camera =
+            cameras[c]->T_vehicle_camera.inverse() * Eigen::Vector3d(g.x(), g.y(), 0.0);
+        const auto pixel = models[c].Project(p_camera);
+        if (!pixel) continue;
+        const double angle = std::acos(std::clamp(p_camera.normalized().z(), -1.0, 1.0));
+        const double w = -angle;
+        const cv::Point2f stacked(static_cast<float>(pixel->x()),
+                                  static_cast<float>(pixel->y() + offsets[c]));
+        if (!has_best || w > best_w) {
+          second_w = best_w;
+          second_px = best_px;
+          has_second = has_best;
+          best_w = w;
+          best_px = stacked;
+          has_best = true;
+        } else if (!has_second || w > second_w) {
+          second_w = w;
+          second_px = stacked;
+          has_second = true;
+        }
+      }
+      if (!has_best) continue;
+      valid_.at<uint8_t>(v, u) = 255;
+      primary.at<cv::Point2f>(v, u) = best_px;
+      // Feather: the second camera takes up to half where the two are
+      // within blend_angle of each other.
+      double alpha = 1.0;
+      if (has_second && options_.blend_angle_rad > 0) {
+        const double gap = best_w - second_w;  // >= 0, radians
+        alpha = 0.5 + 0.5 * std::min(1.0, gap / options_.blend_angle_rad);
+        secondary.at<cv::Point2f>(v, u) = second_px;
+      } else {
+        secondary.at<cv::Point2f>(v, u) = best_px;
+      }
+      primary_weight_.at<uint8_t>(v, u) = static_cast<uint8_t>(std::lround(alpha * 255));
+    }
+  }
+  cv::convertMaps(primary, cv::noArray(), primary_xy_, primary_frac_, CV_16SC2);
+  cv::convertMaps(secondary, cv::noArray(), secondary_xy_, secondary_frac_, CV_16SC2);
+}
+
+cv::Mat TopViewFusion::Fuse(const std::vector<cv::Mat>& images) const {
+  if (images.size() != names_.size()) {
+    throw std::invalid_argument("top view: expected " + std::to_string(names_.size()) +
+                                " images, got " + std::to_string(images.size()));
+  }
+  const int type = images.front().type();
+  if (type != CV_8UC1 && type != CV_8UC3) {
+    throw std::invalid_argument("top view: camera '" + names_[0] +
+                                "': expected an 8-bit grey or BGR image");
+  }
+  cv::Mat stacked(stacked_height_, stacked_width_, type, cv::Scalar::all(0));
+  int row = 0;
+  for (size_t c = 0; c < images.size(); ++c) {
+    if (images[c].size() != sizes_[c] || images[c].type() != type) {
+      throw std::invalid_argument(
+          "top view: camera '" + names_[c] + "': expected a " + std::to_string(sizes_[c].width) +
+          "x" + std::to_string(sizes_[c].height) + " image like the others, got " +
+          std::to_string(images[c].cols) + "x" + std::to_string(images[c].rows));
+    }
+    images[c].copyTo(stacked(cv::Rect(0, row, sizes_[c].width, sizes_[c].height)));
+    row += sizes_[c].height;
+  }
+  cv::Mat a, b;
+  cv::remap(stacked, a, primary_xy_, primary_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  cv::remap(stacked, b, secondary_xy_, secondary_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  // out = (w a + (255 - w) b) / 255, zero where nothing is seen.
+  cv::Mat out(a.size(), a.type());
+  const int channels = a.channels();
+  for (int v = 0; v < out.rows; ++v) {
+    const uint8_t* pa = a.ptr<uint8_t>(v);
+    const uint8_t* pb = b.ptr<uint8_t>(v);
+    const uint8_t* pw = primary_weight_.ptr<uint8_t>(v);
+    const uint8_t* pv = valid_.ptr<uint8_t>(v);
+    uint8_t* po = out.ptr<uint8_t>(v);
+    for (int u = 0; u < out.cols; ++u) {
+      const int w = pw[u], valid = pv[u];
+      for (int k = 0; k < channels; ++k) {
+        const int i = u * channels + k;
+        po[i] = static_cast<uint8_t>(((w * pa[i] + (255 - w) * pb[i] + 127) / 255) & valid);
+      }
+    }
+  }
+  return out;
+}
+
+CameraRig PerturbExtrinsics(const CameraRig& rig, double rotation_sigma_rad,
+                            double translation_sigma_m, std::uint64_t seed) {
+  Random rng(seed);
+  CameraRig out = rig;
+  for (CameraConfig& c : out.cameras) {
+    const Eigen::Matrix3d R =
+        (Eigen::AngleAxisd(rng.Gaussian(rotation_sigma_rad), Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(rng.Gaussian(rotation_sigma_rad), Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(rng.Gaussian(rotation_sigma_rad), Eigen::Vector3d::UnitX()))
+            .toRotationMatrix();
+    c.T_vehicle_camera.linear() = R * c.T_vehicle_camera.linear();
+    c.T_vehicle_camera.translation() += Eigen::Vector3d(rng.Gaussian(translation_sigma_m),
+                                                        rng.Gaussian(translation_sigma_m),
+                                                        rng.Gaussian(translation_sigma_m));
+  }
+  return out;
+}
+
+}  // namespace parkslam::camera

@@ -1,0 +1,79 @@
+#ifndef PARKSLAM_CAMERA_TOP_VIEW_H_
+#define PARKSLAM_CAMERA_TOP_VIEW_H_
+
+// Surround-view fusion (paper III, Fig. 2): the four fisheye images become
+// one top-view image of the ground around the car. Lookup tables are
+// computed once from the rig; each fusion is then two fixed-point remaps
+// (the best and the second-best camera of every top-view pixel) and a
+// feathered blend where two cameras overlap.
+//
+// Top-view convention (as the ps2.0 data set): the car points up; image x
+// to the right is the vehicle's -y (its right side), image y down is the
+// vehicle's -x; size_px pixels span extent_m metres (600 px for 10 m:
+// 1.667 cm a pixel), centred center_x_m ahead of the rear axle.
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "parkslam/camera/camera_model.h"
+
+namespace parkslam::camera {
+
+struct TopViewOptions {
+  int size_px = 600;
+  double extent_m = 10.0;
+  double center_x_m = 1.4;
+  // Cameras are weighted by how close to their optical axis they see a
+  // point; within this angle of the best camera's weight the second one is
+  // blended in (a feathered seam).
+  double blend_angle_rad = 0.3;
+  bool mask_footprint = true;
+  double footprint_length_m = 4.7;
+  double footprint_width_m = 1.85;
+  double footprint_rear_overhang_m = 1.0;
+
+  bool IsValid(std::string* error) const;
+};
+
+class TopViewFusion {
+ public:
+  // `fusion_rig` holds the extrinsics used for fusion: pass a perturbed copy
+  // of the true rig to simulate calibration that degrades with time.
+  // Throws std::invalid_argument for a missing camera or invalid options.
+  TopViewFusion(const CameraRig& fusion_rig, const std::vector<std::string>& camera_names,
+                const TopViewOptions& options = {});
+
+  // One 8-bit image (grey or BGR, all alike) per camera, in the order of
+  // camera_names. Throws std::invalid_argument naming the camera when an
+  // image has the wrong size or type.
+  cv::Mat Fuse(const std::vector<cv::Mat>& images) const;
+
+  // Top-view pixel (0-based, centre of the top-left pixel at (0, 0)) of a
+  // ground point in the vehicle frame, and back.
+  Eigen::Vector2d VehicleToPixel(const Eigen::Vector2d& p_vehicle) const;
+  Eigen::Vector2d PixelToVehicle(const Eigen::Vector2d& pixel) const;
+
+  const TopViewOptions& options() const { return options_; }
+
+ private:
+  TopViewOptions options_;
+  std::vector<std::string> names_;
+  std::vector<cv::Size> sizes_;
+  int stacked_width_ = 0, stacked_height_ = 0;
+  // Maps into the stacked input (cameras one below the other): the best
+  // camera, the second best; fixed point as cv::convertMaps makes them.
+  cv::Mat primary_xy_, primary_frac_, secondary_xy_, secondary_frac_;
+  cv::Mat primary_weight_;  // CV_8U, 255: the best camera alone
+  cv::Mat valid_;           // CV_8U, 0 where no camera sees the ground (or the car)
+};
+
+// A world-to-camera perturbation of a rig's extrinsics: each camera is
+// rotated by small roll, pitch, yaw angles and shifted, as an old
+// calibration would be off.
+CameraRig PerturbExtrinsics(const CameraRig& rig, double rotation_sigma_rad,
+                            double translation_sigma_m, std::uint64_t seed);
+
+}  // namespace parkslam::camera
+
+#endif  // PARKSLAM_CAMERA_TOP_VIEW_H_

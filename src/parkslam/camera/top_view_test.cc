@@ -1,0 +1,124 @@
+#include "parkslam/camera/top_view.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+
+namespace parkslam::camera {
+namespace {
+
+const std::vector<std::string> kFisheyes{"front", "rear", "left", "right"};
+
+// Renders what a camera of the rig sees of a ground with white dots of
+// radius 6 cm on a 1 m grid (offset by 0.5 m), black elsewhere.
+cv::Mat RenderDots(const CameraConfig& camera) {
+  const CameraModel model(camera.intrinsics);
+  cv::Mat image(camera.intrinsics.height, camera.intrinsics.width, CV_8UC1, cv::Scalar(0));
+  for (int v = 0; v < image.rows; ++v) {
+    for (int u = 0; u < image.cols; ++u) {
+      const auto ray = model.Unproject({u, v});
+      if (!ray) continue;
+      const Eigen::Vector3d d = camera.T_vehicle_camera.linear() * *ray;
+      const Eigen::Vector3d o = camera.T_vehicle_camera.translation();
+      if (d.z() >= -1e-6) continue;
+      const Eigen::Vector3d g = o - o.z() / d.z() * d;
+      const double fx = g.x() - 0.5 - std::round(g.x() - 0.5);
+      const double fy = g.y() - 0.5 - std::round(g.y() - 0.5);
+      if (std::hypot(fx, fy) < 0.06) image.at<uint8_t>(v, u) = 255;
+    }
+  }
+  return image;
+}
+
+std::vector<cv::Mat> RenderAll(const CameraRig& rig) {
+  std::vector<cv::Mat> images;
+  for (const std::string& name : kFisheyes) images.push_back(RenderDots(*rig.Find(name)));
+  return images;
+}
+
+TEST(TopViewTest, PixelAndVehicleConversionsAreInverse) {
+  const TopViewFusion fusion(DefaultRig(), kFisheyes);
+  const Eigen::Vector2d p(3.2, -1.7);
+  EXPECT_TRUE(fusion.PixelToVehicle(fusion.VehicleToPixel(p)).isApprox(p, 1e-12));
+  // The car points up: a point ahead is above the centre, one on the left
+  // is left of it.
+  const Eigen::Vector2d c = fusion.VehicleToPixel({1.4, 0.0});
+  EXPECT_NEAR(c.x(), 299.5, 1e-9);
+  EXPECT_LT(fusion.VehicleToPixel({3.0, 0.0}).y(), c.y());
+  EXPECT_LT(fusion.VehicleToPixel({1.4, 1.0}).x(), c.x());
+}
+
+TEST(TopViewTest, GroundPointsLandAtTheirPredictedPixels) {
+  const CameraRig rig = DefaultRig();
+  const TopViewFusion fusion(rig, kFisheyes);
+  const cv::Mat top = fusion.Fuse(RenderAll(rig));
+  ASSERT_EQ(top.rows, 600);
+  cv::Mat binary;
+  cv::threshold(top, binary, 100, 255, cv::THRESH_BINARY);
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(binary, labels, stats, centroids);
+  int checked = 0;
+  double worst = 0.0;
+  for (double x = -3.5; x <= 6.5; x += 1.0) {
+    for (double y = -4.5; y <= 4.5; y += 1.0) {
+      const Eigen::Vector2d expected = fusion.VehicleToPixel({x, y});
+      if (expected.x() < 10 || expected.y() < 10 || expected.x() > 589 || expected.y() > 589) continue;
+      // The blob nearest the expected pixel.
+      double best = 1e9;
+      for (int i = 1; i < n; ++i) {
+        best = std::min(best, std::hypot(centroids.at<double>(i, 0) - expected.x(),
+                                         centroids.at<double>(i, 1) - expected.y()));
+      }
+      if (best > 5.0) continue;  // under the car's footprint
+      worst = std::max(worst, best);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 60);
+  EXPECT_LT(worst, 1.0);
+}
+
+TEST(TopViewTest, PerturbedExtrinsicsShiftTheGround) {
+  const CameraRig rig = DefaultRig();
+  const CameraRig off = PerturbExtrinsics(rig, 0.02, 0.02, 7);
+  const cv::Mat exact = TopViewFusion(rig, kFisheyes).Fuse(RenderAll(rig));
+  const cv::Mat perturbed = TopViewFusion(off, kFisheyes).Fuse(RenderAll(rig));
+  EXPECT_GT(cv::norm(exact, perturbed, cv::NORM_L1), 1000.0);
+}
+
+TEST(TopViewTest, FootprintIsMasked) {
+  const CameraRig rig = DefaultRig();
+  const TopViewFusion fusion(rig, kFisheyes);
+  std::vector<cv::Mat> white;
+  for (const std::string& name : kFisheyes) {
+    const CameraIntrinsics& in = rig.Find(name)->intrinsics;
+    white.emplace_back(in.height, in.width, CV_8UC1, cv::Scalar(200));
+  }
+  const cv::Mat top = fusion.Fuse(white);
+  const Eigen::Vector2d car = fusion.VehicleToPixel({1.35, 0.0});
+  EXPECT_EQ(top.at<uint8_t>(static_cast<int>(car.y()), static_cast<int>(car.x())), 0);
+  const Eigen::Vector2d ground = fusion.VehicleToPixel({5.0, 3.0});
+  EXPECT_EQ(top.at<uint8_t>(static_cast<int>(ground.y()), static_cast<int>(ground.x())), 200);
+}
+
+TEST(TopViewTest, WrongImageSizeNamesTheCamera) {
+  const CameraRig rig = DefaultRig();
+  const TopViewFusion fusion(rig, kFisheyes);
+  std::vector<cv::Mat> images = RenderAll(rig);
+  images[2] = cv::Mat(100, 100, CV_8UC1, cv::Scalar(0));
+  try {
+    fusion.Fuse(images);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'left'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(TopViewTest, UnknownCameraThrows) {
+  EXPECT_THROW(TopViewFusion(DefaultRig(), {"front", "roof"}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace parkslam::camera
