@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render localize follow; do
+for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -77,6 +77,15 @@ printf '0 0 0 0 0 0 0 1\n1 nan 0 0 0 0 0 1\n' > "$tmp/nan.tum"
 expect nonzero "nan.tum:2" -- "$PARKSLAM" follow --map "$tmp/m.json" --runs 1 --trace "$tmp/nan.tum" --out "$tmp/f2"
 printf '{"format": "parkslam-map", "version": 1, "frame": "map", "units": {"length": "m", "angle": "rad"}, "metadata": {}, "slots": [], "tags": [], "obstacles": []}' > "$tmp/empty.json"
 expect nonzero "fewer than 3 slots" -- "$PARKSLAM" follow --map "$tmp/empty.json" --runs 1 --out "$tmp/f3"
+
+# Rendered images and their top view.
+expect 0 "written to" -- "$PARKSLAM" simulate --seed 4 --set route.laps=0 --set route.finish_m=[] --images --image-rate-hz 0.2 --out "$tmp/img"
+[ -f "$tmp/img/images/index.csv" ] && [ -f "$tmp/img/images/rig.yaml" ] && [ -f "$tmp/img/images/front_mono/0.jpg" ] && pass || fail "image files missing"
+expect 0 "600x600" -- "$PARKSLAM" topview --rig "$tmp/img/images/rig.yaml" --front "$tmp/img/images/front/0.jpg" --rear "$tmp/img/images/rear/0.jpg" --left "$tmp/img/images/left/0.jpg" --right "$tmp/img/images/right/0.jpg" --out "$tmp/top.png"
+expect nonzero "nope.jpg: no such file" -- "$PARKSLAM" topview --front "$tmp/nope.jpg" --rear "$tmp/img/images/rear/0.jpg" --left "$tmp/img/images/left/0.jpg" --right "$tmp/img/images/right/0.jpg" --out "$tmp/top2.png"
+expect nonzero "'rear'.*640x480" -- "$PARKSLAM" topview --front "$tmp/img/images/front/0.jpg" --rear "$tmp/img/images/front_mono/0.jpg" --left "$tmp/img/images/left/0.jpg" --right "$tmp/img/images/right/0.jpg" --out "$tmp/top3.png"
+printf 'cameras:\n  - name: front\n    modle: fisheye\n' > "$tmp/badrig.yaml"
+expect nonzero "badrig.yaml.*cameras\[0\]" -- "$PARKSLAM" topview --rig "$tmp/badrig.yaml" --front "$tmp/img/images/front/0.jpg" --rear "$tmp/img/images/rear/0.jpg" --left "$tmp/img/images/left/0.jpg" --right "$tmp/img/images/right/0.jpg" --out "$tmp/top4.png"
 
 # Bad inputs name the file and what is wrong.
 expect nonzero "missing|dataset.yaml" -- "$PARKSLAM" odometry "$tmp/none" --out "$tmp/o2.tum"

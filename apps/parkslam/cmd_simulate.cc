@@ -1,13 +1,57 @@
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 
 #include "commands.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/scenario_yaml.h"
+#include "progress.h"
 #include "steps.h"
 
+#include <opencv2/imgcodecs.hpp>
+
+#include "parkslam/camera/camera_model.h"
+#include "parkslam/io/atomic_file.h"
+#include "parkslam/io/rig_yaml.h"
+#include "parkslam/render/renderer.h"
+#include "parkslam/sim/world.h"
+
 namespace parkslam::app {
+namespace {
+
+// Renders the cameras of the default rig along the true trajectory at
+// rate_hz into DIR/images/<camera>/<t_ns>.jpg, with images/index.csv
+// (t_ns,camera,file) and the rig they were rendered with (images/rig.yaml).
+void WriteImages(const std::filesystem::path& dir, const io::Dataset& dataset, double rate_hz) {
+  const camera::CameraRig rig = camera::DefaultRig();
+  const std::vector<std::string> names{"front", "rear", "left", "right", "front_mono"};
+  const sim::World world =
+      sim::BuildWorld(dataset.scenario.world, static_cast<std::uint64_t>(dataset.scenario.world.seed));
+  const render::Renderer renderer(world, rig, render::RenderOptions{}, dataset.seed);
+  const Trajectory& truth = dataset.groundtruth_trajectory;
+  const TimeNs start = truth.front().t_ns, end = truth.back().t_ns;
+  const TimeNs period = FromSeconds(1.0 / rate_hz);
+  std::string index = "t_ns,camera,file\n";
+  Progress progress("  rendering images", static_cast<int>((end - start) / period) + 1);
+  int frame = 0;
+  for (TimeNs t = start; t <= end; t += period) {
+    const std::vector<cv::Mat> images = renderer.RenderAll(*PoseAt(truth, t), t, names);
+    for (size_t c = 0; c < names.size(); ++c) {
+      const std::string file = "images/" + names[c] + "/" + std::to_string(t) + ".jpg";
+      std::vector<uchar> jpeg;
+      cv::imencode(".jpg", images[c], jpeg, {cv::IMWRITE_JPEG_QUALITY, 90});
+      io::WriteFileAtomically(dir / file, std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
+      index += std::to_string(t) + "," + names[c] + "," + file + "\n";
+    }
+    progress.Update(++frame);
+  }
+  progress.Finish();
+  io::WriteFileAtomically(dir / "images" / "rig.yaml", io::RigToYaml(rig));
+  io::WriteFileAtomically(dir / "images" / "index.csv", index);
+}
+
+}  // namespace
 
 void AddSimulateCommand(CLI::App& app) {
   struct Options {
@@ -15,6 +59,8 @@ void AddSimulateCommand(CLI::App& app) {
     std::uint64_t seed = 1;
     std::string out;
     bool dump_config = false;
+    bool images = false;
+    double image_rate_hz = 2.0;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -24,6 +70,12 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_option("--seed", options->seed, "Random seed (same seed, same data)")
       ->capture_default_str();
   cmd->add_option("--out", options->out, "Dataset folder to write");
+  cmd->add_flag("--images", options->images,
+                "Also render the four fisheye and the front camera along the drive (JPEG, "
+                "DIR/images/, with index.csv and the rig)");
+  cmd->add_option("--image-rate-hz", options->image_rate_hz, "Frame sets per second with --images")
+      ->check(CLI::Range(0.1, 30.0))
+      ->capture_default_str();
   cmd->add_flag("--dump-config", options->dump_config,
                 "Print the resolved scenario as YAML and exit (a start for your own world)");
   cmd->callback([options] {
@@ -37,6 +89,7 @@ void AddSimulateCommand(CLI::App& app) {
     const io::Dataset dataset = SimulateDataset(scenario, options->seed);
     const auto simulated = std::chrono::steady_clock::now();
     io::WriteDataset(options->out, dataset);
+    if (options->images) WriteImages(options->out, dataset, options->image_rate_hz);
     const auto written = std::chrono::steady_clock::now();
     std::printf("%s\n", DescribeDataset(dataset).c_str());
     std::printf("simulated in %.2f s, written to %s in %.2f s\n",

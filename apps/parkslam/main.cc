@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   parkslam::app::AddRenderCommand(app);
   parkslam::app::AddLocalizeCommand(app);
   parkslam::app::AddFollowCommand(app);
+  parkslam::app::AddTopviewCommand(app);
   parkslam::app::AddDemoCommand(app);
   try {
     app.parse(argc, argv);

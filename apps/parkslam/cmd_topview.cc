@@ -1,0 +1,85 @@
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
+
+#include "commands.h"
+#include "parkslam/camera/homography_top_view.h"
+#include "parkslam/camera/top_view.h"
+#include "parkslam/io/atomic_file.h"
+#include "parkslam/io/homography_rig.h"
+#include "parkslam/io/rig_yaml.h"
+
+namespace parkslam::app {
+namespace {
+
+cv::Mat ReadImage(const std::string& path, int flags) {
+  if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such file");
+  const cv::Mat image = cv::imread(path, flags);
+  if (image.empty()) throw std::runtime_error(path + ": not a readable image");
+  return image;
+}
+
+void WriteImage(const std::string& path, const cv::Mat& image) {
+  std::vector<uchar> buffer;
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (!cv::imencode(ext.empty() ? ".png" : ext, image, buffer)) {
+    throw std::runtime_error(path + ": cannot encode an image of this type");
+  }
+  io::WriteFileAtomically(path, std::string_view(reinterpret_cast<const char*>(buffer.data()),
+                                                 buffer.size()));
+}
+
+}  // namespace
+
+void AddTopviewCommand(CLI::App& app) {
+  struct Options {
+    std::string rig = "default", front, rear, left, right, out;
+    int size_px = 600;
+    double extent_m = 10.0;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "topview",
+      "Fuse four fisheye images into one top-view image (surround view). --rig is the built-in "
+      "rig `default`, a rig YAML file (docs/cameras.md), or a folder calibrated by ground "
+      "homographies (front/back/left/right.yaml, as shared/data/surround-view-sample)");
+  cmd->add_option("--rig", options->rig, "Rig: default, RIG.yaml or a folder")->capture_default_str();
+  cmd->add_option("--front", options->front, "Front fisheye image")->required();
+  cmd->add_option("--rear", options->rear, "Rear fisheye image")->required();
+  cmd->add_option("--left", options->left, "Left fisheye image")->required();
+  cmd->add_option("--right", options->right, "Right fisheye image")->required();
+  cmd->add_option("--out", options->out, "Top-view image to write (PNG or JPEG)")->required();
+  cmd->add_option("--size-px", options->size_px, "Top-view size (rig form)")
+      ->check(CLI::Range(16, 4096))
+      ->capture_default_str();
+  cmd->add_option("--extent-m", options->extent_m, "Ground covered (rig form)")
+      ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
+  cmd->callback([options] {
+    cv::Mat top;
+    if (std::filesystem::is_directory(options->rig)) {
+      const camera::HomographyTopView view(io::LoadHomographyRig(options->rig));
+      top = view.Fuse({ReadImage(options->front, cv::IMREAD_COLOR),
+                       ReadImage(options->rear, cv::IMREAD_COLOR),
+                       ReadImage(options->left, cv::IMREAD_COLOR),
+                       ReadImage(options->right, cv::IMREAD_COLOR)});
+    } else {
+      const camera::CameraRig rig =
+          options->rig == "default" ? camera::DefaultRig() : io::LoadRig(options->rig);
+      camera::TopViewOptions view;
+      view.size_px = options->size_px;
+      view.extent_m = options->extent_m;
+      const camera::TopViewFusion fusion(rig, {"front", "rear", "left", "right"}, view);
+      std::vector<cv::Mat> images;
+      for (const std::string* path : {&options->front, &options->rear, &options->left, &options->right}) {
+        images.push_back(ReadImage(*path, cv::IMREAD_GRAYSCALE));
+      }
+      top = fusion.Fuse(images);
+    }
+    WriteImage(options->out, top);
+    std::printf("wrote %s (%dx%d)\n", options->out.c_str(), top.cols, top.rows);
+  });
+}
+
+}  // namespace parkslam::app
