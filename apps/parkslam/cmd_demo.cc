@@ -181,11 +181,8 @@ void AddDemoCommand(CLI::App& app) {
       std::vector<viz::SvgTrajectory> runs{{"recorded drive (the trace)", "#2a9d2a",
                                             dataset.groundtruth_trajectory}};
       for (size_t i = 0; i < follow.runs.size(); ++i) {
-        Trajectory run_map;
-        for (const TimedPose& p : follow.runs[i].truth_world) {
-          run_map.push_back({p.t_ns, T_world_map.inverse() * p.T_map_vehicle});
-        }
-        runs.push_back({i == 0 ? "autonomous runs (true paths)" : "", "#d62728", run_map});
+        runs.push_back({i == 0 ? "autonomous runs (true paths)" : "", "#d62728",
+                        Transformed(T_world_map.inverse(), follow.runs[i].truth_world)});
       }
       viz::MapSvgOptions follow_svg;
       char title[200];

@@ -18,13 +18,6 @@
 namespace parkslam::app {
 namespace {
 
-Trajectory Transform(const SE2& T_b_a, const Trajectory& trajectory_a) {
-  Trajectory out;
-  out.reserve(trajectory_a.size());
-  for (const TimedPose& p : trajectory_a) out.push_back({p.t_ns, T_b_a * p.T_map_vehicle});
-  return out;
-}
-
 std::string Index(int i) {
   char text[16];
   std::snprintf(text, sizeof text, "%02d", i);
@@ -116,7 +109,7 @@ void AddFollowCommand(CLI::App& app) {
           sim::DriveRoute(scenario.route, scenario.vehicle, options->seed);
       for (const sim::VehicleState& s : drive) trace_world.push_back({s.t_ns, s.T_map_vehicle});
     } else {
-      trace_world = Transform(T_world_map, io::ReadTum(options->trace));
+      trace_world = Transformed(T_world_map, io::ReadTum(options->trace));
     }
 
     pipeline::TraceFollowingOptions follow;
@@ -131,7 +124,7 @@ void AddFollowCommand(CLI::App& app) {
     progress.Finish();
 
     io::WriteTum(out / "trace.tum", trace_world);
-    std::vector<viz::SvgTrajectory> drawn{{"trace", "#2a9d2a", Transform(T_map_world, trace_world)}};
+    std::vector<viz::SvgTrajectory> drawn{{"trace", "#2a9d2a", Transformed(T_map_world, trace_world)}};
     static const char* kColors[] = {"#d62728", "#1f77b4", "#9467bd", "#ff7f0e", "#8c564b",
                                     "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#393b79"};
     for (size_t i = 0; i < result.runs.size(); ++i) {
@@ -139,7 +132,7 @@ void AddFollowCommand(CLI::App& app) {
       io::WriteTum(out / ("estimate_" + Index(static_cast<int>(i)) + ".tum"),
                    result.runs[i].estimate_map);
       drawn.push_back({i == 0 ? "autonomous runs (true)" : "", kColors[i % 10],
-                       Transform(T_map_world, result.runs[i].truth_world)});
+                       Transformed(T_map_world, result.runs[i].truth_world)});
     }
     viz::MapSvgOptions svg;
     char title[256];

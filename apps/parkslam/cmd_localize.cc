@@ -100,10 +100,7 @@ void AddLocalizeCommand(CLI::App& app) {
       // The truth in the map's frame: align the map onto the true lot.
       const SE2 T_map_world =
           eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map.inverse();
-      Trajectory truth_map;
-      for (const TimedPose& p : dataset.groundtruth_trajectory) {
-        truth_map.push_back({p.t_ns, T_map_world * p.T_map_vehicle});
-      }
+      const Trajectory truth_map = Transformed(T_map_world, dataset.groundtruth_trajectory);
       pipeline::KidnapOptions kidnap;
       kidnap.trials = options->kidnap_trials;
       const pipeline::KidnapResult k = pipeline::RunKidnapTrials(

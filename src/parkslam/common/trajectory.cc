@@ -21,6 +21,13 @@ std::optional<SE2> PoseAt(const Trajectory& trajectory, TimeNs t_ns) {
   return Interpolate(before->T_map_vehicle, after->T_map_vehicle, fraction);
 }
 
+Trajectory Transformed(const SE2& T_b_a, const Trajectory& trajectory_a) {
+  Trajectory trajectory_b;
+  trajectory_b.reserve(trajectory_a.size());
+  for (const TimedPose& p : trajectory_a) trajectory_b.push_back({p.t_ns, T_b_a * p.T_map_vehicle});
+  return trajectory_b;
+}
+
 double PathLength(const Trajectory& trajectory) {
   double length_m = 0.0;
   for (size_t i = 1; i < trajectory.size(); ++i) {

@@ -30,6 +30,10 @@ struct TimedPoseWithCovariance {
 // be sorted by time.
 std::optional<SE2> PoseAt(const Trajectory& trajectory, TimeNs t_ns);
 
+// The trajectory moved into another frame: each pose T_a_vehicle becomes
+// T_b_a * T_a_vehicle.
+Trajectory Transformed(const SE2& T_b_a, const Trajectory& trajectory_a);
+
 // Length of the path through the trajectory's positions, in metres.
 double PathLength(const Trajectory& trajectory);
 

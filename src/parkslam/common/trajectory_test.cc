@@ -34,6 +34,16 @@ TEST(TrajectoryTest, PathLengthSumsSegments) {
   EXPECT_EQ(PathLength(Trajectory{}), 0.0);
 }
 
+TEST(TrajectoryTest, TransformedMovesEveryPoseKeepingTimes) {
+  const Trajectory moved = Transformed(SE2(1.0, 2.0, kPi / 2), Straight());
+  ASSERT_EQ(moved.size(), 3u);
+  EXPECT_EQ(moved[1].t_ns, kNanosecondsPerSecond);
+  // (2, 0) turned by 90 degrees and shifted by (1, 2): (1, 4).
+  EXPECT_NEAR(moved[1].T_map_vehicle.x(), 1.0, 1e-12);
+  EXPECT_NEAR(moved[1].T_map_vehicle.y(), 4.0, 1e-12);
+  EXPECT_NEAR(moved[1].T_map_vehicle.yaw(), kPi / 2 + 0.2, 1e-12);
+}
+
 TEST(TimeTest, SecondsRoundTrip) {
   EXPECT_EQ(FromSeconds(1.5), 1'500'000'000);
   EXPECT_DOUBLE_EQ(ToSeconds(FromSeconds(123.456789)), 123.456789);

@@ -35,12 +35,6 @@ Trajectory CurvedPath(int poses) {
   return trajectory;
 }
 
-Trajectory Transformed(const SE2& T, const Trajectory& trajectory) {
-  Trajectory out = trajectory;
-  for (TimedPose& pose : out) pose.T_map_vehicle = T * pose.T_map_vehicle;
-  return out;
-}
-
 TEST(EvaluateTrajectoryTest, IdenticalTrajectoriesHaveZeroErrors) {
   const Trajectory truth = CurvedPath(1200);
   const TrajectoryMetrics m = EvaluateTrajectory(truth, truth);

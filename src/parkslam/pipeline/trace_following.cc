@@ -82,8 +82,7 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
   if (!(options.speed_kmh > 0.0 && options.speed_kmh <= 30.0)) {
     throw std::invalid_argument("speed must be in (0, 30] km/h");
   }
-  Trajectory trace_map;
-  for (const TimedPose& p : trace_world) trace_map.push_back({p.t_ns, T_map_world * p.T_map_vehicle});
+  const Trajectory trace_map = Transformed(T_map_world, trace_world);
   const control::Trace trace(trace_map);  // throws for a degenerate trace
   const odometry::OdometryEkfOptions odometry_options =
       EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle);
