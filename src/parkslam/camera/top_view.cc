@@ -56,7 +56,7 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
 
   const int n = options_.size_px;
   cv::Mat primary(n, n, CV_32FC2, cv::Scalar(-1, -1)), secondary(n, n, CV_32FC2, cv::Scalar(-1, -1));
-  primary_weight_ = cv::Mat(n, n, CV_8U, cv::Scalar(0));
+  primary_weight_ = cv::Mat(n, n, CV_16U, cv::Scalar(0));
   valid_ = cv::Mat(n, n, CV_8U, cv::Scalar(0));
   const double x_front = options_.footprint_length_m - options_.footprint_rear_overhang_m;
   for (int v = 0; v < n; ++v) {
@@ -105,7 +105,7 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
       } else {
         secondary.at<cv::Point2f>(v, u) = best_px;
       }
-      primary_weight_.at<uint8_t>(v, u) = static_cast<uint8_t>(std::lround(alpha * 255));
+      primary_weight_.at<uint16_t>(v, u) = static_cast<uint16_t>(std::lround(alpha * 256));
     }
   }
   cv::convertMaps(primary, cv::noArray(), primary_xy_, primary_frac_, CV_16SC2);
@@ -137,20 +137,28 @@ cv::Mat TopViewFusion::Fuse(const std::vector<cv::Mat>& images) const {
   cv::Mat a, b;
   cv::remap(stacked, a, primary_xy_, primary_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
   cv::remap(stacked, b, secondary_xy_, secondary_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-  // out = (w a + (255 - w) b) / 255, zero where nothing is seen.
+  // out = (w a + (256 - w) b) / 256, zero where nothing is seen.
   cv::Mat out(a.size(), a.type());
   const int channels = a.channels();
   for (int v = 0; v < out.rows; ++v) {
     const uint8_t* pa = a.ptr<uint8_t>(v);
     const uint8_t* pb = b.ptr<uint8_t>(v);
-    const uint8_t* pw = primary_weight_.ptr<uint8_t>(v);
+    const uint16_t* pw = primary_weight_.ptr<uint16_t>(v);
     const uint8_t* pv = valid_.ptr<uint8_t>(v);
     uint8_t* po = out.ptr<uint8_t>(v);
+    if (channels == 1) {
+      // The common grey case, in a loop the compiler vectorizes.
+      for (int u = 0; u < out.cols; ++u) {
+        const unsigned w = pw[u];
+        po[u] = static_cast<uint8_t>(((w * pa[u] + (256u - w) * pb[u] + 128u) >> 8) & pv[u]);
+      }
+      continue;
+    }
     for (int u = 0; u < out.cols; ++u) {
-      const int w = pw[u], valid = pv[u];
+      const unsigned w = pw[u];
       for (int k = 0; k < channels; ++k) {
         const int i = u * channels + k;
-        po[i] = static_cast<uint8_t>(((w * pa[i] + (255 - w) * pb[i] + 127) / 255) & valid);
+        po[i] = static_cast<uint8_t>(((w * pa[i] + (256u - w) * pb[i] + 128u) >> 8) & pv[u]);
       }
     }
   }
