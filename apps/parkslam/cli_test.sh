@@ -87,6 +87,12 @@ expect nonzero "'rear'.*640x480" -- "$PARKSLAM" topview --front "$tmp/img/images
 printf 'cameras:\n  - name: front\n    modle: fisheye\n' > "$tmp/badrig.yaml"
 expect nonzero "badrig.yaml.*cameras\[0\]" -- "$PARKSLAM" topview --rig "$tmp/badrig.yaml" --front "$tmp/img/images/front/0.jpg" --rear "$tmp/img/images/rear/0.jpg" --left "$tmp/img/images/left/0.jpg" --right "$tmp/img/images/right/0.jpg" --out "$tmp/top4.png"
 
+# Live cameras: rendered on the fly into the stream, nothing written.
+expect 0 "map written" -- "$PARKSLAM" map "$tmp/img" --out "$tmp/live_map.json" --live-images 1
+[ ! -e "$tmp/img/images/front/1000000000.jpg" ] && pass || fail "live images were written"
+expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/live_map.json" "$tmp/img" --out "$tmp/live.tum" --live-images 1 --init 0,0,0
+expect 0 '"repeat_std_m"' -- "$PARKSLAM" follow --map "$tmp/m.json" --runs 1 --speed-kmh 10 --set route.laps=0 --live-images 0.5 --out "$tmp/fl" --json
+
 # Bad inputs name the file and what is wrong.
 expect nonzero "missing|dataset.yaml" -- "$PARKSLAM" odometry "$tmp/none" --out "$tmp/o2.tum"
 expect nonzero "init" -- "$PARKSLAM" odometry "$tmp/d" --out "$tmp/o2.tum" --init 1,2

@@ -32,6 +32,7 @@ void AddDemoCommand(CLI::App& app) {
     int consistency_runs = 50;
     int follow_runs = 10;
     double follow_speed_kmh = 10.0;
+    double live_images_hz = 0.0;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -52,6 +53,10 @@ void AddDemoCommand(CLI::App& app) {
   cmd->add_option("--follow-speed-kmh", options->follow_speed_kmh, "Speed of the autonomous runs")
       ->check(CLI::Range(0.5, 30.0))
       ->capture_default_str();
+  cmd->add_option("--live-images", options->live_images_hz,
+                  "Also render the simulated cameras on the fly at this rate (Hz) into the "
+                  "streams of mapping and trace following (nothing written)")
+      ->check(CLI::Range(0.0, 30.0));
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
     const std::filesystem::path out = options->out;
@@ -81,7 +86,7 @@ void AddDemoCommand(CLI::App& app) {
     header("semantic mapping (slots, IDs, tags; Max-Mixture back-end)");
     t0 = std::chrono::steady_clock::now();
     const mapping::Mapper mapper = BuildMap(dataset, mapping::MapperOptions{},
-                                            dr.initial_pose, true);
+                                            dr.initial_pose, true, options->live_images_hz);
     metrics["mapping_s"] = SecondsSince(t0);
     const SemanticMap map = mapper.Map();
     const Trajectory mapped_trajectory = mapper.KeyframeTrajectory();
@@ -138,6 +143,7 @@ void AddDemoCommand(CLI::App& app) {
       follow_options.runs = options->follow_runs;
       follow_options.speed_kmh = options->follow_speed_kmh;
       follow_options.seed = options->seed + 2000;
+      follow_options.live_image_rate_hz = options->live_images_hz;
       Progress progress("  runs", options->follow_runs);
       follow = pipeline::FollowTrace(scenario, map, T_world_map.inverse(),
                                      dataset.groundtruth_trajectory, follow_options,

@@ -64,6 +64,7 @@ void AddFollowCommand(CLI::App& app) {
     double speed_kmh = 4.0;
     std::uint64_t seed = 1;
     bool odometry_only = false, json = false;
+    double live_images_hz = 0.0;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -88,6 +89,10 @@ void AddFollowCommand(CLI::App& app) {
   cmd->add_flag("--odometry-only", options->odometry_only,
                 "Steer from dead reckoning alone (the baseline)");
   cmd->add_flag("--json", options->json, "Print one JSON object");
+  cmd->add_option("--live-images", options->live_images_hz,
+                  "Render the cameras on the fly at this rate (Hz) from the true pose into the "
+                  "stream, writing nothing")
+      ->check(CLI::Range(0.0, 30.0));
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
     const std::filesystem::path out = options->out;
@@ -117,6 +122,7 @@ void AddFollowCommand(CLI::App& app) {
     follow.speed_kmh = options->speed_kmh;
     follow.seed = options->seed;
     follow.odometry_only = options->odometry_only;
+    follow.live_image_rate_hz = options->live_images_hz;
     Progress progress("  runs", options->runs);
     const pipeline::TraceFollowingResult result = pipeline::FollowTrace(
         scenario, map, T_map_world, trace_world, follow,

@@ -11,6 +11,7 @@
 #include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/pipeline/kidnap.h"
 #include "progress.h"
+#include "steps.h"
 
 namespace parkslam::app {
 
@@ -19,6 +20,7 @@ void AddLocalizeCommand(CLI::App& app) {
     std::string map, dataset, out, init;
     bool global = false;
     int kidnap_trials = 0;
+    double live_images_hz = 0.0;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -29,6 +31,10 @@ void AddLocalizeCommand(CLI::App& app) {
   cmd->add_option("--map", options->map, "Map JSON")->required();
   cmd->add_option("DIR", options->dataset, "Dataset folder")->required();
   cmd->add_option("--out", options->out, "TUM trajectory to write")->required();
+  cmd->add_option("--live-images", options->live_images_hz,
+                  "Render the simulated cameras on the fly at this rate (Hz) into the stream, "
+                  "writing nothing (needs the dataset's ground truth)")
+      ->check(CLI::Range(0.0, 30.0));
   cmd->add_option("--kidnap-trials", options->kidnap_trials,
                   "Also run this many kidnapped-robot trials on the drive: the belief is "
                   "replaced by a confident wrong pose; a trial succeeds when the localizer is "
@@ -56,7 +62,8 @@ void AddLocalizeCommand(CLI::App& app) {
     int frames = 0, tracking = 0, lost_events = 0, relocalizations = 0;
     std::vector<double> update_ms;
     localization::LocalizerState previous = localizer.state();
-    SensorLogSource source(dataset.log);
+    DatasetStream stream(dataset, options->live_images_hz);
+    SensorSource& source = stream.source();
     const size_t total = dataset.log.slot_frames.size() + dataset.log.tag_frames.size();
     Progress progress("  localizing", static_cast<int>(total));
     while (const auto event = source.Next()) {

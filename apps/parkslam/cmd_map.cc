@@ -16,6 +16,7 @@ void AddMapCommand(CLI::App& app) {
   struct Options {
     std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init, solver = "lm";
     double initial_trust_region = 1e8;
+    double live_images_hz = 0.0;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -44,6 +45,10 @@ void AddMapCommand(CLI::App& app) {
                   "Initial trust-region radius of the final solve")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--live-images", options->live_images_hz,
+                  "Render the simulated cameras on the fly at this rate (Hz) into the stream, "
+                  "writing nothing (needs the dataset's ground truth)")
+      ->check(CLI::Range(0.0, 30.0));
   cmd->add_option("--init", options->init,
                   "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
                   "map frame starts at the first pose");
@@ -61,7 +66,7 @@ void AddMapCommand(CLI::App& app) {
     std::optional<SE2> init;
     if (!options->init.empty()) init = ParsePose(options->init, "--init");
     const auto start = std::chrono::steady_clock::now();
-    mapping::Mapper mapper = BuildMap(dataset, mapper_options, init, true);
+    mapping::Mapper mapper = BuildMap(dataset, mapper_options, init, true, options->live_images_hz);
     const double total_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     io::WriteMap(options->out, mapper.Map());

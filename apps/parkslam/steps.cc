@@ -6,6 +6,9 @@
 #include "parkslam/common/angles.h"
 #include "parkslam/sim/simulator.h"
 #include "progress.h"
+#include "parkslam/camera/camera_model.h"
+#include "parkslam/pipeline/rendering_source.h"
+#include "parkslam/render/renderer.h"
 #include <algorithm>
 
 namespace parkslam::app {
@@ -54,8 +57,37 @@ nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& m) {
   return j;
 }
 
+struct DatasetStream::Live {
+  sim::World world;
+  std::unique_ptr<render::Renderer> renderer;
+  std::unique_ptr<pipeline::RenderingSource> source;
+};
+
+DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz) : log_(dataset.log) {
+  if (rate_hz <= 0.0) return;
+  if (dataset.groundtruth_trajectory.size() < 2) {
+    throw std::runtime_error(dataset.name + ": live images need the dataset's ground truth");
+  }
+  live_ = std::make_unique<Live>();
+  live_->world = sim::BuildWorld(dataset.scenario.world,
+                                 static_cast<std::uint64_t>(dataset.scenario.world.seed));
+  live_->renderer = std::make_unique<render::Renderer>(live_->world, camera::DefaultRig(),
+                                                       render::RenderOptions{}, dataset.seed);
+  live_->source = std::make_unique<pipeline::RenderingSource>(
+      log_, *live_->renderer, dataset.groundtruth_trajectory,
+      std::vector<std::string>{"front", "rear", "left", "right", "front_mono"}, rate_hz);
+}
+
+DatasetStream::~DatasetStream() = default;
+
+SensorSource& DatasetStream::source() {
+  if (live_) return *live_->source;
+  return log_;
+}
+
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
-                         std::optional<SE2> initial_pose, bool progress) {
+                         std::optional<SE2> initial_pose, bool progress,
+                         double live_image_rate_hz) {
   mapping::Mapper mapper(options,
                          pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
                                                             dataset.scenario.vehicle),
@@ -65,7 +97,8 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
                        log.imu_samples.size() + log.slot_frames.size() + log.tag_frames.size();
   std::optional<Progress> bar;
   if (progress) bar.emplace("  mapping", static_cast<int>(total / 1000) + 1);
-  SensorLogSource source(log);
+  DatasetStream stream(dataset, live_image_rate_hz);
+  SensorSource& source = stream.source();
   size_t done = 0;
   while (const auto event = source.Next()) {
     mapper.Process(*event);

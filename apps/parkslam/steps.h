@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <string>
 
 #include "parkslam/eval/map_metrics.h"
@@ -27,8 +28,25 @@ nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& metrics);
 
 // Runs the mapper over a dataset, tuned from its sensor spec; with a
 // progress bar on stderr when `progress`.
+// With live_image_rate_hz > 0 the simulator's cameras render frame sets on
+// the fly along the dataset's true trajectory into the stream (nothing is
+// written); the dataset must then hold its ground truth.
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
-                         std::optional<SE2> initial_pose, bool progress);
+                         std::optional<SE2> initial_pose, bool progress,
+                         double live_image_rate_hz = 0.0);
+
+// The stream of a dataset, with live camera frames when rate_hz > 0.
+class DatasetStream {
+ public:
+  DatasetStream(const io::Dataset& dataset, double live_image_rate_hz);
+  ~DatasetStream();
+  SensorSource& source();
+
+ private:
+  struct Live;
+  SensorLogSource log_;
+  std::unique_ptr<Live> live_;
+};
 std::string DescribeMapping(const mapping::Mapper& mapper, double total_s);
 
 // Which truth slots the car passed: detected at least min_sightings times

@@ -10,6 +10,9 @@
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/sim/live_simulator.h"
+#include "parkslam/camera/camera_model.h"
+#include "parkslam/pipeline/rendering_source.h"
+#include "parkslam/render/renderer.h"
 
 namespace parkslam::pipeline {
 namespace {
@@ -93,6 +96,17 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
   start_covariance.diagonal() << Square(2 * options.start_position_sigma_m),
       Square(2 * options.start_position_sigma_m), Square(2 * options.start_yaw_sigma_rad);
 
+  // The live cameras, built once: the lot is the same for every run.
+  std::unique_ptr<sim::World> world;
+  std::unique_ptr<render::Renderer> renderer;
+  const std::vector<std::string> cameras{"front", "rear", "left", "right", "front_mono"};
+  if (options.live_image_rate_hz > 0.0) {
+    world = std::make_unique<sim::World>(
+        sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed)));
+    renderer = std::make_unique<render::Renderer>(*world, camera::DefaultRig(),
+                                                  render::RenderOptions{}, options.seed);
+  }
+
   TraceFollowingResult result;
   double loc_sum2 = 0.0, yaw_sum2 = 0.0;
   int loc_n = 0;
@@ -111,7 +125,7 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
     const double dt_s = 1.0 / 100.0;
     double measured_speed = 0.0, run_loc2 = 0.0, run_yaw2 = 0.0;
     int run_n = 0;
-    TimeNs next_record_ns = 0;
+    TimeNs next_record_ns = 0, next_image_ns = 0;
     std::vector<SensorEvent> events;
     while (true) {
       const control::PathFollower::Command command =
@@ -121,6 +135,11 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
       if (state.t_ns >= next_record_ns) {
         run.truth_world.push_back({state.t_ns, state.T_map_vehicle});
         next_record_ns = state.t_ns + FromSeconds(kTruthRecordPeriodS);
+      }
+      if (renderer && state.t_ns >= next_image_ns) {
+        events.push_back(RenderCameraFrame(*renderer, state.T_map_vehicle, state.t_ns, cameras));
+        next_image_ns = state.t_ns + FromSeconds(1.0 / options.live_image_rate_hz);
+        ++run.camera_frames;
       }
       for (const SensorEvent& event : events) {
         if (const auto* w = std::get_if<WheelSpeed>(&event)) measured_speed = w->speed_mps;

@@ -35,6 +35,9 @@ struct TraceFollowingOptions {
   // still converging from its offset start) and the very end.
   double skip_start_m = 5.0;
   double skip_end_m = 2.0;
+  // > 0: the cameras render frame sets at this rate from the true pose and
+  // feed them to the pose source, live (nothing is written).
+  double live_image_rate_hz = 0.0;
   control::PathFollowerOptions follower;
   localization::LocalizerOptions localizer;
 };
@@ -47,6 +50,7 @@ struct TraceRun {
   double localization_rmse_m = 0.0;   // estimate against truth, map frame
   double localization_yaw_rmse_rad = 0.0;
   int lost_frames = 0;
+  int camera_frames = 0;        // rendered live
 };
 
 struct TraceFollowingResult {

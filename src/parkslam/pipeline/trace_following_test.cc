@@ -82,6 +82,22 @@ TEST(TraceFollowingTest, MapInItsOwnFrameIsHandled) {
   EXPECT_LT(r.metrics.lateral_mean_all_m, 0.10);
 }
 
+TEST(TraceFollowingTest, LiveCamerasRenderWithoutChangingTheRun) {
+  const sim::ScenarioConfig scenario = ShortDrive();
+  TraceFollowingOptions options;
+  options.runs = 1;
+  options.speed_kmh = 10.0;
+  const TraceFollowingResult plain =
+      FollowTrace(scenario, TrueMap(scenario), SE2(), HumanDrive(scenario), options);
+  options.live_image_rate_hz = 1.0;
+  const TraceFollowingResult live =
+      FollowTrace(scenario, TrueMap(scenario), SE2(), HumanDrive(scenario), options);
+  EXPECT_EQ(plain.runs[0].camera_frames, 0);
+  EXPECT_NEAR(live.runs[0].camera_frames, plain.runs[0].duration_s, 2.0);
+  EXPECT_EQ(live.runs[0].truth_world.back().T_map_vehicle.x(),
+            plain.runs[0].truth_world.back().T_map_vehicle.x());
+}
+
 TEST(TraceFollowingTest, InvalidOptionsThrow) {
   const sim::ScenarioConfig scenario = ShortDrive();
   TraceFollowingOptions options;

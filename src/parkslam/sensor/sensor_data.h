@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
@@ -112,9 +114,23 @@ struct TagObservationFrame {
   std::vector<TagObservation> tags;
 };
 
+// An 8-bit grey image, row-major, without padding. Shared, so that
+// events stay cheap to copy.
+struct ImagePlane {
+  int width = 0, height = 0;
+  std::shared_ptr<const std::vector<std::uint8_t>> pixels;
+};
+
+// The images of one frame set of the rig's cameras, taken together.
+struct CameraFrame {
+  TimeNs t_ns = 0;
+  std::vector<std::string> cameras;
+  std::vector<ImagePlane> images;  // one per camera, same order
+};
+
 // One element of the sensor stream.
 using SensorEvent = std::variant<WheelSpeed, SteeringAngle, ImuSample,
-                                 SlotObservationFrame, TagObservationFrame>;
+                                 SlotObservationFrame, TagObservationFrame, CameraFrame>;
 
 inline TimeNs EventTime(const SensorEvent& event) {
   return std::visit([](const auto& e) { return e.t_ns; }, event);

@@ -1,0 +1,52 @@
+#include "parkslam/pipeline/rendering_source.h"
+
+#include <stdexcept>
+
+namespace parkslam::pipeline {
+
+CameraFrame RenderCameraFrame(const render::Renderer& renderer, const SE2& T_map_vehicle,
+                              TimeNs t_ns, const std::vector<std::string>& cameras) {
+  CameraFrame frame;
+  frame.t_ns = t_ns;
+  frame.cameras = cameras;
+  for (const cv::Mat& image : renderer.RenderAll(T_map_vehicle, t_ns, cameras)) {
+    auto pixels = std::make_shared<std::vector<std::uint8_t>>(
+        static_cast<size_t>(image.cols) * static_cast<size_t>(image.rows));
+    for (int v = 0; v < image.rows; ++v) {
+      std::copy(image.ptr<std::uint8_t>(v), image.ptr<std::uint8_t>(v) + image.cols,
+                pixels->begin() + static_cast<long>(v) * image.cols);
+    }
+    frame.images.push_back({image.cols, image.rows, std::move(pixels)});
+  }
+  return frame;
+}
+
+RenderingSource::RenderingSource(SensorSource& inner, const render::Renderer& renderer,
+                                 const Trajectory& truth, std::vector<std::string> cameras,
+                                 double rate_hz)
+    : inner_(inner), renderer_(renderer), truth_(truth), cameras_(std::move(cameras)) {
+  if (!(rate_hz > 0.0)) throw std::invalid_argument("image rate must be positive");
+  if (truth_.size() < 2) throw std::invalid_argument("rendering needs the true trajectory");
+  period_ns_ = FromSeconds(1.0 / rate_hz);
+  next_frame_ns_ = truth_.front().t_ns;
+}
+
+std::optional<SensorEvent> RenderingSource::Next() {
+  if (!pending_ && !inner_done_) {
+    pending_ = inner_.Next();
+    inner_done_ = !pending_.has_value();
+  }
+  const bool frame_due = next_frame_ns_ <= truth_.back().t_ns &&
+                         (!pending_ || next_frame_ns_ < EventTime(*pending_));
+  if (frame_due) {
+    const TimeNs t = next_frame_ns_;
+    next_frame_ns_ += period_ns_;
+    ++frames_rendered_;
+    return RenderCameraFrame(renderer_, *PoseAt(truth_, t), t, cameras_);
+  }
+  std::optional<SensorEvent> event = std::move(pending_);
+  pending_.reset();
+  return event;
+}
+
+}  // namespace parkslam::pipeline

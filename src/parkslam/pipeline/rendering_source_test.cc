@@ -1,0 +1,91 @@
+#include "parkslam/pipeline/rendering_source.h"
+
+#include <gtest/gtest.h>
+
+#include "parkslam/camera/camera_model.h"
+#include "parkslam/mapping/mapper.h"
+#include "parkslam/pipeline/dead_reckoning.h"
+#include "parkslam/sim/simulator.h"
+
+namespace parkslam::pipeline {
+namespace {
+
+struct ShortDrive {
+  sim::ScenarioConfig scenario;
+  sim::Simulation simulation;
+  Trajectory truth;
+};
+
+const ShortDrive& Drive() {
+  static const ShortDrive d = [] {
+    ShortDrive x;
+    x.scenario = sim::DefaultScenario();
+    x.scenario.route.laps = 0;
+    x.scenario.route.finish_m = {{40.0, 9.1}};
+    x.simulation = sim::Simulate(x.scenario, 3);
+    x.truth = sim::GroundTruthTrajectory(x.simulation);
+    return x;
+  }();
+  return d;
+}
+
+const render::Renderer& Renderer() {
+  static const render::Renderer r(Drive().simulation.world, camera::DefaultRig(), {}, 3);
+  return r;
+}
+
+TEST(RenderingSourceTest, AddsFramesAtTheRateInTimeOrder) {
+  const ShortDrive& d = Drive();
+  SensorLogSource log(d.simulation.log);
+  RenderingSource source(log, Renderer(), d.truth, {"front", "front_mono"}, 0.5);
+  TimeNs last = -1;
+  int frames = 0, others = 0;
+  while (const auto event = source.Next()) {
+    ASSERT_GE(EventTime(*event), last);
+    last = EventTime(*event);
+    if (const auto* f = std::get_if<CameraFrame>(&*event)) {
+      ASSERT_EQ(f->images.size(), 2u);
+      EXPECT_EQ(f->images[0].width, 640);
+      EXPECT_EQ(f->images[1].height, 720);
+      EXPECT_EQ(f->images[1].pixels->size(), 1280u * 720u);
+      EXPECT_EQ(f->t_ns, d.truth.front().t_ns + frames * 2'000'000'000LL);
+      ++frames;
+    } else {
+      ++others;
+    }
+  }
+  const double duration_s = ToSeconds(d.truth.back().t_ns - d.truth.front().t_ns);
+  EXPECT_EQ(frames, static_cast<int>(duration_s / 2.0) + 1);
+  EXPECT_EQ(others, static_cast<int>(d.simulation.log.wheel_speeds.size() +
+                                     d.simulation.log.steering_angles.size() +
+                                     d.simulation.log.imu_samples.size() +
+                                     d.simulation.log.slot_frames.size() +
+                                     d.simulation.log.tag_frames.size()));
+}
+
+TEST(RenderingSourceTest, MapperTakesTheLiveStreamUnchanged) {
+  // Until perception reads pixels, camera frames pass through the pipeline
+  // without changing the map.
+  const ShortDrive& d = Drive();
+  const auto odometry = EkfOptionsFromSensorSpec(d.scenario.sensors.odometry, d.scenario.vehicle);
+  mapping::Mapper plain({}, odometry, d.truth.front().T_map_vehicle);
+  mapping::Mapper live({}, odometry, d.truth.front().T_map_vehicle);
+  SensorLogSource a(d.simulation.log), b(d.simulation.log);
+  RenderingSource rendered(b, Renderer(), d.truth, {"front"}, 1.0);
+  while (const auto e = a.Next()) plain.Process(*e);
+  while (const auto e = rendered.Next()) live.Process(*e);
+  plain.Finish();
+  live.Finish();
+  ASSERT_GT(rendered.frames_rendered(), 10);
+  ASSERT_EQ(plain.Map().slots.size(), live.Map().slots.size());
+  EXPECT_EQ(plain.Map().slots[0].corners_map[0], live.Map().slots[0].corners_map[0]);
+}
+
+TEST(RenderingSourceTest, InvalidRateThrows) {
+  const ShortDrive& d = Drive();
+  SensorLogSource log(d.simulation.log);
+  EXPECT_THROW(RenderingSource(log, Renderer(), d.truth, {"front"}, 0.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace parkslam::pipeline
