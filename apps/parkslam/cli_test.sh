@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview; do
+for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -86,6 +86,11 @@ expect nonzero "nope.jpg: no such file" -- "$PARKSLAM" topview --front "$tmp/nop
 expect nonzero "'rear'.*640x480" -- "$PARKSLAM" topview --front "$tmp/img/images/front/0.jpg" --rear "$tmp/img/images/front_mono/0.jpg" --left "$tmp/img/images/left/0.jpg" --right "$tmp/img/images/right/0.jpg" --out "$tmp/top3.png"
 printf 'cameras:\n  - name: front\n    modle: fisheye\n' > "$tmp/badrig.yaml"
 expect nonzero "badrig.yaml.*cameras\[0\]" -- "$PARKSLAM" topview --rig "$tmp/badrig.yaml" --front "$tmp/img/images/front/0.jpg" --rear "$tmp/img/images/rear/0.jpg" --left "$tmp/img/images/left/0.jpg" --right "$tmp/img/images/right/0.jpg" --out "$tmp/top4.png"
+
+# Tags in a rendered front-camera image (the corridor start sees tags).
+expect 0 '"tags":\[\{"alpha_rad"' -- "$PARKSLAM" tags --image "$tmp/img/images/front_mono/0.jpg" --json
+expect nonzero "image is 640x480" -- "$PARKSLAM" tags --image "$tmp/img/images/front/0.jpg"
+expect nonzero "no camera 'roof'" -- "$PARKSLAM" tags --image "$tmp/img/images/front_mono/0.jpg" --camera "$tmp/img/images/rig.yaml" --camera-name roof
 
 # Live cameras: rendered on the fly into the stream, nothing written.
 expect 0 "map written" -- "$PARKSLAM" map "$tmp/img" --out "$tmp/live_map.json" --live-images 1

@@ -25,6 +25,7 @@ void AddRenderCommand(CLI::App& app);
 void AddLocalizeCommand(CLI::App& app);
 void AddFollowCommand(CLI::App& app);
 void AddTopviewCommand(CLI::App& app);
+void AddTagsCommand(CLI::App& app);
 
 // Options shared by `simulate` and `demo` that pick and tune the scenario.
 struct ScenarioOptions {

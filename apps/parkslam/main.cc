@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   parkslam::app::AddLocalizeCommand(app);
   parkslam::app::AddFollowCommand(app);
   parkslam::app::AddTopviewCommand(app);
+  parkslam::app::AddTagsCommand(app);
   parkslam::app::AddDemoCommand(app);
   try {
     app.parse(argc, argv);
