@@ -1,0 +1,229 @@
+#include "parkslam/io/ps2_labels.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <string>
+
+#include "parkslam/common/angles.h"
+#include "parkslam/io/io_error.h"
+#include "parkslam/io/test_util.h"
+
+namespace parkslam::io {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::ErrorOf;
+using testing::TempDir;
+
+// Two marks: a T at label (101, 51) whose separating line runs down the
+// image (+y), an L at label (251, 51) whose line runs left (-x); one slot
+// between them, written nested.
+constexpr char kNested[] =
+    R"({"marks": [[101, 51, 101, 200, 0], [251.5, 51, 150, 51, 1]],
+        "slots": [[1, 2, 1, 90]]})";
+
+TEST(Ps2LabelsTest, ReadsNestedListsZeroBased) {
+  const TempDir dir;
+  const Ps2Labels labels = ReadPs2Labels(dir.Write("a.json", kNested));
+  ASSERT_EQ(labels.marking_points.size(), 2u);
+  const Ps2MarkingPoint& t = labels.marking_points[0];
+  EXPECT_NEAR((t.px - Eigen::Vector2d(100.5, 50.5)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(t.direction_rad, kPi / 2, 1e-12);  // down the image
+  EXPECT_TRUE(t.is_t);
+  const Ps2MarkingPoint& l = labels.marking_points[1];
+  EXPECT_NEAR((l.px - Eigen::Vector2d(251.0, 50.5)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(std::abs(l.direction_rad), kPi, 1e-12);  // to the left
+  EXPECT_FALSE(l.is_t);
+  ASSERT_EQ(labels.slots.size(), 1u);
+  EXPECT_EQ(labels.slots[0].a, 0);
+  EXPECT_EQ(labels.slots[0].b, 1);
+}
+
+TEST(Ps2LabelsTest, ReadsFlatSingleSlot) {
+  const TempDir dir;
+  const Ps2Labels labels = ReadPs2Labels(dir.Write(
+      "a.json", R"({"marks": [[10, 10, 10, 60, 0], [160, 10, 160, 60, 0], [310, 10, 310, 60, 1]],
+                    "slots": [3, 2, 1, 90]})"));
+  ASSERT_EQ(labels.marking_points.size(), 3u);
+  ASSERT_EQ(labels.slots.size(), 1u);
+  EXPECT_EQ(labels.slots[0].a, 2);
+  EXPECT_EQ(labels.slots[0].b, 1);
+}
+
+TEST(Ps2LabelsTest, ReadsFlatSingleMark) {
+  const TempDir dir;
+  const Ps2Labels labels =
+      ReadPs2Labels(dir.Write("a.json", R"({"marks": [10.5, 20.5, 60.5, 20.5, 1], "slots": []})"));
+  ASSERT_EQ(labels.marking_points.size(), 1u);
+  EXPECT_NEAR((labels.marking_points[0].px - Eigen::Vector2d(10, 20)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(labels.marking_points[0].direction_rad, 0.0, 1e-12);
+  EXPECT_FALSE(labels.marking_points[0].is_t);
+  EXPECT_TRUE(labels.slots.empty());
+}
+
+TEST(Ps2LabelsTest, ReadsEmptyLists) {
+  const TempDir dir;
+  const Ps2Labels labels = ReadPs2Labels(dir.Write("a.json", R"({"marks": [], "slots": []})"));
+  EXPECT_TRUE(labels.marking_points.empty());
+  EXPECT_TRUE(labels.slots.empty());
+}
+
+// The message of reading `content` from a file "bad.json"; it must name the
+// file.
+std::string ErrorReading(const std::string& content) {
+  const TempDir dir;
+  const std::string message = ErrorOf([&] { ReadPs2Labels(dir.Write("bad.json", content)); });
+  EXPECT_THAT(message, HasSubstr("bad.json: "));
+  return message;
+}
+
+TEST(Ps2LabelsTest, RejectsWhatIsNotALabelObject) {
+  EXPECT_THAT(ErrorReading(R"({"marks": [)"), HasSubstr("invalid JSON"));
+  // Python's json.dump writes NaN as a bare word, which is not JSON.
+  EXPECT_THAT(ErrorReading(R"({"marks": [[NaN, 1, 2, 3, 0]], "slots": []})"),
+              HasSubstr("invalid JSON"));
+  // A number too large for a double is refused by the parser.
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1e999, 2, 3, 4, 0]], "slots": []})"),
+              HasSubstr("invalid JSON"));
+  EXPECT_THAT(ErrorReading(R"([1, 2])"), HasSubstr("expected an object"));
+  EXPECT_THAT(ErrorReading(R"({"marks": []})"), HasSubstr("slots: missing key"));
+  EXPECT_THAT(ErrorReading(R"({"marks": [], "slots": [], "extra": 1})"),
+              HasSubstr("extra: unknown key"));
+  EXPECT_THAT(ErrorReading(R"({"marks": 5, "slots": []})"),
+              HasSubstr("marks: expected an array, got an integer"));
+}
+
+TEST(Ps2LabelsTest, RejectsMalformedMarks) {
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1, 2, 3, 4]], "slots": []})"),
+              HasSubstr("marks[0]: expected 5 numbers [x, y, dx, dy, shape], got 4"));
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1, 2, 3, 4, 0], [1, 2, "3", 4, 0]], "slots": []})"),
+              HasSubstr("marks[1][2]: expected a number, got a string"));
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1, 2, 3, 4, 0], [1, 2, null, 4, 0]], "slots": []})"),
+              HasSubstr("marks[1][2]: expected a number, got null"));
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1, 2, 3, 4, 2]], "slots": []})"),
+              HasSubstr("marks[0][4]: expected 0 (T) or 1 (L), got 2"));
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1, 2, 1, 2, 0]], "slots": []})"),
+              HasSubstr("marks[0]: the separating-line point"));
+  // Nested, with a stray number: not taken for the flat form.
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1, 2, 3, 4, 0], 5], "slots": []})"),
+              HasSubstr("marks[1]: expected an array, got an integer"));
+  // Flat single mark: the fields are named marks[k].
+  EXPECT_THAT(ErrorReading(R"({"marks": [1, 2, 3, 4, 0.5], "slots": []})"),
+              HasSubstr("marks[4]: expected 0 (T) or 1 (L)"));
+  EXPECT_THAT(ErrorReading(R"({"marks": [1, 2, 3, 4, 0, 7], "slots": []})"),
+              HasSubstr("marks: expected 5 numbers"));
+}
+
+TEST(Ps2LabelsTest, RejectsMalformedSlots) {
+  const std::string marks = R"({"marks": [[1, 2, 3, 4, 0], [101, 2, 103, 4, 0]], "slots": )";
+  EXPECT_THAT(ErrorReading(marks + "[[1, 2, 1]]}"),
+              HasSubstr("slots[0]: expected 4 numbers [i, j, type, angle], got 3"));
+  EXPECT_THAT(ErrorReading(marks + "[[1, 2, 1, 90], [0, 1, 1, 90]]}"),
+              HasSubstr("slots[1][0]: expected a 1-based index into marks (1 to 2), got 0"));
+  EXPECT_THAT(ErrorReading(marks + "[[1, 3, 1, 90]]}"),
+              HasSubstr("slots[0][1]: expected a 1-based index into marks (1 to 2), got 3"));
+  EXPECT_THAT(ErrorReading(marks + "[[1.5, 2, 1, 90]]}"),
+              HasSubstr("slots[0][0]: expected a 1-based index"));
+  EXPECT_THAT(ErrorReading(marks + "[[1, 2, \"x\", 90]]}"),
+              HasSubstr("slots[0][2]: expected a number"));
+  EXPECT_THAT(ErrorReading(marks + "[[2, 2, 1, 90]]}"),
+              HasSubstr("slots[0]: both ends of the entrance are mark 2"));
+  // Flat single slot.
+  EXPECT_THAT(ErrorReading(marks + "[1, 5, 1, 90]}"),
+              HasSubstr("slots[1]: expected a 1-based index into marks (1 to 2), got 5"));
+  // A slot with no marks to point at.
+  EXPECT_THAT(ErrorReading(R"({"marks": [], "slots": [1, 2, 1, 90]})"),
+              HasSubstr("slots[0]: expected a 1-based index into marks (1 to 0)"));
+}
+
+TEST(Ps2LabelsTest, RejectsNonFiniteNumbers) {
+  // Not expressible in JSON text, but a parsed document can hold them.
+  nlohmann::json json = nlohmann::json::parse(kNested);
+  json["marks"][1][3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THAT(ErrorOf([&] { Ps2LabelsFromJson(json, "doc.json"); }),
+              HasSubstr("doc.json: marks[1][3]: not a finite number"));
+  json = nlohmann::json::parse(kNested);
+  json["slots"][0][3] = std::numeric_limits<double>::infinity();
+  EXPECT_THAT(ErrorOf([&] { Ps2LabelsFromJson(json, "doc.json"); }),
+              HasSubstr("doc.json: slots[0][3]: not a finite number"));
+}
+
+TEST(Ps2LabelsTest, MissingFileIsNamed) {
+  const TempDir dir;
+  const std::string message = ErrorOf([&] { ReadPs2Labels(dir / "absent.json"); });
+  EXPECT_THAT(message, HasSubstr("absent.json"));
+}
+
+TEST(ListPs2ImagesTest, ListsLabelledJpegsSorted) {
+  const TempDir dir;
+  for (const char* name : {"b.jpg", "b.json", "a.jpg", "a.json", "unlabelled.jpg",
+                           "label_only.json", "other.png", "other.json"}) {
+    dir.Write(name, "x");
+  }
+  std::filesystem::create_directories(dir / "folder.jpg");
+  dir.Write("folder.json", "x");
+  EXPECT_EQ(ListPs2Images(dir.path()), (std::vector<std::string>{"a", "b"}));
+  EXPECT_THAT(ErrorOf([&] { ListPs2Images(dir / "absent"); }),
+              HasSubstr("cannot list the folder"));
+}
+
+// The 20 labelled images of the real ps2.0 sample (shared/data).
+std::filesystem::path SampleDir() {
+  const char* root = std::getenv("PARKSLAM_SHARED_DATA");
+  return std::filesystem::path(root != nullptr ? root : "../shared/data") / "ps2.0-sample";
+}
+
+TEST(Ps2LabelsSampleTest, ReadsAllRealLabels) {
+  if (!std::filesystem::is_directory(SampleDir())) {
+    GTEST_SKIP() << "real data not found at " << SampleDir() << " (shared/data absent)";
+  }
+  const std::vector<std::string> names = ListPs2Images(SampleDir());
+  ASSERT_EQ(names.size(), 20u);
+  int marks = 0, t_marks = 0, slots = 0;
+  for (const std::string& name : names) {
+    SCOPED_TRACE(name);
+    const Ps2Labels labels = ReadPs2Labels(SampleDir() / (name + ".json"));
+    EXPECT_FALSE(labels.marking_points.empty());
+    EXPECT_FALSE(labels.slots.empty());
+    marks += static_cast<int>(labels.marking_points.size());
+    slots += static_cast<int>(labels.slots.size());
+    for (const Ps2MarkingPoint& mark : labels.marking_points) {
+      if (mark.is_t) ++t_marks;
+      // Inside the image: pixel centres 0 to 599, pixel edges half a pixel
+      // beyond.
+      EXPECT_GE(mark.px.minCoeff(), -0.5);
+      EXPECT_LE(mark.px.maxCoeff(), kPs2ImageSizePx - 0.5);
+      EXPECT_TRUE(std::isfinite(mark.direction_rad));
+    }
+    // Entrance lines between 2 m (120 px) and 7 m (420 px): perpendicular to
+    // parallel slots at 60 px per metre.
+    for (const Ps2Slot& slot : labels.slots) {
+      const double length_px = (labels.marking_points[static_cast<std::size_t>(slot.a)].px -
+                                labels.marking_points[static_cast<std::size_t>(slot.b)].px)
+                                   .norm();
+      EXPECT_GT(length_px, 120.0);
+      EXPECT_LT(length_px, 420.0);
+    }
+  }
+  // Counted independently, with Python's json module.
+  EXPECT_EQ(marks, 50);
+  EXPECT_EQ(t_marks, 39);
+  EXPECT_EQ(slots, 28);
+
+  // One value checked by hand: the first mark of 20160725-3-1 is labelled
+  // (240.478, 57.813) with its line through (87.008, 49.488).
+  const Ps2Labels first = ReadPs2Labels(SampleDir() / "20160725-3-1.json");
+  ASSERT_FALSE(first.marking_points.empty());
+  EXPECT_NEAR(first.marking_points[0].px.x(), 239.978, 1e-3);
+  EXPECT_NEAR(first.marking_points[0].px.y(), 57.313, 1e-3);
+  EXPECT_NEAR(RadToDeg(first.marking_points[0].direction_rad), -176.895, 1e-3);
+  EXPECT_TRUE(first.marking_points[0].is_t);
+}
+
+}  // namespace
+}  // namespace parkslam::io
