@@ -9,6 +9,7 @@
 
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
+#include "parkslam/render/digit_font.h"
 #include "parkslam/render/seed_mix.h"
 
 namespace parkslam::render {
@@ -22,35 +23,12 @@ constexpr std::uint64_t kDirtStreamTag = 0xd17;
 // many fractional bits.
 constexpr int kDrawShift = 4;
 constexpr double kDrawScale = 1 << kDrawShift;
+static_assert(kDrawShift == kGlyphDrawShift, "IDs are drawn with the font's precision");
 
 // Intermediate scale of the low-frequency concrete fields, in raster pixels.
 constexpr int kShadingStepPx = 8;
 constexpr double kShadingCellM = 4.0;
 constexpr double kMottlingCellM = 0.5;
-
-// Seven-segment font. Bits 0..6 are the segments a (top), b (top right),
-// c (bottom right), d (bottom), e (bottom left), f (top left), g (middle).
-constexpr std::array<std::uint8_t, 10> kDigitSegments = {
-    0b0111111, 0b0000110, 0b1011011, 0b1001111, 0b1100110,
-    0b1101101, 0b1111101, 0b0000111, 0b1111111, 0b1101111};
-// Proportions of a digit, relative to its height.
-constexpr double kDigitWidth = 0.55;
-constexpr double kDigitStroke = 0.15;
-constexpr double kDigitGap = 0.25;
-
-// Segment s of a digit box w x h (stroke t) as [x0, x1] x [y0, y1], x to the
-// right and y up from the foot-left corner of the digit.
-std::array<double, 4> SegmentBox(int s, double w, double h, double t) {
-  switch (s) {
-    case 0: return {0, w, h - t, h};
-    case 1: return {w - t, w, h / 2, h};
-    case 2: return {w - t, w, 0, h / 2};
-    case 3: return {0, w, 0, t};
-    case 4: return {0, t, 0, h / 2};
-    case 5: return {0, t, h / 2, h};
-    default: return {0, w, h / 2 - t / 2, h / 2 + t / 2};
-  }
-}
 
 using Quad = std::array<Eigen::Vector2d, 4>;
 
@@ -190,14 +168,15 @@ void DrawId(const RasterFrame& frame, const sim::WorldSlot& slot, const GroundRa
     if (ch < '0' || ch > '9') continue;
     const Eigen::Vector2d digit_origin =
         foot_left + id.right_map * (static_cast<double>(k) * (w + kDigitGap * h));
-    for (int s = 0; s < 7; ++s) {
-      if (!(kDigitSegments[static_cast<size_t>(ch - '0')] & (1 << s))) continue;
-      const auto [x0, x1, y0, y1] = SegmentBox(s, w, h, t);
-      const auto at = [&](double x, double y) {
-        return Eigen::Vector2d(digit_origin + id.right_map * x + id.up_map * y);
-      };
-      FillQuad(frame, {at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1)}, 255, roi.tl(), &mask);
-    }
+    // The shared font (render/digit_font.h), in the local mask's pixels.
+    DrawSevenSegmentDigit(
+        ch, h, t,
+        [&](double x, double y) -> Eigen::Vector2d {
+          const Eigen::Vector2d pixel =
+              frame.Pixel(Eigen::Vector2d(digit_origin + id.right_map * x + id.up_map * y));
+          return {pixel.x() - roi.x, pixel.y() - roi.y};
+        },
+        255, &mask);
   }
   if (!slot.id_legible) {
     mask *= o.worn_id_opacity;

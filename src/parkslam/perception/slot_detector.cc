@@ -1,0 +1,601 @@
+#include "parkslam/perception/slot_detector.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "parkslam/common/angles.h"
+
+namespace parkslam::perception {
+namespace {
+
+// z-component of the cross product of two image vectors.
+double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// A painted line: its centreline through `point` along unit `dir`, painted
+// from point + t0 dir to point + t1 dir (t0 < t1), width_px wide.
+struct PaintLine {
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();
+  Eigen::Vector2d dir = Eigen::Vector2d::UnitX();
+  double t0 = 0.0, t1 = 0.0;
+  double width_px = 0.0;
+  double contrast = 0.0;  // median top-hat response on the centreline
+
+  double Along(const Eigen::Vector2d& p) const { return (p - point).dot(dir); }
+  double Across(const Eigen::Vector2d& p) const { return Cross(dir, p - point); }
+  double length() const { return t1 - t0; }
+};
+
+// Bilinear sample of a CV_8UC1 image; 0 outside.
+double Sample(const cv::Mat& image, double x, double y) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= image.cols || y0 + 1 >= image.rows) return 0.0;
+  const double fx = x - x0, fy = y - y0;
+  const std::uint8_t* r0 = image.ptr<std::uint8_t>(y0);
+  const std::uint8_t* r1 = image.ptr<std::uint8_t>(y0 + 1);
+  return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
+         fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+}
+
+// The white top-hat of the grey image: the brightness of structures
+// narrower than kernel_px above their surroundings, which keeps painted
+// lines and removes light gradients, bright walls and glare.
+cv::Mat TopHat(const cv::Mat& grey, int kernel_px) {
+  cv::Mat top_hat;
+  cv::morphologyEx(grey, top_hat, cv::MORPH_TOPHAT,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kernel_px, kernel_px)));
+  return top_hat;
+}
+
+// The grey level below which `share` of the image's pixels lie.
+int Percentile(const cv::Mat& image, double share) {
+  std::array<int, 256> histogram{};
+  for (int r = 0; r < image.rows; ++r) {
+    const std::uint8_t* p = image.ptr<std::uint8_t>(r);
+    for (int c = 0; c < image.cols; ++c) ++histogram[p[c]];
+  }
+  const double target = share * static_cast<double>(image.total());
+  double sum = 0.0;
+  for (int v = 0; v < 256; ++v) {
+    sum += histogram[static_cast<size_t>(v)];
+    if (sum >= target) return v;
+  }
+  return 255;
+}
+
+// Centreline pixels of the paint: where the smoothed top-hat peaks across
+// the line, along x or along y (every line but a purely horizontal one peaks
+// along x, and vice versa), by at least a quarter of the threshold within
+// half the widest line.
+cv::Mat Ridges(const cv::Mat& top_hat, const cv::Mat& paint, double max_width_px,
+               double threshold) {
+  cv::Mat smooth;
+  const double sigma = std::max(1.0, max_width_px / 6.0);
+  cv::GaussianBlur(top_hat, smooth, cv::Size(0, 0), sigma);
+  const int r = static_cast<int>(std::ceil(max_width_px / 2));
+  const cv::Mat kx = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 1));
+  const cv::Mat ky = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, 2 * r + 1));
+  cv::Mat max_x, min_x, max_y, min_y;
+  cv::dilate(smooth, max_x, kx);
+  cv::erode(smooth, min_x, kx);
+  cv::dilate(smooth, max_y, ky);
+  cv::erode(smooth, min_y, ky);
+  const int drop = std::max(1, static_cast<int>(threshold / 4));
+  cv::Mat ridges = cv::Mat::zeros(top_hat.size(), CV_8U);
+  for (int y = 0; y < smooth.rows; ++y) {
+    const std::uint8_t* v = smooth.ptr<std::uint8_t>(y);
+    const std::uint8_t* ax = max_x.ptr<std::uint8_t>(y);
+    const std::uint8_t* ix = min_x.ptr<std::uint8_t>(y);
+    const std::uint8_t* ay = max_y.ptr<std::uint8_t>(y);
+    const std::uint8_t* iy = min_y.ptr<std::uint8_t>(y);
+    const std::uint8_t* m = paint.ptr<std::uint8_t>(y);
+    std::uint8_t* out = ridges.ptr<std::uint8_t>(y);
+    for (int x = 0; x < smooth.cols; ++x) {
+      if (m[x] == 0) continue;
+      const bool peak_x = v[x] == ax[x] && v[x] >= ix[x] + drop;
+      const bool peak_y = v[x] == ay[x] && v[x] >= iy[x] + drop;
+      if (peak_x || peak_y) out[x] = 255;
+    }
+  }
+  return ridges;
+}
+
+// Refines a rough line on the top-hat image: centroids of the response
+// across the line at regular steps give the centreline by least squares;
+// the painted extent is where the response holds. Returns false when too
+// little of the line is supported.
+bool RefineLine(const cv::Mat& top_hat, double threshold, double half_window_px,
+                double min_length_px, PaintLine* line) {
+  constexpr double kStepPx = 2.0;
+  const Eigen::Vector2d normal(-line->dir.y(), line->dir.x());
+  struct Support {
+    double t;
+    Eigen::Vector2d centre;
+    double width, peak;
+  };
+  std::vector<Support> support;
+  // Search a little beyond the rough ends: the skeleton stops short of them.
+  const double margin = 2.0 * half_window_px;
+  for (double t = line->t0 - margin; t <= line->t1 + margin; t += kStepPx) {
+    const Eigen::Vector2d base = line->point + t * line->dir;
+    double sum = 0.0, sum_s = 0.0, peak = 0.0;
+    for (double s = -half_window_px; s <= half_window_px; s += 1.0) {
+      const Eigen::Vector2d p = base + s * normal;
+      const double v = Sample(top_hat, p.x(), p.y()) - threshold / 2;
+      if (v <= 0.0) continue;
+      sum += v;
+      sum_s += v * s;
+      peak = std::max(peak, v);
+    }
+    if (peak < threshold / 2) continue;
+    const double s_mean = sum_s / sum;
+    support.push_back({t, base + s_mean * normal, sum / peak, peak});
+  }
+  if (support.size() < 4) return false;
+  // Longest run of supported samples without a gap wider than a line width.
+  size_t best_begin = 0, best_end = 0;
+  for (size_t begin = 0; begin < support.size();) {
+    size_t end = begin + 1;
+    while (end < support.size() && support[end].t - support[end - 1].t <= 3 * kStepPx) ++end;
+    if (end - begin > best_end - best_begin) best_begin = begin, best_end = end;
+    begin = end;
+  }
+  const double t_lo = support[best_begin].t, t_hi = support[best_end - 1].t;
+  if (t_hi - t_lo < min_length_px) return false;
+  // Fit on the interior (the ends are disturbed by crossing lines), twice,
+  // dropping outliers the second time.
+  std::vector<double> widths;
+  for (size_t i = best_begin; i < best_end; ++i) widths.push_back(support[i].width);
+  std::nth_element(widths.begin(), widths.begin() + static_cast<long>(widths.size() / 2),
+                   widths.end());
+  const double width = widths[widths.size() / 2];
+  Eigen::Vector2d point = line->point, dir = line->dir;
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    std::vector<Eigen::Vector2d> pts;
+    for (size_t i = best_begin; i < best_end; ++i) {
+      if (support[i].t < t_lo + width || support[i].t > t_hi - width) continue;
+      // Wide cross-sections run along a crossing line: their centroid is
+      // pulled sideways.
+      if (support[i].width > 1.3 * width) continue;
+      const Eigen::Vector2d& c = support[i].centre;
+      if (pass == 1 && std::abs(Cross(dir, c - point)) > 1.5) continue;
+      pts.push_back(c);
+      mean += c;
+    }
+    if (pts.size() < 3) {
+      if (pass == 0) return false;
+      break;
+    }
+    mean /= static_cast<double>(pts.size());
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const Eigen::Vector2d& p : pts) scatter += (p - mean) * (p - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
+    Eigen::Vector2d d = eig.eigenvectors().col(1);
+    if (d.dot(line->dir) < 0) d = -d;
+    point = mean;
+    dir = d;
+  }
+  const Eigen::Vector2d lo = line->point + t_lo * line->dir, hi = line->point + t_hi * line->dir;
+  line->point = point;
+  line->dir = dir;
+  line->t0 = (lo - point).dot(dir);
+  line->t1 = (hi - point).dot(dir);
+  line->width_px = width;
+  std::vector<double> peaks;
+  for (size_t i = best_begin; i < best_end; ++i) peaks.push_back(support[i].peak);
+  std::nth_element(peaks.begin(), peaks.begin() + static_cast<long>(peaks.size() / 2),
+                   peaks.end());
+  line->contrast = peaks[peaks.size() / 2] + threshold / 2;
+  return true;
+}
+
+// Merges Hough segments of one painted line: same direction, close to one
+// another's line, overlapping or nearly so along it.
+std::vector<PaintLine> MergeSegments(const std::vector<cv::Vec4i>& segments, double max_offset_px,
+                                     double max_gap_px) {
+  struct Seg {
+    Eigen::Vector2d a, b;
+    double length;
+  };
+  std::vector<Seg> segs;
+  for (const cv::Vec4i& s : segments) {
+    const Eigen::Vector2d a(s[0], s[1]), b(s[2], s[3]);
+    segs.push_back({a, b, (b - a).norm()});
+  }
+  std::sort(segs.begin(), segs.end(), [](const Seg& x, const Seg& y) { return x.length > y.length; });
+  std::vector<PaintLine> lines;
+  constexpr double kMaxAngle = 0.09;  // about 5 degrees
+  for (const Seg& s : segs) {
+    if (s.length <= 0.0) continue;
+    const Eigen::Vector2d d = (s.b - s.a) / s.length;
+    bool merged = false;
+    for (PaintLine& line : lines) {
+      if (std::abs(Cross(line.dir, d)) > kMaxAngle) continue;
+      if (std::abs(line.Across(s.a)) > max_offset_px || std::abs(line.Across(s.b)) > max_offset_px)
+        continue;
+      const double ta = line.Along(s.a), tb = line.Along(s.b);
+      const double lo = std::min(ta, tb), hi = std::max(ta, tb);
+      if (lo > line.t1 + max_gap_px || hi < line.t0 - max_gap_px) continue;
+      line.t0 = std::min(line.t0, lo);
+      line.t1 = std::max(line.t1, hi);
+      merged = true;
+      break;
+    }
+    if (merged) continue;
+    PaintLine line;
+    line.point = s.a;
+    line.dir = d;
+    line.t0 = 0.0;
+    line.t1 = s.length;
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+// Share of paint around a junction that belongs to none of its arms: a
+// ring of samples at radii between one line width and two arms' length.
+// Junctions inside painted digits, or among texture, sit in clutter; the
+// corner of a slot stands alone.
+double Clutter(const cv::Mat& paint, const Eigen::Vector2d& x,
+               const std::vector<Eigen::Vector2d>& arms, double width_px, double min_arm_px) {
+  constexpr int kAngles = 72;
+  int samples = 0, stray = 0;
+  for (double r = width_px + 2.0; r <= min_arm_px; r += 3.0) {
+    const double half_angle = std::atan2(width_px / 2 + 2.5, r);
+    for (int k = 0; k < kAngles; ++k) {
+      const double a = 2 * kPi * k / kAngles;
+      const Eigen::Vector2d d(std::cos(a), std::sin(a));
+      const Eigen::Vector2d p = x + r * d;
+      const int px = static_cast<int>(std::lround(p.x())), py = static_cast<int>(std::lround(p.y()));
+      if (px < 0 || py < 0 || px >= paint.cols || py >= paint.rows) continue;
+      ++samples;
+      if (paint.at<std::uint8_t>(py, px) == 0) continue;
+      bool on_arm = false;
+      for (const Eigen::Vector2d& arm : arms) {
+        if (std::acos(std::clamp(arm.dot(d), -1.0, 1.0)) <= half_angle) on_arm = true;
+      }
+      if (!on_arm) ++stray;
+    }
+  }
+  return samples > 0 ? static_cast<double>(stray) / samples : 1.0;
+}
+
+// Share of samples on paint along p + t dir, t in [from_px, to_px].
+double PaintAlong(const cv::Mat& paint, const Eigen::Vector2d& p, const Eigen::Vector2d& dir,
+                  double from_px, double to_px) {
+  int samples = 0, on = 0;
+  for (double t = from_px; t <= to_px; t += 1.0) {
+    const Eigen::Vector2d q = p + t * dir;
+    const int x = static_cast<int>(std::lround(q.x())), y = static_cast<int>(std::lround(q.y()));
+    if (x < 0 || y < 0 || x >= paint.cols || y >= paint.rows) continue;
+    ++samples;
+    if (paint.at<std::uint8_t>(y, x) != 0) ++on;
+  }
+  return samples > 0 ? static_cast<double>(on) / samples : 0.0;
+}
+
+struct Junction {
+  MarkingPoint point;
+  // The arm of an L junction not taken as its separating line.
+  double other_direction_rad = 0.0;
+};
+
+double PointDistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                              const Eigen::Vector2d& b, double* along) {
+  const Eigen::Vector2d ab = b - a;
+  const double u = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  if (along != nullptr) *along = u;
+  return (p - (a + u * ab)).norm();
+}
+
+}  // namespace
+
+const char* ToString(MarkingShape shape) { return shape == MarkingShape::kT ? "T" : "L"; }
+
+bool SlotDetectorOptions::IsValid(std::string* error) const {
+  auto fail = [error](const char* message) {
+    if (error != nullptr) *error = message;
+    return false;
+  };
+  if (!(pixels_per_m > 1.0 && pixels_per_m < 1000.0)) return fail("pixels_per_m must be in (1, 1000)");
+  if (!(min_line_width_m > 0.0 && max_line_width_m > min_line_width_m && max_line_width_m < 1.0))
+    return fail("line widths must satisfy 0 < min_line_width_m < max_line_width_m < 1");
+  if (!(min_entrance_m > 0.0 && max_entrance_m > min_entrance_m))
+    return fail("entrance lengths must satisfy 0 < min_entrance_m < max_entrance_m");
+  if (!(standard_depth_m > 0.0 && parallel_depth_m > 0.0)) return fail("slot depths must be positive");
+  if (!(max_direction_difference_rad > 0.0 && max_direction_difference_rad < kPi / 2))
+    return fail("max_direction_difference_rad must be in (0, pi/2)");
+  if (!(on_line_tolerance_m > 0.0)) return fail("on_line_tolerance_m must be positive");
+  if (!(min_arm_m > 0.0 && min_stem_m >= min_arm_m))
+    return fail("arm lengths must satisfy 0 < min_arm_m <= min_stem_m");
+  if (!(max_merge_gap_m >= 0.0)) return fail("max_merge_gap_m must be non-negative");
+  if (!(max_clutter > 0.0 && max_clutter <= 1.0)) return fail("max_clutter must be in (0, 1]");
+  if (!(long_line_m > 0.0 && max_width_deviation > 0.0))
+    return fail("long_line_m and max_width_deviation must be positive");
+  if (!(min_contrast_grey >= 1.0 && min_contrast_grey <= 255.0))
+    return fail("min_contrast_grey must be in [1, 255]");
+  if (!(min_junction_angle_rad > 0.0 && min_junction_angle_rad < kPi / 2))
+    return fail("min_junction_angle_rad must be in (0, pi/2)");
+  return true;
+}
+
+SlotDetector::SlotDetector(const SlotDetectorOptions& options) : options_(options) {
+  std::string error;
+  if (!options_.IsValid(&error)) throw std::invalid_argument("slot detector: " + error);
+}
+
+SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask) const {
+  if (top_view.empty() || top_view.depth() != CV_8U ||
+      (top_view.channels() != 1 && top_view.channels() != 3)) {
+    throw std::invalid_argument("slot detector: expected an 8-bit grey or BGR image");
+  }
+  if (!mask.empty() && (mask.size() != top_view.size() || mask.type() != CV_8UC1)) {
+    throw std::invalid_argument("slot detector: the mask must be 8-bit and of the image's size");
+  }
+  const SlotDetectorOptions& o = options_;
+  const double s = o.pixels_per_m;
+  cv::Mat grey;
+  if (top_view.channels() == 3) {
+    cv::cvtColor(top_view, grey, cv::COLOR_BGR2GRAY);
+  } else {
+    grey = top_view.clone();
+  }
+  cv::Mat valid;
+  if (!mask.empty()) {
+    // Masked pixels take the mean of the rest, so that their border makes
+    // no edge; a margin of one line width is ignored around them.
+    grey.setTo(cv::mean(grey, mask), mask == 0);
+    cv::erode(mask, valid, cv::getStructuringElement(
+                               cv::MORPH_RECT, cv::Size(3, 3)),
+              cv::Point(-1, -1), static_cast<int>(std::ceil(o.max_line_width_m * s)));
+  }
+
+  // 1. Paint: the top-hat with a kernel twice the widest line, thresholded
+  //    relative to the brightest paint in view.
+  const double max_width_px = o.max_line_width_m * s;
+  const int kernel_px = 2 * static_cast<int>(std::ceil(max_width_px)) + 1;
+  const cv::Mat top_hat = TopHat(grey, kernel_px);
+  const double threshold =
+      std::max(o.min_contrast_grey, o.relative_contrast * Percentile(top_hat, 0.995));
+  cv::Mat paint = top_hat > threshold;
+  if (!valid.empty()) paint.setTo(0, valid == 0);
+
+  // 2. Centrelines: the ridges of the paint, their straight pieces by the
+  //    probabilistic Hough transform, merged per painted line and refined
+  //    on the top-hat response.
+  const cv::Mat ridges = Ridges(top_hat, paint, max_width_px, threshold);
+  const double min_arm_px = o.min_arm_m * s;
+  const double min_stem_px = o.min_stem_m * s;
+  std::vector<cv::Vec4i> segments;
+  cv::HoughLinesP(ridges, segments, 1.0, kPi / 180.0, static_cast<int>(min_arm_px * 0.6),
+                  min_arm_px * 0.7, o.max_line_width_m * s * 0.5);
+  // Pieces merge across gaps narrower than the gap between painted digits.
+  std::vector<PaintLine> rough = MergeSegments(segments, max_width_px / 2, o.max_merge_gap_m * s);
+  std::vector<PaintLine> lines;
+  for (PaintLine& line : rough) {
+    if (!RefineLine(top_hat, threshold, max_width_px, min_arm_px, &line)) continue;
+    if (line.width_px < o.min_line_width_m * s * 0.5 || line.width_px > max_width_px * 1.5) continue;
+    // Refinement may make two rough pieces one line: keep the first.
+    bool duplicate = false;
+    for (const PaintLine& other : lines) {
+      if (std::abs(Cross(other.dir, line.dir)) < 0.05 &&
+          std::abs(other.Across(line.point + (line.t0 + line.t1) / 2 * line.dir)) < 3.0 &&
+          line.t1 > other.Along(line.point + line.t0 * line.dir) - 1e9) {
+        const double a0 = other.Along(line.point + line.t0 * line.dir);
+        const double a1 = other.Along(line.point + line.t1 * line.dir);
+        const double lo = std::min(a0, a1), hi = std::max(a0, a1);
+        if (lo < other.t1 && hi > other.t0) {
+          duplicate = true;
+          break;
+        }
+      }
+    }
+    if (!duplicate) lines.push_back(line);
+  }
+
+  // The lot's lines are painted alike: the median width of the long lines
+  // (surely slot lines) is the width a junction's lines must have.
+  std::vector<double> long_widths;
+  for (const PaintLine& line : lines) {
+    if (line.length() >= o.long_line_m * s) long_widths.push_back(line.width_px);
+  }
+  double typical_width_px = 0.0;
+  if (long_widths.size() >= 2) {
+    std::nth_element(long_widths.begin(),
+                     long_widths.begin() + static_cast<long>(long_widths.size() / 2),
+                     long_widths.end());
+    typical_width_px = long_widths[long_widths.size() / 2];
+  }
+  const auto width_ok = [&](const PaintLine& line) {
+    return typical_width_px <= 0.0 ||
+           std::abs(line.width_px - typical_width_px) <= o.max_width_deviation * typical_width_px;
+  };
+
+  // 3. Marking points (paper III-A, Fig. 3): where one line ends on
+  //    another. A line ending in the middle of another makes a T, two lines
+  //    ending together an L. The direction is the line leaving the junction
+  //    (for an L the longer arm; the other one is kept for pairing).
+  std::vector<Junction> junctions;
+  const double min_sin = std::sin(o.min_junction_angle_rad);
+  for (size_t i = 0; i < lines.size(); ++i) {
+    for (size_t j = i + 1; j < lines.size(); ++j) {
+      const PaintLine& a = lines[i];
+      const PaintLine& b = lines[j];
+      const double sin_ab = Cross(a.dir, b.dir);
+      if (std::abs(sin_ab) < min_sin) continue;
+      if (!width_ok(a) || !width_ok(b)) continue;
+      // Intersection: a.point + ta a.dir = b.point + tb b.dir.
+      const Eigen::Vector2d d = b.point - a.point;
+      const double ta = Cross(d, b.dir) / sin_ab;
+      const double tb = Cross(d, a.dir) / sin_ab;
+      const Eigen::Vector2d x = a.point + ta * a.dir;
+      if (x.x() < 0 || x.y() < 0 || x.x() > grey.cols - 1 || x.y() > grey.rows - 1) continue;
+      const double tol_a = 0.5 * b.width_px / std::abs(sin_ab) + o.end_tolerance_px;
+      const double tol_b = 0.5 * a.width_px / std::abs(sin_ab) + o.end_tolerance_px;
+      // Where each line stands relative to x: -1 ends there at its start,
+      // +1 ends there at its end, 0 passes through with arms on both sides,
+      // and no junction otherwise.
+      // A line overshooting the junction by less than an arm (its paint
+      // runs through the other line's width, more so at acute angles) ends
+      // there too.
+      auto classify = [&](const PaintLine& l, double t, double tol, int* where) {
+        const double minus = t - l.t0, plus = l.t1 - t;
+        if (minus >= min_arm_px && plus >= min_arm_px) return *where = 0, true;
+        if (plus >= min_arm_px && minus >= -tol) return *where = -1, true;
+        if (minus >= min_arm_px && plus >= -tol) return *where = 1, true;
+        return false;
+      };
+      int wa = 0, wb = 0;
+      if (!classify(a, ta, tol_a, &wa) || !classify(b, tb, tol_b, &wb)) continue;
+      if (wa == 0 && wb == 0) continue;  // a crossing, not a junction
+      // Arm lengths from the junction; one arm (the separating line) must be
+      // long: painted digits make short strokes only.
+      const double arm_a = wa < 0 ? a.t1 - ta : (wa > 0 ? ta - a.t0 : 0.0);
+      const double arm_b = wb < 0 ? b.t1 - tb : (wb > 0 ? tb - b.t0 : 0.0);
+      if (std::max(arm_a, arm_b) < min_stem_px) continue;
+      const Eigen::Vector2d dir_a = wa <= 0 ? a.dir : Eigen::Vector2d(-a.dir);
+      const Eigen::Vector2d dir_b = wb <= 0 ? b.dir : Eigen::Vector2d(-b.dir);
+      Junction junction;
+      junction.point.px = x;
+      junction.point.score =
+          std::clamp(std::min(a.contrast, b.contrast) / (3.0 * threshold), 0.0, 1.0);
+      if (wa != 0 && wb == 0) {
+        if (arm_a < min_stem_px) continue;
+        junction.point.shape = MarkingShape::kT;
+        junction.point.direction_rad = std::atan2(dir_a.y(), dir_a.x());
+        junction.other_direction_rad = junction.point.direction_rad;
+      } else if (wa == 0 && wb != 0) {
+        if (arm_b < min_stem_px) continue;
+        junction.point.shape = MarkingShape::kT;
+        junction.point.direction_rad = std::atan2(dir_b.y(), dir_b.x());
+        junction.other_direction_rad = junction.point.direction_rad;
+      } else {
+        junction.point.shape = MarkingShape::kL;
+        const Eigen::Vector2d& main = arm_a >= arm_b ? dir_a : dir_b;
+        const Eigen::Vector2d& other = arm_a >= arm_b ? dir_b : dir_a;
+        junction.point.direction_rad = std::atan2(main.y(), main.x());
+        junction.other_direction_rad = std::atan2(other.y(), other.x());
+      }
+      if (!valid.empty()) {
+        const int cx = static_cast<int>(std::lround(x.x())), cy = static_cast<int>(std::lround(x.y()));
+        if (valid.at<std::uint8_t>(cy, cx) == 0) continue;
+      }
+      std::vector<Eigen::Vector2d> arms{dir_a, dir_b};
+      if (wa == 0) arms.push_back(-dir_a);
+      if (wb == 0) arms.push_back(-dir_b);
+      const double clutter = Clutter(paint, x, arms, std::max(a.width_px, b.width_px), min_arm_px);
+      if (clutter > o.max_clutter) continue;
+      junctions.push_back(junction);
+    }
+  }
+  // Non-maximum suppression: one marking point per junction.
+  std::sort(junctions.begin(), junctions.end(), [](const Junction& x, const Junction& y) {
+    if (x.point.shape != y.point.shape) return x.point.shape == MarkingShape::kT;
+    return x.point.score > y.point.score;
+  });
+  SlotDetection result;
+  for (const PaintLine& line : lines) {
+    result.lines.push_back({line.point + line.t0 * line.dir, line.point + line.t1 * line.dir,
+                            line.width_px});
+  }
+  std::vector<double> other_direction;
+  const double nms_px = o.min_arm_m * s;
+  for (const Junction& junction : junctions) {
+    bool near = false;
+    for (const MarkingPoint& kept : result.marking_points) {
+      if ((kept.px - junction.point.px).norm() < nms_px) near = true;
+    }
+    if (near) continue;
+    result.marking_points.push_back(junction.point);
+    other_direction.push_back(junction.other_direction_rad);
+  }
+
+  // 4. Entrance lines (paper III-A): pairs of marking points at a slot's
+  //    width whose separating lines leave to the same side, in the same
+  //    direction. Candidates with a third marking point on them, or of
+  //    implausible length, are removed.
+  const Eigen::Vector2d centre_px((grey.cols - 1) / 2.0, (grey.rows - 1) / 2.0);
+  const auto& mp = result.marking_points;
+  for (size_t i = 0; i < mp.size(); ++i) {
+    for (size_t j = i + 1; j < mp.size(); ++j) {
+      const Eigen::Vector2d e = mp[j].px - mp[i].px;
+      const double length_m = e.norm() / s;
+      if (length_m < o.min_entrance_m || length_m > o.max_entrance_m) continue;
+      // Each point may use either arm of an L; the arm it does not use is
+      // its stretch of the entrance line and must point to the partner.
+      const Eigen::Vector2d e_unit = e.normalized();
+      constexpr double kCos45 = 0.7071;
+      // The entrance line leaves each point towards its partner: paint
+      // along most of the first arm's length that way (for an L, its
+      // other arm; for a T, its through line).
+      const auto entrance_arm_ok = [&](size_t k, double used, const Eigen::Vector2d& to_partner) {
+        if (mp[k].shape == MarkingShape::kL) {
+          const double unused =
+              std::abs(AngleDiff(used, mp[k].direction_rad)) < 1e-9 ? other_direction[k]
+                                                                    : mp[k].direction_rad;
+          if (Eigen::Vector2d(std::cos(unused), std::sin(unused)).dot(to_partner) < kCos45) {
+            return false;
+          }
+        }
+        return PaintAlong(paint, mp[k].px, to_partner, 0.5 * max_width_px, min_arm_px) >= 0.5;
+      };
+      bool found = false;
+      Eigen::Vector2d dir_i, dir_j;
+      for (double ai : {mp[i].direction_rad, other_direction[i]}) {
+        for (double aj : {mp[j].direction_rad, other_direction[j]}) {
+          if (found) break;
+          if (std::abs(AngleDiff(ai, aj)) > o.max_direction_difference_rad) continue;
+          if (!entrance_arm_ok(i, ai, e_unit) || !entrance_arm_ok(j, aj, -e_unit)) continue;
+          const Eigen::Vector2d di(std::cos(ai), std::sin(ai)), dj(std::cos(aj), std::sin(aj));
+          const Eigen::Vector2d mean = (di + dj).normalized();
+          // The separating lines must leave the entrance line, not run along it.
+          if (std::abs(Cross(e.normalized(), mean)) < min_sin) continue;
+          dir_i = di;
+          dir_j = dj;
+          found = true;
+        }
+      }
+      if (!found) continue;
+      const Eigen::Vector2d depth_dir = (dir_i + dir_j).normalized();
+      // The slot opens towards the car: its interior lies beyond the
+      // entrance as seen from the image centre.
+      if (o.require_entrance_facing_vehicle &&
+          depth_dir.dot((mp[i].px + mp[j].px) / 2 - centre_px) < 0.0) {
+        continue;
+      }
+      bool third_point = false;
+      for (size_t k = 0; k < mp.size() && !third_point; ++k) {
+        if (k == i || k == j) continue;
+        double along = 0.0;
+        const double dist = PointDistanceToSegment(mp[k].px, mp[i].px, mp[j].px, &along);
+        if (dist < o.on_line_tolerance_m * s && along > 0.0 && along < 1.0) third_point = true;
+      }
+      if (third_point) continue;
+      DetectedSlot slot;
+      // Corner order: walking from corner 0 to corner 1 the slot lies on
+      // the left in the vehicle frame, which the top view mirrors: on the
+      // right on screen, Cross(p1 - p0, depth) < 0.
+      const bool i_first = Cross(e, depth_dir) < 0.0;
+      const size_t first = i_first ? i : j, second = i_first ? j : i;
+      const double depth_m =
+          length_m >= o.parallel_min_entrance_m ? o.parallel_depth_m : o.standard_depth_m;
+      slot.corners_px[0] = mp[first].px;
+      slot.corners_px[1] = mp[second].px;
+      slot.corners_px[2] = mp[second].px + depth_m * s * depth_dir;
+      slot.corners_px[3] = mp[first].px + depth_m * s * depth_dir;
+      slot.depth_dir_px = depth_dir;
+      slot.marking_points = {static_cast<int>(first), static_cast<int>(second)};
+      slot.confidence = std::sqrt(mp[i].score * mp[j].score);
+      result.slots.push_back(slot);
+    }
+  }
+  return result;
+}
+
+}  // namespace parkslam::perception

@@ -1,0 +1,412 @@
+#include "parkslam/perception/slot_id_reader.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "parkslam/render/digit_font.h"
+
+namespace parkslam::perception {
+namespace {
+
+// The rectified region reaches this far beyond where the digits may lie.
+constexpr double kRegionMarginM = 0.1;
+// Paint is there when its contrast over the floor is at least this many
+// grey levels and this many times the floor's noise.
+constexpr double kMinContrastGrey = 15.0;
+constexpr double kMinContrastNoise = 4.0;
+// Percentiles of the region's grey levels: the floor, the floor's noise
+// (as a Gaussian's 30th and 10th percentiles lie 0.757 sigma apart), and the
+// paint (IDs cover 6 % ("11") to 30 % ("888") of the region).
+constexpr double kFloorPercentile = 0.3;
+constexpr double kNoisePercentile = 0.1;
+constexpr double kNoisePercentileSpread = 0.757;
+constexpr double kPaintPercentile = 0.975;
+// Soft ink map: normalized value (0 floor, 1 paint) to ink share. High, so
+// that it keeps the strokes' cores and not the halo that blur spreads
+// around them: a layout would move to take in the halo beside a "1".
+constexpr float kInkLow = 0.45f, kInkHigh = 0.85f;
+// A digit cell holds at least this share of one full-height stroke of ink
+// ("1" holds exactly one).
+constexpr double kMinCellInkStrokes = 0.4;
+// Layout score lost per pixel of offset from the nominal place, in ink
+// pixels: it only decides between layouts that explain the ink equally
+// ("1" leaves its cell's left part empty).
+constexpr double kOffsetPenaltyPerPx = 1.0;
+constexpr double kLayoutStepPx = 0.5;
+// A layout may leave at most this share of the band's ink (against the ink
+// in its cells) outside its cells: read IDs leave 6 % (median), up to 45 %
+// with the entrance 8 cm off.
+constexpr double kMaxStrayInk = 0.5;
+// A digit cell may hold at most this share of pixels no camera saw.
+constexpr double kMaxNoDataShare = 0.02;
+// The reference lines are sampled at these depths (as the digits) and
+// across them within this distance of the corner.
+constexpr std::array<double, 7> kLineDepthsM = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
+constexpr double kLineSearchM = 0.3;
+constexpr int kMinLineSamples = 3;
+
+struct Histogram {
+  std::array<int, 256> counts{};
+  int total = 0;
+
+  // The smallest level with at least `share` of the samples at or below it.
+  int Percentile(double share) const {
+    const double target = share * total;
+    int cumulative = 0;
+    for (int v = 0; v < 256; ++v) {
+      cumulative += counts[static_cast<size_t>(v)];
+      if (cumulative >= target && cumulative > 0) return v;
+    }
+    return 255;
+  }
+};
+
+// Sums of a profile over continuous intervals. Pixel coordinates here and
+// below are continuous, pixel i covering [i - 0.5, i + 0.5) with its value
+// spread evenly.
+class ProfileSums {
+ public:
+  explicit ProfileSums(const std::vector<double>& profile) : cumulative_(profile.size() + 1, 0.0) {
+    for (size_t i = 0; i < profile.size(); ++i) cumulative_[i + 1] = cumulative_[i] + profile[i];
+  }
+  // Sum over [a, b).
+  double Sum(double a, double b) const { return Below(b) - Below(a); }
+
+ private:
+  double Below(double x) const {
+    const size_t n = cumulative_.size() - 1;
+    const double edge = std::clamp(x + 0.5, 0.0, static_cast<double>(n));
+    const auto whole = static_cast<size_t>(edge);
+    if (whole >= n) return cumulative_[n];
+    const double part = edge - static_cast<double>(whole);
+    return cumulative_[whole] + part * (cumulative_[whole + 1] - cumulative_[whole]);
+  }
+
+  std::vector<double> cumulative_;
+};
+
+// Bilinear grey level at a top-view point; nullopt outside the image or
+// next to a pixel no camera saw (0).
+std::optional<double> SampleGrey(const cv::Mat& image, const Eigen::Vector2d& p) {
+  const double x = std::floor(p.x()), y = std::floor(p.y());
+  if (!(x >= 0.0 && y >= 0.0 && x + 1 < image.cols && y + 1 < image.rows)) return std::nullopt;
+  const int c = static_cast<int>(x), r = static_cast<int>(y);
+  const double fx = p.x() - x, fy = p.y() - y;
+  const double v00 = image.at<std::uint8_t>(r, c), v01 = image.at<std::uint8_t>(r, c + 1);
+  const double v10 = image.at<std::uint8_t>(r + 1, c), v11 = image.at<std::uint8_t>(r + 1, c + 1);
+  if (v00 == 0 || v01 == 0 || v10 == 0 || v11 == 0) return std::nullopt;
+  return (1 - fy) * ((1 - fx) * v00 + fx * v01) + fy * ((1 - fx) * v10 + fx * v11);
+}
+
+// The paint level of the separating line through `corner_px`, running
+// along `up`: the brightest point across it, at the digits' depths; the
+// median over depths. nullopt when too little of it is seen.
+std::optional<double> LinePaintGrey(const cv::Mat& image, const Eigen::Vector2d& corner_px,
+                                    const Eigen::Vector2d& up, const Eigen::Vector2d& right,
+                                    double pixels_per_m) {
+  std::vector<double> peaks;
+  const int half = static_cast<int>(std::ceil(kLineSearchM * pixels_per_m));
+  for (double depth_m : kLineDepthsM) {
+    const Eigen::Vector2d on_line = corner_px + up * (depth_m * pixels_per_m);
+    double peak = -1.0;
+    for (int t = -half; t <= half; ++t) {
+      const std::optional<double> v = SampleGrey(image, on_line + right * t);
+      if (!v) {
+        peak = -1.0;
+        break;
+      }
+      peak = std::max(peak, *v);
+    }
+    if (peak >= 0.0) peaks.push_back(peak);
+  }
+  if (static_cast<int>(peaks.size()) < kMinLineSamples) return std::nullopt;
+  std::nth_element(peaks.begin(), peaks.begin() + static_cast<long>(peaks.size() / 2), peaks.end());
+  return peaks[peaks.size() / 2];
+}
+
+struct Layout {
+  int digits = 0;
+  double left_px = 0.0;  // left edge of the first digit, in region columns
+  double stray_ink = 0.0;  // band ink outside its cells, as a share of the ink inside
+  double score = -1e300;
+};
+
+}  // namespace
+
+bool SlotIdReaderOptions::IsValid(std::string* error) const {
+  const auto fail = [error](const char* message) {
+    if (error != nullptr) *error = message;
+    return false;
+  };
+  if (!(pixels_per_m > 0.0 && pixels_per_m <= 1000.0)) return fail("pixels_per_m must be in (0, 1000]");
+  if (!(id_height_m > 0.0 && id_height_m <= 3.0)) return fail("id_height_m must be in (0, 3]");
+  if (!(id_height_m * pixels_per_m >= 12.0)) {
+    return fail("id_height_m * pixels_per_m must be at least 12 px: smaller digits are not read");
+  }
+  if (!(id_setback_m >= 0.0 && id_setback_m <= 5.0)) return fail("id_setback_m must be in [0, 5]");
+  if (max_digits < 1 || max_digits > 6) return fail("max_digits must be in [1, 6]");
+  if (!(min_hypothesis_probability > 0.0 && min_hypothesis_probability <= 1.0)) {
+    return fail("min_hypothesis_probability must be in (0, 1]");
+  }
+  if (!(min_digit_probability >= min_hypothesis_probability && min_digit_probability <= 1.0)) {
+    return fail("min_digit_probability must be in [min_hypothesis_probability, 1]");
+  }
+  if (!(max_offset_m >= 0.0 && max_offset_m <= 1.0)) return fail("max_offset_m must be in [0, 1]");
+  if (!(min_paint_ratio >= 0.0 && min_paint_ratio <= 1.0)) return fail("min_paint_ratio must be in [0, 1]");
+  return true;
+}
+
+SlotIdReader::SlotIdReader(const SlotIdReaderOptions& options) : options_(options) {
+  std::string error;
+  if (!options_.IsValid(&error)) throw std::invalid_argument("SlotIdReaderOptions: " + error);
+  classifier_ = &DigitClassifier::Default();
+}
+
+SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInImage& entrance) const {
+  return Read(top_view_grey, entrance, nullptr);
+}
+
+SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInImage& entrance,
+                                 SlotIdReadDetails* details) const {
+  if (top_view_grey.type() != CV_8UC1) throw std::invalid_argument("SlotIdReader: expected an 8-bit grey image");
+  SlotIdReadDetails local;
+  SlotIdReadDetails& d = details != nullptr ? *details : local;
+  d = SlotIdReadDetails{};
+  const auto give_up = [&d](const char* why) {
+    d.outcome = why;
+    return SlotIdReading{};
+  };
+  const double norm = entrance.depth_dir_px.norm();
+  if (!(norm > 1e-9) || !entrance.corner0_px.allFinite() || !entrance.corner1_px.allFinite()) {
+    return give_up("bad entrance");
+  }
+
+  // Rectification (paper III-A): the region where the digits may stand,
+  // upright, one pixel per top-view pixel. Columns run along the reading
+  // direction `right` (up turned clockwise on screen), rows from the
+  // digits' top down to their foot.
+  const double ppm = options_.pixels_per_m;
+  const Eigen::Vector2d up = entrance.depth_dir_px / norm;
+  const Eigen::Vector2d right(-up.y(), up.x());
+  const Eigen::Vector2d mid = (entrance.corner0_px + entrance.corner1_px) / 2;
+  const double height_px = options_.id_height_m * ppm;
+  const double width_px = render::kDigitWidth * height_px;
+  const double pitch_px = (render::kDigitWidth + render::kDigitGap) * height_px;
+  const double stroke_px = render::kDigitStroke * height_px;
+  const double shift_px = options_.max_offset_m * ppm;
+  const double margin_px = kRegionMarginM * ppm;
+  const double max_width_px = render::IdWidth(options_.max_digits, height_px);
+  const int cols = static_cast<int>(std::ceil(max_width_px + 2 * (shift_px + margin_px))) + 1;
+  const int rows = static_cast<int>(std::ceil(height_px + 2 * (shift_px + margin_px))) + 1;
+  const double center_col = (cols - 1) / 2.0;
+  // Row r lies (top_depth_px - r) pixels deep into the slot.
+  const double top_depth_px =
+      (options_.id_setback_m + options_.id_height_m) * ppm + shift_px + margin_px;
+  const double nominal_top = shift_px + margin_px;  // the digits' top edge, in rows
+  const Eigen::Vector2d origin = mid - right * center_col + up * top_depth_px;
+  const cv::Matx23d region_to_image(right.x(), -up.x(), origin.x(), right.y(), -up.y(), origin.y());
+  cv::Mat region, seen;
+  cv::warpAffine(top_view_grey, region, region_to_image, cv::Size(cols, rows),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(0));
+  // Pixels no camera saw (0 in the top view, or outside it), grown by one
+  // for the interpolation's reach.
+  cv::warpAffine(top_view_grey, seen, region_to_image, cv::Size(cols, rows),
+                 cv::INTER_NEAREST | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::Mat no_data = seen == 0;
+  cv::dilate(no_data, no_data, cv::Mat());
+
+  // Floor and paint levels from the region's histogram. Blurred far from
+  // the car, a three-digit ID and its halo cover up to 40 % of the region:
+  // the floor's median is about the 30th percentile, its spread shows below
+  // it, and the 97.5th percentile is paint.
+  Histogram levels;
+  for (int r = 0; r < rows; ++r) {
+    const std::uint8_t* v = region.ptr<std::uint8_t>(r);
+    const std::uint8_t* n = no_data.ptr<std::uint8_t>(r);
+    for (int c = 0; c < cols; ++c) {
+      if (n[c]) continue;
+      ++levels.counts[v[c]];
+      ++levels.total;
+    }
+  }
+  if (levels.total < rows * cols / 2) return give_up("region not seen");
+  const int floor_grey = levels.Percentile(kFloorPercentile);
+  const double noise_grey =
+      std::max(1.0, (floor_grey - levels.Percentile(kNoisePercentile)) / kNoisePercentileSpread);
+  const double contrast_grey = levels.Percentile(kPaintPercentile) - floor_grey;
+  d.contrast_grey = contrast_grey;
+  d.noise_grey = noise_grey;
+  if (contrast_grey < std::max(kMinContrastGrey, kMinContrastNoise * noise_grey)) {
+    return give_up("no paint");
+  }
+
+  // Normalized (floor 0, paint 1) and soft ink maps.
+  cv::Mat normalized;
+  region.convertTo(normalized, CV_32F, 1.0 / contrast_grey, -floor_grey / contrast_grey);
+  normalized.setTo(0.0f, no_data);
+  cv::Mat ink = (normalized - kInkLow) * (1.0f / (kInkHigh - kInkLow));
+  cv::min(cv::max(ink, 0.0f), 1.0f, ink);
+
+  // Layout: the digits' band (all digits span the full height), then how
+  // many digits and where along it. Rows first, over the columns any ID
+  // may cover.
+  const int window_begin = std::max(0, static_cast<int>(std::floor(center_col - max_width_px / 2 - shift_px)));
+  const int window_end = std::min(cols, static_cast<int>(std::ceil(center_col + max_width_px / 2 + shift_px)) + 1);
+  std::vector<double> row_ink(static_cast<size_t>(rows), 0.0);
+  for (int r = 0; r < rows; ++r) {
+    const float* k = ink.ptr<float>(r);
+    for (int c = window_begin; c < window_end; ++c) row_ink[static_cast<size_t>(r)] += k[c];
+  }
+  const ProfileSums row_sums(row_ink);
+  double top = nominal_top, best_band = -1e300;
+  for (double t = nominal_top - shift_px; t <= nominal_top + shift_px + 1e-9; t += kLayoutStepPx) {
+    const double score = row_sums.Sum(t, t + height_px) -
+                         kOffsetPenaltyPerPx * std::abs(t - nominal_top);
+    if (score > best_band) {
+      best_band = score;
+      top = t;
+    }
+  }
+  const double band_top = top, band_bottom = top + height_px;
+  // Column profiles over the band, and over its top and bottom thirds:
+  // every digit of the font has ink in both (segments a, b or f above, c,
+  // d or e below), other paint reaching into a cell (an angled slot's
+  // entrance stub) mostly not.
+  std::vector<double> col_ink(static_cast<size_t>(cols), 0.0);
+  std::vector<double> col_ink_top(static_cast<size_t>(cols), 0.0);
+  std::vector<double> col_ink_bottom(static_cast<size_t>(cols), 0.0);
+  std::vector<double> col_unseen(static_cast<size_t>(cols), 0.0);
+  for (int r = std::max(0, static_cast<int>(std::ceil(band_top)));
+       r < std::min(rows, static_cast<int>(std::ceil(band_bottom))); ++r) {
+    const float* k = ink.ptr<float>(r);
+    const std::uint8_t* n = no_data.ptr<std::uint8_t>(r);
+    const bool in_top = r < band_top + height_px / 3, in_bottom = r >= band_bottom - height_px / 3;
+    for (int c = 0; c < cols; ++c) {
+      col_ink[static_cast<size_t>(c)] += k[c];
+      if (in_top) col_ink_top[static_cast<size_t>(c)] += k[c];
+      if (in_bottom) col_ink_bottom[static_cast<size_t>(c)] += k[c];
+      col_unseen[static_cast<size_t>(c)] += n[c] ? 1.0 : 0.0;
+    }
+  }
+  const ProfileSums col_sums(col_ink), top_sums(col_ink_top), bottom_sums(col_ink_bottom),
+      unseen_sums(col_unseen);
+  const double window_ink = col_sums.Sum(window_begin - 0.5, window_end - 0.5);
+  const double min_cell_ink = kMinCellInkStrokes * stroke_px * height_px;
+  const double min_third_ink = min_cell_ink / 3;
+  const double max_cell_unseen = kMaxNoDataShare * width_px * height_px;
+  // Every candidate layout: n digits centred `shift` off the nominal place.
+  // It explains the ink when each of its cells holds a digit's worth, top
+  // and bottom; it is ruled out when one of its cells, fully seen, does
+  // not; else it stays open (a cell without ink lies partly where no
+  // camera saw). Its score: the ink inside its cells less the ink outside,
+  // plus the ink in each cell's right stroke (segments b and c): every
+  // digit of the font has one of them, and it pins a "1", which would
+  // otherwise slide freely in its cell.
+  Layout layout;
+  std::vector<double> best_open_score(static_cast<size_t>(options_.max_digits) + 1, -1e300);
+  for (int n = 1; n <= options_.max_digits; ++n) {
+    const double id_width_px = render::IdWidth(n, height_px);
+    for (double shift = -shift_px; shift <= shift_px + 1e-9; shift += kLayoutStepPx) {
+      const double left = center_col + shift - id_width_px / 2;
+      double inside = 0.0, right_strokes = 0.0;
+      bool explains = true, ruled_out = false;
+      for (int k = 0; k < n; ++k) {
+        const double a = left + k * pitch_px, b = a + width_px;
+        const double cell = col_sums.Sum(a, b);
+        if (cell < min_cell_ink || top_sums.Sum(a, b) < min_third_ink ||
+            bottom_sums.Sum(a, b) < min_third_ink) {
+          explains = false;
+          ruled_out = ruled_out || unseen_sums.Sum(a, b) <= max_cell_unseen;
+        }
+        inside += cell;
+        right_strokes += col_sums.Sum(b - stroke_px, b);
+      }
+      const double score = inside - (window_ink - inside) + right_strokes -
+                           kOffsetPenaltyPerPx * std::abs(shift);
+      if (!explains) {
+        double& open = best_open_score[static_cast<size_t>(n)];
+        if (!ruled_out) open = std::max(open, score);
+        continue;
+      }
+      if (score > layout.score) layout = {n, left, (window_ink - inside) / inside, score};
+    }
+  }
+  if (layout.digits == 0) return give_up("no digits");
+  d.digits_found = layout.digits;
+  d.stray_ink = layout.stray_ink;
+  d.offset_px = {layout.left_px + render::IdWidth(layout.digits, height_px) / 2 - center_col,
+                 nominal_top - band_top};
+  // Paint the layout leaves out: digits beyond the search range (the
+  // entrance far off), or other paint.
+  if (layout.stray_ink > kMaxStrayInk) return give_up("stray paint");
+  // A longer ID, partly out of sight, that explains the ink seen about as
+  // well: a digit cut off would be read as another, or the ID as a shorter one.
+  for (int n = layout.digits + 1; n <= options_.max_digits; ++n) {
+    if (best_open_score[static_cast<size_t>(n)] >= layout.score - min_cell_ink) {
+      return give_up("maybe longer");
+    }
+  }
+  // The digits themselves, with the classifier's margins, must be seen.
+  {
+    const double pad = kDigitPatchMarginX * height_px;
+    const double id_width_px = render::IdWidth(layout.digits, height_px);
+    const double unseen = unseen_sums.Sum(layout.left_px - pad, layout.left_px + id_width_px + pad);
+    if (unseen > kMaxNoDataShare * (id_width_px + 2 * pad) * height_px) return give_up("not seen");
+  }
+
+  // Worn paint: fainter than the slot's own lines.
+  const std::optional<double> line0 = LinePaintGrey(top_view_grey, entrance.corner0_px, up, right, ppm);
+  const std::optional<double> line1 = LinePaintGrey(top_view_grey, entrance.corner1_px, up, right, ppm);
+  if (line0 || line1) {
+    const double line_grey = std::max(line0.value_or(0.0), line1.value_or(0.0));
+    d.paint_ratio = contrast_grey / std::max(line_grey - floor_grey, 1.0);
+    if (d.paint_ratio < options_.min_paint_ratio) return give_up("worn");
+  }
+
+  // Each digit cell, rectified to the classifier's patch (drawn at twice its
+  // resolution and averaged down, as the classifier was trained).
+  SlotIdReading reading;
+  bool any_read = false;
+  const cv::Size big(2 * kDigitPatchCols, 2 * kDigitPatchRows);
+  for (int k = 0; k < layout.digits; ++k) {
+    const double cell_left = layout.left_px + k * pitch_px - kDigitPatchMarginX * height_px;
+    const double cell_top = band_top - kDigitPatchMarginY * height_px;
+    const double step_x = (width_px + 2 * kDigitPatchMarginX * height_px) / big.width;
+    const double step_y = (height_px + 2 * kDigitPatchMarginY * height_px) / big.height;
+    // Patch pixel i samples the region at cell_left + (i + 0.5) step_x.
+    const cv::Matx23d patch_to_region(step_x, 0, cell_left + 0.5 * step_x, 0, step_y,
+                                      cell_top + 0.5 * step_y);
+    cv::Mat fine, patch;
+    cv::warpAffine(normalized, fine, patch_to_region, big, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                   cv::BORDER_REPLICATE);
+    cv::resize(fine, patch, cv::Size(kDigitPatchCols, kDigitPatchRows), 0, 0, cv::INTER_AREA);
+    const ClassProbabilities p = classifier_->Classify(patch);
+    if (details != nullptr) details->digit_patches.push_back(patch);
+    DigitReading digit;
+    double best = 0.0;
+    for (int c = 0; c < 10; ++c) best = std::max(best, p[static_cast<size_t>(c)]);
+    if (best >= options_.min_digit_probability) {
+      for (int c = 0; c < 10; ++c) {
+        if (p[static_cast<size_t>(c)] >= options_.min_hypothesis_probability) {
+          digit.hypotheses.push_back({static_cast<char>('0' + c), p[static_cast<size_t>(c)]});
+        }
+      }
+      std::sort(digit.hypotheses.begin(), digit.hypotheses.end(),
+                [](const DigitHypothesis& a, const DigitHypothesis& b) {
+                  return a.probability > b.probability;
+                });
+      any_read = true;
+    }
+    reading.digits.push_back(std::move(digit));
+  }
+  if (!any_read) return give_up("unread");
+  d.outcome = reading.partial() ? "partial" : "read";
+  return reading;
+}
+
+}  // namespace parkslam::perception
