@@ -30,9 +30,10 @@ void AddDemoCommand(CLI::App& app) {
     std::uint64_t seed = 1;
     std::string out;
     int consistency_runs = 50;
-    int follow_runs = 10;
+    int follow_runs = 3;
     double follow_speed_kmh = 10.0;
-    double live_images_hz = 0.0;
+    double live_images_hz = 5.0;
+    bool observations = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -54,12 +55,17 @@ void AddDemoCommand(CLI::App& app) {
       ->check(CLI::Range(0.5, 30.0))
       ->capture_default_str();
   cmd->add_option("--live-images", options->live_images_hz,
-                  "Also render the simulated cameras on the fly at this rate (Hz) into the "
-                  "streams of mapping and trace following (nothing written)")
-      ->check(CLI::Range(0.0, 30.0));
+                  "Camera frame sets per second: mapping, localization and trace following run "
+                  "on pixels (rendered on the fly, fused, slots, IDs and tags detected)")
+      ->check(CLI::Range(0.1, 30.0))
+      ->capture_default_str();
+  cmd->add_flag("--observations", options->observations,
+                "Skip the cameras: run on the simulator's observation-level slot and tag "
+                "detections instead of pixels (fast)");
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
     const std::filesystem::path out = options->out;
+    const double image_rate_hz = options->observations ? 0.0 : options->live_images_hz;
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     nlohmann::json metrics;
     const int steps = 7 + (options->consistency_runs > 0) + (options->follow_runs > 0) - 1;
@@ -83,10 +89,12 @@ void AddDemoCommand(CLI::App& app) {
     const Trajectory odometry_trajectory = pipeline::ToTrajectory(odometry.poses);
     io::WriteTum(out / "odometry.tum", odometry_trajectory);
 
-    header("semantic mapping (slots, IDs, tags; Max-Mixture back-end)");
+    header(image_rate_hz > 0.0
+               ? "semantic mapping on pixels (top view, slots, IDs, tags; Max-Mixture back-end)"
+               : "semantic mapping (slots, IDs, tags; Max-Mixture back-end)");
     t0 = std::chrono::steady_clock::now();
     const mapping::Mapper mapper = BuildMap(dataset, mapping::MapperOptions{},
-                                            dr.initial_pose, true, options->live_images_hz);
+                                            dr.initial_pose, true, image_rate_hz);
     metrics["mapping_s"] = SecondsSince(t0);
     const SemanticMap map = mapper.Map();
     const Trajectory mapped_trajectory = mapper.KeyframeTrajectory();
@@ -117,10 +125,13 @@ void AddDemoCommand(CLI::App& app) {
         pipeline::EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle));
     Trajectory localized;
     {
-      SensorLogSource source(second.log);
+      DatasetStream stream(second, image_rate_hz);
+      SensorSource& source = stream.source();
       while (const auto event = source.Next()) {
         const auto estimate = localizer.Process(*event);
         if (estimate && estimate->state == localization::LocalizerState::kTracking) {
+          // Slots and tags of one camera frame share its time.
+          if (!localized.empty() && localized.back().t_ns == estimate->t_ns) localized.pop_back();
           localized.push_back({estimate->t_ns, T_world_map * estimate->T_map_vehicle});
         }
       }
@@ -143,7 +154,7 @@ void AddDemoCommand(CLI::App& app) {
       follow_options.runs = options->follow_runs;
       follow_options.speed_kmh = options->follow_speed_kmh;
       follow_options.seed = options->seed + 2000;
-      follow_options.live_image_rate_hz = options->live_images_hz;
+      follow_options.live_image_rate_hz = image_rate_hz;
       Progress progress("  runs", options->follow_runs);
       follow = pipeline::FollowTrace(scenario, map, T_world_map.inverse(),
                                      dataset.groundtruth_trajectory, follow_options,

@@ -60,6 +60,7 @@ void AddLocalizeCommand(CLI::App& app) {
     }
     Trajectory trajectory;
     int frames = 0, tracking = 0, lost_events = 0, relocalizations = 0;
+    TimeNs last_frame_ns = 0;
     std::vector<double> update_ms;
     localization::LocalizerState previous = localizer.state();
     DatasetStream stream(dataset, options->live_images_hz);
@@ -73,7 +74,10 @@ void AddLocalizeCommand(CLI::App& app) {
       update_ms.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count());
-      progress.Update(++frames);
+      // Slots and tags of one camera frame (on pixels) count as one frame.
+      if (frames == 0 || estimate->t_ns != last_frame_ns) ++frames;
+      last_frame_ns = estimate->t_ns;
+      progress.Update(frames);
       relocalizations += estimate->relocalized;
       if (estimate->state == localization::LocalizerState::kLost &&
           previous != localization::LocalizerState::kLost) {
@@ -82,7 +86,14 @@ void AddLocalizeCommand(CLI::App& app) {
       previous = estimate->state;
       if (estimate->state == localization::LocalizerState::kTracking) {
         ++tracking;
-        trajectory.push_back({estimate->t_ns, estimate->T_map_vehicle});
+        // Slots and tags of one camera frame share its time: the later
+        // estimate (both applied) replaces the earlier.
+        if (!trajectory.empty() && trajectory.back().t_ns == estimate->t_ns) {
+          trajectory.back().T_map_vehicle = estimate->T_map_vehicle;
+          --tracking;
+        } else {
+          trajectory.push_back({estimate->t_ns, estimate->T_map_vehicle});
+        }
       }
     }
     progress.Finish();

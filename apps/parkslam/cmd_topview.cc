@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "commands.h"
+#include "image_files.h"
 #include "parkslam/camera/homography_top_view.h"
 #include "parkslam/camera/top_view.h"
 #include "parkslam/io/atomic_file.h"
@@ -11,27 +12,6 @@
 #include "parkslam/io/rig_yaml.h"
 
 namespace parkslam::app {
-namespace {
-
-cv::Mat ReadImage(const std::string& path, int flags) {
-  if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such file");
-  const cv::Mat image = cv::imread(path, flags);
-  if (image.empty()) throw std::runtime_error(path + ": not a readable image");
-  return image;
-}
-
-void WriteImage(const std::string& path, const cv::Mat& image) {
-  std::vector<uchar> buffer;
-  const std::string ext = std::filesystem::path(path).extension().string();
-  if (!cv::imencode(ext.empty() ? ".png" : ext, image, buffer)) {
-    throw std::runtime_error(path + ": cannot encode an image of this type");
-  }
-  io::WriteFileAtomically(path, std::string_view(reinterpret_cast<const char*>(buffer.data()),
-                                                 buffer.size()));
-}
-
-}  // namespace
-
 void AddTopviewCommand(CLI::App& app) {
   struct Options {
     std::string rig = "default", front, rear, left, right, out;

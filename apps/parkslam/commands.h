@@ -26,6 +26,8 @@ void AddLocalizeCommand(CLI::App& app);
 void AddFollowCommand(CLI::App& app);
 void AddTopviewCommand(CLI::App& app);
 void AddTagsCommand(CLI::App& app);
+void AddDetectCommand(CLI::App& app);
+void AddEvalDetectCommand(CLI::App& app);
 
 // Options shared by `simulate` and `demo` that pick and tune the scenario.
 struct ScenarioOptions {

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   parkslam::app::AddFollowCommand(app);
   parkslam::app::AddTopviewCommand(app);
   parkslam::app::AddTagsCommand(app);
+  parkslam::app::AddDetectCommand(app);
+  parkslam::app::AddEvalDetectCommand(app);
   parkslam::app::AddDemoCommand(app);
   try {
     app.parse(argc, argv);

@@ -7,6 +7,7 @@
 #include "parkslam/sim/simulator.h"
 #include "progress.h"
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
 #include <algorithm>
@@ -61,6 +62,8 @@ struct DatasetStream::Live {
   sim::World world;
   std::unique_ptr<render::Renderer> renderer;
   std::unique_ptr<pipeline::RenderingSource> source;
+  std::unique_ptr<pipeline::PerceptionFrontEnd> front_end;
+  std::unique_ptr<pipeline::PerceptionSource> perception;
 };
 
 DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz) : log_(dataset.log) {
@@ -76,12 +79,16 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz) : log_(
   live_->source = std::make_unique<pipeline::RenderingSource>(
       log_, *live_->renderer, dataset.groundtruth_trajectory,
       std::vector<std::string>{"front", "rear", "left", "right", "front_mono"}, rate_hz);
+  // On pixels: the frames replace the dataset's observation-level slots
+  // and tags.
+  live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(camera::DefaultRig());
+  live_->perception = std::make_unique<pipeline::PerceptionSource>(*live_->source, *live_->front_end);
 }
 
 DatasetStream::~DatasetStream() = default;
 
 SensorSource& DatasetStream::source() {
-  if (live_) return *live_->source;
+  if (live_) return *live_->perception;
   return log_;
 }
 

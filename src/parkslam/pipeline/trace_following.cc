@@ -11,6 +11,7 @@
 #include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/sim/live_simulator.h"
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
 
@@ -99,12 +100,14 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
   // The live cameras, built once: the lot is the same for every run.
   std::unique_ptr<sim::World> world;
   std::unique_ptr<render::Renderer> renderer;
+  std::unique_ptr<PerceptionFrontEnd> front_end;
   const std::vector<std::string> cameras{"front", "rear", "left", "right", "front_mono"};
   if (options.live_image_rate_hz > 0.0) {
     world = std::make_unique<sim::World>(
         sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed)));
     renderer = std::make_unique<render::Renderer>(*world, camera::DefaultRig(),
                                                   render::RenderOptions{}, options.seed);
+    front_end = std::make_unique<PerceptionFrontEnd>(camera::DefaultRig());
   }
 
   TraceFollowingResult result;
@@ -136,16 +139,30 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
         run.truth_world.push_back({state.t_ns, state.T_map_vehicle});
         next_record_ns = state.t_ns + FromSeconds(kTruthRecordPeriodS);
       }
-      if (renderer && state.t_ns >= next_image_ns) {
-        events.push_back(RenderCameraFrame(*renderer, state.T_map_vehicle, state.t_ns, cameras));
-        next_image_ns = state.t_ns + FromSeconds(1.0 / options.live_image_rate_hz);
-        ++run.camera_frames;
+      if (renderer) {
+        // On pixels: only what the cameras see reaches the localizer.
+        std::erase_if(events, [](const SensorEvent& e) {
+          return std::holds_alternative<SlotObservationFrame>(e) ||
+                 std::holds_alternative<TagObservationFrame>(e);
+        });
+        if (state.t_ns >= next_image_ns) {
+          PerceptionOutput seen = front_end->Process(
+              RenderCameraFrame(*renderer, state.T_map_vehicle, state.t_ns, cameras));
+          events.push_back(std::move(seen.slots));
+          events.push_back(std::move(seen.tags));
+          next_image_ns = state.t_ns + FromSeconds(1.0 / options.live_image_rate_hz);
+          ++run.camera_frames;
+        }
       }
       for (const SensorEvent& event : events) {
         if (const auto* w = std::get_if<WheelSpeed>(&event)) measured_speed = w->speed_mps;
         SE2 estimate;
         bool lost = false;
         if (!source.Process(event, &estimate, &lost)) continue;
+        // Slots and tags of one camera frame share its time: keep the later.
+        if (!run.estimate_map.empty() && run.estimate_map.back().t_ns == EventTime(event)) {
+          run.estimate_map.pop_back();
+        }
         run.estimate_map.push_back({EventTime(event), estimate});
         run.lost_frames += lost;
         // The truth of this frame in the map frame.

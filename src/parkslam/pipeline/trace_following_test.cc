@@ -82,20 +82,20 @@ TEST(TraceFollowingTest, MapInItsOwnFrameIsHandled) {
   EXPECT_LT(r.metrics.lateral_mean_all_m, 0.10);
 }
 
-TEST(TraceFollowingTest, LiveCamerasRenderWithoutChangingTheRun) {
+// On pixels: the localizer sees only what the front end reads from the
+// rendered frames (slots, IDs, tags), and the car still follows the trace.
+TEST(TraceFollowingTest, FollowsTheTraceOnPixels) {
   const sim::ScenarioConfig scenario = ShortDrive();
   TraceFollowingOptions options;
   options.runs = 1;
   options.speed_kmh = 10.0;
-  const TraceFollowingResult plain =
-      FollowTrace(scenario, TrueMap(scenario), SE2(), HumanDrive(scenario), options);
-  options.live_image_rate_hz = 1.0;
+  options.live_image_rate_hz = 5.0;
   const TraceFollowingResult live =
       FollowTrace(scenario, TrueMap(scenario), SE2(), HumanDrive(scenario), options);
-  EXPECT_EQ(plain.runs[0].camera_frames, 0);
-  EXPECT_NEAR(live.runs[0].camera_frames, plain.runs[0].duration_s, 2.0);
-  EXPECT_EQ(live.runs[0].truth_world.back().T_map_vehicle.x(),
-            plain.runs[0].truth_world.back().T_map_vehicle.x());
+  ASSERT_TRUE(live.runs[0].finished);
+  EXPECT_NEAR(live.runs[0].camera_frames, 5.0 * live.runs[0].duration_s, 10.0);
+  EXPECT_LT(live.localization_rmse_m, 0.10);
+  EXPECT_LT(live.metrics.lateral_mean_all_m, 0.15);
 }
 
 TEST(TraceFollowingTest, InvalidOptionsThrow) {

@@ -1,0 +1,158 @@
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "commands.h"
+#include "image_files.h"
+#include "parkslam/perception/slot_detector.h"
+#include "parkslam/perception/slot_id_reader.h"
+
+namespace parkslam::app {
+namespace {
+
+cv::Point2f ToCv(const Eigen::Vector2d& p) {
+  return {static_cast<float>(p.x()), static_cast<float>(p.y())};
+}
+
+// The detections drawn over the image: marking points as circles with
+// their direction, entrance lines solid, guessed sides thin, IDs as text.
+cv::Mat DrawOverlay(const cv::Mat& image, const perception::SlotDetection& detection,
+                    const std::vector<SlotIdReading>& ids) {
+  cv::Mat overlay;
+  if (image.channels() == 1) {
+    cv::cvtColor(image, overlay, cv::COLOR_GRAY2BGR);
+  } else {
+    overlay = image.clone();
+  }
+  const cv::Scalar entrance_colour(0, 200, 0), guessed_colour(0, 140, 255);
+  for (size_t k = 0; k < detection.slots.size(); ++k) {
+    const perception::DetectedSlot& slot = detection.slots[k];
+    const auto& c = slot.corners_px;
+    cv::line(overlay, ToCv(c[0]), ToCv(c[1]), entrance_colour, 2, cv::LINE_AA);
+    cv::line(overlay, ToCv(c[1]), ToCv(c[2]), guessed_colour, 1, cv::LINE_AA);
+    cv::line(overlay, ToCv(c[2]), ToCv(c[3]), guessed_colour, 1, cv::LINE_AA);
+    cv::line(overlay, ToCv(c[3]), ToCv(c[0]), guessed_colour, 1, cv::LINE_AA);
+    const std::string id = ids[k].best();
+    if (!id.empty()) {
+      const Eigen::Vector2d at = (c[0] + c[1]) / 2 + slot.depth_dir_px * 60.0;
+      cv::putText(overlay, id, ToCv(at), cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(255, 0, 255), 2,
+                  cv::LINE_AA);
+    }
+  }
+  for (const perception::MarkingPoint& p : detection.marking_points) {
+    const cv::Scalar colour = p.shape == perception::MarkingShape::kT ? cv::Scalar(0, 0, 255)
+                                                                       : cv::Scalar(255, 0, 0);
+    cv::circle(overlay, ToCv(p.px), 6, colour, 2, cv::LINE_AA);
+    const Eigen::Vector2d tip =
+        p.px + 30.0 * Eigen::Vector2d(std::cos(p.direction_rad), std::sin(p.direction_rad));
+    cv::line(overlay, ToCv(p.px), ToCv(tip), colour, 2, cv::LINE_AA);
+  }
+  return overlay;
+}
+
+}  // namespace
+
+void AddDetectCommand(CLI::App& app) {
+  struct Options {
+    std::string image, out;
+    double pixels_per_m = 60.0;
+    bool json = false, no_ids = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "detect",
+      "Detect marking points and parking slots in one top-view image and read the slots' "
+      "painted IDs (the paper's III-A)");
+  cmd->add_option("--image", options->image, "Top-view image (grey or colour), the car pointing up")
+      ->required();
+  cmd->add_option("--out", options->out, "Also write the image with the detections drawn over it");
+  cmd->add_option("--pixels-per-m", options->pixels_per_m,
+                  "Top-view scale (ps2.0 and the default top view: 600 px for 10 m)")
+      ->check(CLI::Range(10.0, 500.0))
+      ->capture_default_str();
+  cmd->add_flag("--no-ids", options->no_ids, "Do not read slot IDs");
+  cmd->add_flag("--json", options->json,
+                "Print one JSON object: marking_points (x, y, direction_rad, shape) and slots "
+                "(entrance_px, corners_px, id, id_confidence), 0-based pixels");
+  cmd->callback([options] {
+    const cv::Mat image = ReadImage(options->image, cv::IMREAD_UNCHANGED);
+    if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
+      throw std::runtime_error(options->image + ": expected an 8-bit grey or colour image");
+    }
+    cv::Mat grey;
+    if (image.channels() == 3) {
+      cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+    } else {
+      grey = image;
+    }
+    perception::SlotDetectorOptions detector_options;
+    detector_options.pixels_per_m = options->pixels_per_m;
+    const perception::SlotDetector detector(detector_options);
+    const perception::SlotDetection detection = detector.Detect(grey);
+    std::vector<SlotIdReading> ids(detection.slots.size());
+    if (!options->no_ids) {
+      perception::SlotIdReaderOptions reader_options;
+      reader_options.pixels_per_m = options->pixels_per_m;
+      const perception::SlotIdReader reader(reader_options);
+      for (size_t k = 0; k < detection.slots.size(); ++k) {
+        const perception::DetectedSlot& slot = detection.slots[k];
+        ids[k] = reader.Read(grey, {slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px});
+      }
+    }
+
+    if (!options->out.empty()) WriteImage(options->out, DrawOverlay(image, detection, ids));
+
+    nlohmann::json j = {{"marking_points", nlohmann::json::array()},
+                        {"slots", nlohmann::json::array()}};
+    for (const perception::MarkingPoint& p : detection.marking_points) {
+      j["marking_points"].push_back({{"x", p.px.x()},
+                                     {"y", p.px.y()},
+                                     {"direction_rad", p.direction_rad},
+                                     {"shape", perception::ToString(p.shape)},
+                                     {"score", p.score}});
+    }
+    for (size_t k = 0; k < detection.slots.size(); ++k) {
+      const perception::DetectedSlot& slot = detection.slots[k];
+      nlohmann::json corners = nlohmann::json::array();
+      for (const Eigen::Vector2d& c : slot.corners_px) corners.push_back({c.x(), c.y()});
+      const std::string id = ids[k].best();
+      // A partial reading ("3?") is not an ID; it is reported as such.
+      const bool full = !id.empty() && !ids[k].partial();
+      nlohmann::json entry = {
+          {"entrance_px",
+           {{slot.corners_px[0].x(), slot.corners_px[0].y()},
+            {slot.corners_px[1].x(), slot.corners_px[1].y()}}},
+          {"corners_px", corners},
+          {"corner_observed", slot.corner_observed},
+          {"confidence", slot.confidence},
+          {"id", full ? nlohmann::json(id) : nlohmann::json(nullptr)},
+          {"id_confidence", full ? ids[k].confidence() : 0.0}};
+      if (ids[k].partial()) entry["partial_id"] = id;
+      j["slots"].push_back(entry);
+    }
+    if (options->json) {
+      std::cout << j.dump() << "\n";
+      return;
+    }
+    std::printf("%zu marking points, %zu slots\n", detection.marking_points.size(),
+                detection.slots.size());
+    for (const perception::MarkingPoint& p : detection.marking_points) {
+      std::printf("marking point %s at (%.1f, %.1f) px, direction %.1f deg\n",
+                  perception::ToString(p.shape), p.px.x(), p.px.y(),
+                  p.direction_rad * 180.0 / M_PI);
+    }
+    for (size_t k = 0; k < detection.slots.size(); ++k) {
+      const perception::DetectedSlot& slot = detection.slots[k];
+      const std::string id = ids[k].best();
+      std::printf("slot: entrance (%.1f, %.1f)-(%.1f, %.1f) px, id %s (%.2f)\n",
+                  slot.corners_px[0].x(), slot.corners_px[0].y(), slot.corners_px[1].x(),
+                  slot.corners_px[1].y(), id.empty() ? "-" : id.c_str(), ids[k].confidence());
+    }
+    if (!options->out.empty()) std::printf("wrote %s\n", options->out.c_str());
+  });
+}
+
+}  // namespace parkslam::app

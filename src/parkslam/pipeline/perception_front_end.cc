@@ -1,0 +1,236 @@
+#include "parkslam/pipeline/perception_front_end.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "parkslam/common/angles.h"
+
+namespace parkslam::pipeline {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// A grey plane as a cv::Mat header over the shared pixels (no copy).
+cv::Mat AsMat(const ImagePlane& plane) {
+  return cv::Mat(plane.height, plane.width, CV_8UC1,
+                 const_cast<std::uint8_t*>(plane.pixels->data()));
+}
+
+double Cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+const camera::CameraConfig* FindCamera(const camera::CameraRig& rig, const std::string& name) {
+  for (const camera::CameraConfig& c : rig.cameras) {
+    if (c.name == name) return &c;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
+                                       const PerceptionOptions& options)
+    : options_(options) {
+  for (const std::string& name : options_.fisheye_cameras) {
+    if (FindCamera(rig, name) == nullptr) {
+      throw std::invalid_argument("perception: the rig has no camera '" + name + "'");
+    }
+  }
+  const camera::CameraConfig* tag_camera = FindCamera(rig, options_.tag_camera);
+  if (tag_camera == nullptr || tag_camera->intrinsics.kind != camera::CameraKind::kPinhole) {
+    throw std::invalid_argument("perception: the rig has no pinhole camera '" +
+                                options_.tag_camera + "' for tags");
+  }
+  tag_camera_ = *tag_camera;
+  {
+    const camera::CameraIntrinsics& k = tag_camera_.intrinsics;
+    const double camera_z = tag_camera_.T_vehicle_camera.translation().z();
+    // The band only holds for a camera looking level and upright.
+    const Eigen::Vector3d z_axis = tag_camera_.T_vehicle_camera.rotation().col(2);
+    const Eigen::Vector3d y_axis = tag_camera_.T_vehicle_camera.rotation().col(1);
+    int first = 0, last = k.height - 1;
+    if (options_.tag_max_height_m > options_.tag_min_height_m && options_.tag_min_range_m > 0.0 &&
+        std::abs(z_axis.z()) < 0.02 && y_axis.z() < -0.999) {
+      const double d = options_.tag_min_range_m;
+      first = static_cast<int>(std::floor(k.cy - k.fy * (options_.tag_max_height_m - camera_z) / d));
+      last = static_cast<int>(std::ceil(k.cy + k.fy * (camera_z - options_.tag_min_height_m) / d));
+      first = std::clamp(first, 0, k.height - 1);
+      last = std::clamp(last, first, k.height - 1);
+    }
+    tag_first_row_ = first;
+    tag_rows_ = last - first + 1;
+    tag_band_intrinsics_ = k;
+    tag_band_intrinsics_.height = tag_rows_;
+    tag_band_intrinsics_.cy = k.cy - first;
+  }
+  fusion_ = std::make_unique<camera::TopViewFusion>(rig, options_.fisheye_cameras,
+                                                    options_.top_view);
+  // The detector's scale follows the top view.
+  const double pixels_per_m = options_.top_view.size_px / options_.top_view.extent_m;
+  options_.slots.pixels_per_m = pixels_per_m;
+  options_.ids.pixels_per_m = pixels_per_m;
+  slot_detector_ = std::make_unique<perception::SlotDetector>(options_.slots);
+  if (options_.read_ids) id_reader_ = std::make_unique<perception::SlotIdReader>(options_.ids);
+  tag_detector_ = std::make_unique<perception::TagDetector>(options_.tags);
+
+  // The car's own footprint carries no ground: the detector ignores it.
+  const camera::TopViewOptions& tv = options_.top_view;
+  footprint_mask_ = cv::Mat(tv.size_px, tv.size_px, CV_8UC1, cv::Scalar(255));
+  if (tv.mask_footprint) {
+    const double rear = -tv.footprint_rear_overhang_m;
+    const double front = tv.footprint_length_m - tv.footprint_rear_overhang_m;
+    const double half_w = tv.footprint_width_m / 2;
+    const Eigen::Vector2d a = fusion_->VehicleToPixel({front, half_w});
+    const Eigen::Vector2d b = fusion_->VehicleToPixel({rear, -half_w});
+    const cv::Point tl(static_cast<int>(std::floor(std::min(a.x(), b.x()))),
+                       static_cast<int>(std::floor(std::min(a.y(), b.y()))));
+    const cv::Point br(static_cast<int>(std::ceil(std::max(a.x(), b.x()))) + 1,
+                       static_cast<int>(std::ceil(std::max(a.y(), b.y()))) + 1);
+    footprint_mask_(cv::Rect(tl, br) & cv::Rect(0, 0, tv.size_px, tv.size_px)).setTo(0);
+  }
+}
+
+PerceptionFrontEnd::~PerceptionFrontEnd() = default;
+
+PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame) const {
+  PerceptionOutput out;
+  out.slots.t_ns = frame.t_ns;
+  out.tags.t_ns = frame.t_ns;
+  const auto image_of = [&frame](const std::string& name) -> const ImagePlane* {
+    for (size_t k = 0; k < frame.cameras.size() && k < frame.images.size(); ++k) {
+      if (frame.cameras[k] == name && frame.images[k].pixels != nullptr) return &frame.images[k];
+    }
+    return nullptr;
+  };
+
+  // Slots (paper III-A): fusion, detection, ID reading.
+  std::vector<cv::Mat> fisheyes;
+  for (const std::string& name : options_.fisheye_cameras) {
+    if (const ImagePlane* plane = image_of(name)) fisheyes.push_back(AsMat(*plane));
+  }
+  if (fisheyes.size() == options_.fisheye_cameras.size()) {
+    Clock::time_point start = Clock::now();
+    out.top_view = fusion_->Fuse(fisheyes);
+    out.timing.fusion_ms = MsSince(start);
+    start = Clock::now();
+    out.detection = slot_detector_->Detect(out.top_view, footprint_mask_);
+    out.timing.slots_ms = MsSince(start);
+    start = Clock::now();
+    out.ids.resize(out.detection.slots.size());
+    if (id_reader_ != nullptr) {
+      for (size_t k = 0; k < out.detection.slots.size(); ++k) {
+        const perception::DetectedSlot& slot = out.detection.slots[k];
+        out.ids[k] = id_reader_->Read(out.top_view,
+                                      {slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px});
+      }
+    }
+    out.timing.ids_ms = MsSince(start);
+    const Eigen::Vector2d view_centre_vehicle(options_.top_view.center_x_m, 0.0);
+    for (size_t k = 0; k < out.detection.slots.size(); ++k) {
+      const perception::DetectedSlot& slot = out.detection.slots[k];
+      SlotObservation obs;
+      double far_m = 0.0;
+      for (int c = 0; c < kSlotCorners; ++c) {
+        obs.corners_vehicle[static_cast<size_t>(c)] =
+            fusion_->PixelToVehicle(slot.corners_px[static_cast<size_t>(c)]);
+        obs.corner_observed[static_cast<size_t>(c)] = slot.corner_observed[static_cast<size_t>(c)];
+        if (c < 2) {
+          far_m = std::max(far_m, (obs.corners_vehicle[static_cast<size_t>(c)] -
+                                   view_centre_vehicle).norm());
+        }
+      }
+      obs.corner_sigma_m = options_.corner_sigma_m + options_.corner_sigma_per_m * far_m;
+      obs.detection_confidence = slot.confidence;
+      obs.id = out.ids[k];
+      out.slots.slots.push_back(obs);
+    }
+  }
+
+  // Tags (paper III-B) in the front camera.
+  if (const ImagePlane* plane = image_of(options_.tag_camera)) {
+    const Clock::time_point start = Clock::now();
+    const cv::Mat image = AsMat(*plane);
+    if (image.cols != tag_camera_.intrinsics.width || image.rows != tag_camera_.intrinsics.height) {
+      throw std::invalid_argument("perception: the " + options_.tag_camera + " image is " +
+                                  std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                                  ", the camera " + std::to_string(tag_camera_.intrinsics.width) +
+                                  "x" + std::to_string(tag_camera_.intrinsics.height));
+    }
+    const std::vector<perception::DetectedTag> tags = tag_detector_->Detect(
+        image.rowRange(tag_first_row_, tag_first_row_ + tag_rows_).clone(), &tag_band_intrinsics_);
+    out.timing.tags_ms = MsSince(start);
+    const Eigen::Matrix3d R_vehicle_camera = tag_camera_.T_vehicle_camera.rotation();
+    const Eigen::Vector3d camera_vehicle = tag_camera_.T_vehicle_camera.translation();
+    // The camera's optical axis and right-hand direction on the ground.
+    const Eigen::Vector3d z_axis = R_vehicle_camera.col(2), x_axis = R_vehicle_camera.col(0);
+    const Eigen::Vector2d forward = Eigen::Vector2d(z_axis.x(), z_axis.y()).normalized();
+    const Eigen::Vector2d right = Eigen::Vector2d(x_axis.x(), x_axis.y()).normalized();
+    for (const perception::DetectedTag& t : tags) {
+      if (!t.has_pose) continue;
+      TagObservation obs;
+      obs.tag_id = t.tag_id;
+      // The paper's ground-plane position: x = sin(alpha) d to the right,
+      // y = cos(alpha) d ahead of the camera.
+      const Eigen::Vector2d offset = t.position_m.x() * right + t.position_m.y() * forward;
+      obs.p_vehicle = Eigen::Vector2d(camera_vehicle.x(), camera_vehicle.y()) + offset;
+      obs.range_m = offset.norm();
+      obs.bearing_rad = std::atan2(Cross2(forward, offset), forward.dot(offset));
+      // Outward normal: the tag's z axis, signed to face the camera.
+      Eigen::Vector3d n_camera = t.T_camera_tag.rotation().col(2);
+      if (n_camera.dot(-t.T_camera_tag.translation()) < 0.0) n_camera = -n_camera;
+      const Eigen::Vector3d n_vehicle = R_vehicle_camera * n_camera;
+      obs.yaw_vehicle_rad = std::atan2(n_vehicle.y(), n_vehicle.x());
+      obs.yaw_sigma_rad = options_.tag_yaw_sigma_rad + options_.tag_yaw_sigma_per_m * obs.range_m;
+      const double range_sigma =
+          options_.tag_range_sigma_m + options_.tag_range_sigma_per_m * obs.range_m;
+      const double bearing_sigma = options_.tag_bearing_sigma_rad;
+      // J diag(sr^2, sb^2) J^T, J = d(point)/d(range, bearing), in the
+      // vehicle frame along (forward, left) of the camera.
+      const Eigen::Vector2d u = offset / std::max(obs.range_m, 1e-6);
+      const Eigen::Vector2d v(-u.y(), u.x());
+      obs.covariance_vehicle = range_sigma * range_sigma * u * u.transpose() +
+                               std::pow(obs.range_m * bearing_sigma, 2) * v * v.transpose();
+      out.tags.tags.push_back(obs);
+    }
+  }
+  return out;
+}
+
+PerceptionSource::PerceptionSource(SensorSource& inner, const PerceptionFrontEnd& front_end)
+    : inner_(inner), front_end_(front_end) {}
+
+std::optional<SensorEvent> PerceptionSource::Next() {
+  if (pending_tags_) {
+    std::optional<SensorEvent> event = std::move(pending_tags_);
+    pending_tags_.reset();
+    return event;
+  }
+  while (std::optional<SensorEvent> event = inner_.Next()) {
+    if (std::holds_alternative<SlotObservationFrame>(*event) ||
+        std::holds_alternative<TagObservationFrame>(*event)) {
+      continue;  // only what the cameras see
+    }
+    if (const auto* frame = std::get_if<CameraFrame>(&*event)) {
+      PerceptionOutput out = front_end_.Process(*frame);
+      ++frames_processed_;
+      total_timing_.fusion_ms += out.timing.fusion_ms;
+      total_timing_.slots_ms += out.timing.slots_ms;
+      total_timing_.ids_ms += out.timing.ids_ms;
+      total_timing_.tags_ms += out.timing.tags_ms;
+      max_frame_ms_ = std::max(max_frame_ms_, out.timing.total_ms());
+      pending_tags_ = std::move(out.tags);
+      return SensorEvent(std::move(out.slots));
+    }
+    return event;
+  }
+  return std::nullopt;
+}
+
+}  // namespace parkslam::pipeline

@@ -1,0 +1,123 @@
+#ifndef PARKSLAM_PIPELINE_PERCEPTION_FRONT_END_H_
+#define PARKSLAM_PIPELINE_PERCEPTION_FRONT_END_H_
+
+// The paper's front end on pixels (section III-A and III-B): a camera frame
+// set becomes the observations the mapper and the localizer consume. The
+// four fisheyes are fused into the top view; slots are detected in it and
+// their IDs read; AprilTags are detected in the front camera and located by
+// PnP checked by the direct angle.
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "parkslam/camera/camera_model.h"
+#include "parkslam/camera/top_view.h"
+#include "parkslam/perception/slot_detector.h"
+#include "parkslam/perception/slot_id_reader.h"
+#include "parkslam/perception/tag_detector.h"
+#include "parkslam/sensor/sensor_log.h"
+
+namespace parkslam::pipeline {
+
+struct PerceptionOptions {
+  // The rig's cameras: four fisheyes fused into the top view (in this
+  // order: front, rear, left, right) and the front camera for tags.
+  std::vector<std::string> fisheye_cameras{"front", "rear", "left", "right"};
+  std::string tag_camera = "front_mono";
+  camera::TopViewOptions top_view;
+  perception::SlotDetectorOptions slots;
+  perception::SlotIdReaderOptions ids;
+  perception::TagDetectorOptions tags;
+  bool read_ids = true;
+  // Tags hang between these heights above the floor and are looked for
+  // from this range on: the front image is searched only in the band of
+  // rows where they can appear (a level camera), which halves the
+  // detector's time. A band of zero height searches the whole image.
+  double tag_min_height_m = 1.0;
+  double tag_max_height_m = 1.7;
+  double tag_min_range_m = 1.5;
+  // Uncertainty handed to the mapper with each detection: a slot corner
+  // (grows with its distance from the top view's centre), a tag's range
+  // (grows with range) and bearing.
+  double corner_sigma_m = 0.03;
+  double corner_sigma_per_m = 0.005;
+  double tag_range_sigma_m = 0.03;
+  double tag_range_sigma_per_m = 0.01;
+  double tag_bearing_sigma_rad = 0.005;
+  double tag_yaw_sigma_rad = 0.05;
+  double tag_yaw_sigma_per_m = 0.01;
+};
+
+// Wall time of each stage of one frame, milliseconds.
+struct PerceptionTiming {
+  double fusion_ms = 0.0, slots_ms = 0.0, ids_ms = 0.0, tags_ms = 0.0;
+  double total_ms() const { return fusion_ms + slots_ms + ids_ms + tags_ms; }
+};
+
+struct PerceptionOutput {
+  SlotObservationFrame slots;
+  TagObservationFrame tags;
+  // What the stages saw and found, for evaluation and pictures.
+  cv::Mat top_view;
+  perception::SlotDetection detection;
+  std::vector<SlotIdReading> ids;  // one per detected slot
+  PerceptionTiming timing;
+};
+
+class PerceptionFrontEnd {
+ public:
+  // `rig` must hold the fisheye cameras and the tag camera (a pinhole).
+  // Throws std::invalid_argument naming what is missing or invalid.
+  PerceptionFrontEnd(const camera::CameraRig& rig, const PerceptionOptions& options = {});
+  ~PerceptionFrontEnd();
+
+  // Runs every stage on one frame set. Cameras the frame lacks are skipped
+  // with their stage (no top view without all four fisheyes). Throws
+  // std::invalid_argument when an image's size does not match its camera.
+  PerceptionOutput Process(const CameraFrame& frame) const;
+
+  const camera::TopViewFusion& fusion() const { return *fusion_; }
+  // 0 on the car's footprint in the top view, 255 elsewhere.
+  const cv::Mat& FootprintMask() const { return footprint_mask_; }
+  const PerceptionOptions& options() const { return options_; }
+
+ private:
+  PerceptionOptions options_;
+  camera::CameraConfig tag_camera_;
+  int tag_first_row_ = 0, tag_rows_ = 0;  // the searched band of the front image
+  camera::CameraIntrinsics tag_band_intrinsics_;
+  std::unique_ptr<camera::TopViewFusion> fusion_;
+  std::unique_ptr<perception::SlotDetector> slot_detector_;
+  std::unique_ptr<perception::SlotIdReader> id_reader_;
+  std::unique_ptr<perception::TagDetector> tag_detector_;
+  cv::Mat footprint_mask_;
+};
+
+// A sensor stream on pixels: camera frames of `inner` become slot and tag
+// observation frames (at the frame's time) by the front end; the
+// observation-level slot and tag frames `inner` may carry are dropped, so
+// that everything downstream sees only what the cameras saw.
+class PerceptionSource final : public SensorSource {
+ public:
+  PerceptionSource(SensorSource& inner, const PerceptionFrontEnd& front_end);
+  std::optional<SensorEvent> Next() override;
+
+  int frames_processed() const { return frames_processed_; }
+  // Sum and maximum of the per-frame stage times.
+  const PerceptionTiming& total_timing() const { return total_timing_; }
+  double max_frame_ms() const { return max_frame_ms_; }
+
+ private:
+  SensorSource& inner_;
+  const PerceptionFrontEnd& front_end_;
+  std::optional<SensorEvent> pending_tags_;
+  int frames_processed_ = 0;
+  PerceptionTiming total_timing_;
+  double max_frame_ms_ = 0.0;
+};
+
+}  // namespace parkslam::pipeline
+
+#endif  // PARKSLAM_PIPELINE_PERCEPTION_FRONT_END_H_
