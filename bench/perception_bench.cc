@@ -1,0 +1,107 @@
+// Perception per camera frame set, stage by stage, on one core (goal: the
+// four stages together at most 20 ms). The frame is rendered once in the
+// default lot, in aisle 1 between two rows of slots, with tags in view of
+// the front camera.
+
+#include <benchmark/benchmark.h>
+
+#include "parkslam/camera/camera_model.h"
+#include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/pipeline/rendering_source.h"
+#include "parkslam/render/renderer.h"
+#include "parkslam/sim/scenario_config.h"
+#include "parkslam/sim/world.h"
+
+namespace parkslam {
+namespace {
+
+struct Fixture {
+  camera::CameraRig rig = camera::DefaultRig();
+  pipeline::PerceptionFrontEnd front_end{rig};
+  perception::SlotDetector detector{front_end.options().slots};
+  perception::SlotIdReader reader{front_end.options().ids};
+  perception::TagDetector tags{front_end.options().tags};
+  CameraFrame frame;
+  std::vector<cv::Mat> fisheyes;
+  cv::Mat front_mono, top_view;
+  perception::SlotDetection detection;
+
+  Fixture() {
+    const sim::ScenarioConfig scenario = sim::DefaultScenario();
+    const sim::World world =
+        sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
+    const render::Renderer renderer(world, rig, {}, 1);
+    // Aisle 1, near the tags of the hall's west part.
+    frame = pipeline::RenderCameraFrame(renderer, SE2(12.0, 9.1, 0.0), 0,
+                                        {"front", "rear", "left", "right", "front_mono"});
+    for (size_t k = 0; k < 5; ++k) {
+      const ImagePlane& p = frame.images[k];
+      cv::Mat m(p.height, p.width, CV_8UC1, const_cast<std::uint8_t*>(p.pixels->data()));
+      if (k < 4) {
+        fisheyes.push_back(m);
+      } else {
+        front_mono = m;
+      }
+    }
+    top_view = front_end.fusion().Fuse(fisheyes);
+    detection = detector.Detect(top_view, front_end.FootprintMask());
+  }
+};
+
+const Fixture& Get() {
+  static const Fixture f;
+  return f;
+}
+
+void BM_PerceptionFuseTopView(benchmark::State& state) {
+  const Fixture& f = Get();
+  for (auto _ : state) benchmark::DoNotOptimize(f.front_end.fusion().Fuse(f.fisheyes).data);
+}
+BENCHMARK(BM_PerceptionFuseTopView)->Unit(benchmark::kMillisecond);
+
+void BM_PerceptionDetectSlots(benchmark::State& state) {
+  const Fixture& f = Get();
+  for (auto _ : state) {
+    const perception::SlotDetection d = f.detector.Detect(f.top_view, f.front_end.FootprintMask());
+    benchmark::DoNotOptimize(d.slots.size());
+  }
+  state.counters["slots"] = static_cast<double>(f.detection.slots.size());
+}
+BENCHMARK(BM_PerceptionDetectSlots)->Unit(benchmark::kMillisecond);
+
+void BM_PerceptionReadIds(benchmark::State& state) {
+  const Fixture& f = Get();
+  for (auto _ : state) {
+    for (const perception::DetectedSlot& s : f.detection.slots) {
+      benchmark::DoNotOptimize(
+          f.reader.Read(f.top_view, {s.corners_px[0], s.corners_px[1], s.depth_dir_px}).digits.size());
+    }
+  }
+}
+BENCHMARK(BM_PerceptionReadIds)->Unit(benchmark::kMillisecond);
+
+// The whole 1280x720 image, for comparison with the band the front end
+// searches.
+void BM_PerceptionDetectTagsFullImage(benchmark::State& state) {
+  const Fixture& f = Get();
+  const camera::CameraIntrinsics& k = f.rig.cameras.back().intrinsics;
+  for (auto _ : state) benchmark::DoNotOptimize(f.tags.Detect(f.front_mono, &k).size());
+}
+BENCHMARK(BM_PerceptionDetectTagsFullImage)->Unit(benchmark::kMillisecond);
+
+// Everything the front end does with one frame set: fusion, slots, IDs,
+// tags (in the band), and the observations.
+void BM_PerceptionFrame(benchmark::State& state) {
+  const Fixture& f = Get();
+  double tags_ms = 0.0;
+  for (auto _ : state) {
+    const pipeline::PerceptionOutput out = f.front_end.Process(f.frame);
+    tags_ms = out.timing.tags_ms;
+    benchmark::DoNotOptimize(out.slots.slots.size());
+  }
+  state.counters["tags_ms"] = tags_ms;
+}
+BENCHMARK(BM_PerceptionFrame)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace parkslam

@@ -1,0 +1,138 @@
+#include "parkslam/pipeline/perception_front_end.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "parkslam/common/angles.h"
+#include "parkslam/pipeline/rendering_source.h"
+#include "parkslam/render/renderer.h"
+#include "parkslam/sim/simulator.h"
+
+namespace parkslam::pipeline {
+namespace {
+
+const std::vector<std::string> kCameras{"front", "rear", "left", "right", "front_mono"};
+
+struct Lot {
+  sim::ScenarioConfig scenario = sim::DefaultScenario();
+  sim::World world = sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
+};
+
+const Lot& DefaultLot() {
+  static const Lot lot;
+  return lot;
+}
+
+const render::Renderer& Renderer() {
+  static const render::Renderer r(DefaultLot().world, camera::DefaultRig(), {}, 11);
+  return r;
+}
+
+const PerceptionFrontEnd& FrontEnd() {
+  static const PerceptionFrontEnd f(camera::DefaultRig());
+  return f;
+}
+
+// In aisle 1, heading east between rows A and B: every slot seen in the top
+// view lies where the world says, with its painted ID.
+TEST(PerceptionFrontEndTest, SlotsInTheAisleLandOnTheTruth) {
+  const SE2 T_map_vehicle(30.0, 9.1, 0.0);
+  const PerceptionOutput out =
+      FrontEnd().Process(RenderCameraFrame(Renderer(), T_map_vehicle, 0, kCameras));
+  ASSERT_GE(out.slots.slots.size(), 4u);
+  const SE2 T_vehicle_map = T_map_vehicle.inverse();
+  int with_id = 0;
+  for (const SlotObservation& obs : out.slots.slots) {
+    // The true slot whose entrance corners are nearest.
+    double best = 1e9;
+    const sim::WorldSlot* match = nullptr;
+    for (const sim::WorldSlot& slot : DefaultLot().world.slots) {
+      const double d = (T_vehicle_map * slot.corners_map[0] - obs.corners_vehicle[0]).norm() +
+                       (T_vehicle_map * slot.corners_map[1] - obs.corners_vehicle[1]).norm();
+      if (d < best) best = d, match = &slot;
+    }
+    ASSERT_NE(match, nullptr);
+    EXPECT_LT(best, 0.06) << "entrance corners off by " << best << " m in sum";
+    EXPECT_FALSE(obs.corner_observed[2] || obs.corner_observed[3]);
+    if (!obs.id.empty() && !obs.id.partial()) {
+      EXPECT_EQ(obs.id.best(), match->painted_id);
+      ++with_id;
+    }
+  }
+  EXPECT_GE(with_id, 2);
+  EXPECT_GT(out.timing.total_ms(), 0.0);
+}
+
+// At the corridor's start the front camera sees tags: each lies where the
+// world has it, and faces the way it does (the direct angle chose the PnP
+// solution; the other one of a planar target flips the normal).
+TEST(PerceptionFrontEndTest, TagsLandOnTheTruthAndFaceTheRightWay) {
+  const Lot& lot = DefaultLot();
+  int seen = 0;
+  for (double x : {-37.0, -30.0, -20.0}) {
+    const SE2 T_map_vehicle(x, 9.1, 0.0);
+    const PerceptionOutput out =
+        FrontEnd().Process(RenderCameraFrame(Renderer(), T_map_vehicle, 0, kCameras));
+    for (const TagObservation& obs : out.tags.tags) {
+      const sim::WorldTag* tag = nullptr;
+      for (const sim::WorldTag& t : lot.world.tags) {
+        if (t.tag_id == obs.tag_id) tag = &t;
+      }
+      ASSERT_NE(tag, nullptr) << "tag " << obs.tag_id << " is not in the world";
+      const Eigen::Vector2d p_map = T_map_vehicle * obs.p_vehicle;
+      const double range = obs.range_m;
+      EXPECT_LT((p_map - tag->p_map).norm(), 0.05 + 0.02 * range) << "tag " << obs.tag_id;
+      EXPECT_LT(std::abs(AngleDiff(obs.yaw_vehicle_rad + T_map_vehicle.yaw(), tag->normal_yaw_rad)),
+                DegToRad(10.0))
+          << "tag " << obs.tag_id << " at " << range << " m";
+      EXPECT_GT(obs.covariance_vehicle.determinant(), 0.0);
+      ++seen;
+    }
+  }
+  EXPECT_GE(seen, 3);
+}
+
+// The stream on pixels: camera frames become slot and tag frames at their
+// time; the simulator's own detections are dropped.
+TEST(PerceptionSourceTest, ReplacesObservationsByWhatTheCamerasSee) {
+  sim::ScenarioConfig scenario = sim::DefaultScenario();
+  scenario.route.laps = 0;
+  scenario.route.finish_m = {{-20.0, 9.1}};
+  const sim::Simulation simulation = sim::Simulate(scenario, 4);
+  const Trajectory truth = sim::GroundTruthTrajectory(simulation);
+  SensorLogSource log(simulation.log);
+  RenderingSource rendering(log, Renderer(), truth, kCameras, 1.0);
+  PerceptionSource source(rendering, FrontEnd());
+  int slot_frames = 0, tag_frames = 0, cameras = 0;
+  TimeNs last = -1;
+  while (const auto event = source.Next()) {
+    ASSERT_GE(EventTime(*event), last);
+    last = EventTime(*event);
+    if (const auto* f = std::get_if<SlotObservationFrame>(&*event)) {
+      EXPECT_EQ(f->t_ns % 1'000'000'000LL, truth.front().t_ns % 1'000'000'000LL);
+      ++slot_frames;
+    }
+    tag_frames += std::holds_alternative<TagObservationFrame>(*event);
+    cameras += std::holds_alternative<CameraFrame>(*event);
+  }
+  EXPECT_EQ(cameras, 0);
+  EXPECT_EQ(slot_frames, source.frames_processed());
+  EXPECT_EQ(tag_frames, source.frames_processed());
+  EXPECT_EQ(source.frames_processed(), rendering.frames_rendered());
+  EXPECT_GT(source.frames_processed(), 5);
+}
+
+TEST(PerceptionFrontEndTest, MissingCamerasAreNamed) {
+  camera::CameraRig rig = camera::DefaultRig();
+  rig.cameras.erase(rig.cameras.begin());  // "front"
+  try {
+    PerceptionFrontEnd f(rig);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'front'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace parkslam::pipeline
