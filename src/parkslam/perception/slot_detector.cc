@@ -412,8 +412,10 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
                      long_widths.end());
     typical_width_px = long_widths[long_widths.size() / 2];
   }
+  // Long lines are slot lines whatever their width (it grows with blur
+  // far from the car); short ones must look like them.
   const auto width_ok = [&](const PaintLine& line) {
-    return typical_width_px <= 0.0 ||
+    return typical_width_px <= 0.0 || line.length() >= o.long_line_m * s ||
            std::abs(line.width_px - typical_width_px) <= o.max_width_deviation * typical_width_px;
   };
 

@@ -76,7 +76,7 @@ struct SlotDetectorOptions {
   // At most this share of the paint in a ring round a junction may lie off
   // its arms (painted digits and texture make cluttered junctions).
   double max_clutter = 0.15;
-  // Lines at least long_line_m long are slot lines; the lines of a
+  // Lines at least long_line_m long are slot lines; shorter lines of a
   // junction may differ from their median width by at most this share
   // (painted digits' strokes are thinner, merged strokes wider).
   double long_line_m = 1.2;
