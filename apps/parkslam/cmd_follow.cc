@@ -90,8 +90,8 @@ void AddFollowCommand(CLI::App& app) {
                 "Steer from dead reckoning alone (the baseline)");
   cmd->add_flag("--json", options->json, "Print one JSON object");
   cmd->add_option("--live-images", options->live_images_hz,
-                  "Render the cameras on the fly at this rate (Hz) from the true pose into the "
-                  "stream, writing nothing")
+                  "Run on pixels: render the cameras on the fly at this rate (Hz) from the true "
+                  "pose, writing nothing, and localize on what the front end finds in them")
       ->check(CLI::Range(0.0, 30.0));
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {

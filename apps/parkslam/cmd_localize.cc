@@ -32,8 +32,9 @@ void AddLocalizeCommand(CLI::App& app) {
   cmd->add_option("DIR", options->dataset, "Dataset folder")->required();
   cmd->add_option("--out", options->out, "TUM trajectory to write")->required();
   cmd->add_option("--live-images", options->live_images_hz,
-                  "Render the simulated cameras on the fly at this rate (Hz) into the stream, "
-                  "writing nothing (needs the dataset's ground truth)")
+                  "Run on pixels: render the simulated cameras on the fly at this rate (Hz), "
+                  "writing nothing, and use the slots, IDs and tags the front end finds in "
+                  "them instead of the dataset's detections (needs its ground truth)")
       ->check(CLI::Range(0.0, 30.0));
   cmd->add_option("--kidnap-trials", options->kidnap_trials,
                   "Also run this many kidnapped-robot trials on the drive: the belief is "

@@ -46,8 +46,9 @@ void AddMapCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--live-images", options->live_images_hz,
-                  "Render the simulated cameras on the fly at this rate (Hz) into the stream, "
-                  "writing nothing (needs the dataset's ground truth)")
+                  "Run on pixels: render the simulated cameras on the fly at this rate (Hz), "
+                  "writing nothing, and use the slots, IDs and tags the front end finds in "
+                  "them instead of the dataset's detections (needs its ground truth)")
       ->check(CLI::Range(0.0, 30.0));
   cmd->add_option("--init", options->init,
                   "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
