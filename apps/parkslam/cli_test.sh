@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags; do
+for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -91,6 +91,16 @@ expect nonzero "badrig.yaml.*cameras\[0\]" -- "$PARKSLAM" topview --rig "$tmp/ba
 expect 0 '"tags":\[\{"alpha_rad"' -- "$PARKSLAM" tags --image "$tmp/img/images/front_mono/0.jpg" --json
 expect nonzero "image is 640x480" -- "$PARKSLAM" tags --image "$tmp/img/images/front/0.jpg"
 expect nonzero "no camera 'roof'" -- "$PARKSLAM" tags --image "$tmp/img/images/front_mono/0.jpg" --camera "$tmp/img/images/rig.yaml" --camera-name roof
+
+# Slots in a top view: JSON with the issue's keys, an overlay, clear errors.
+expect 0 '^\{"marking_points":\[.*\],"slots":\[' -- "$PARKSLAM" detect --image "$tmp/top.png" --json
+expect 0 "wrote $tmp/overlay.png" -- "$PARKSLAM" detect --image "$tmp/top.png" --out "$tmp/overlay.png"
+[ -s "$tmp/overlay.png" ] && pass || fail "no overlay written"
+expect nonzero "nope.png: no such file" -- "$PARKSLAM" detect --image "$tmp/nope.png"
+printf 'not an image' > "$tmp/fake.png"
+expect nonzero "fake.png: not a readable image" -- "$PARKSLAM" detect --image "$tmp/fake.png"
+expect 0 '"slots":\{"false_negatives"' -- "$PARKSLAM" eval-detect --seed 4 --set route.laps=0 --max-frames 3 --rate-hz 0.1 --json
+expect nonzero "no labelled ps2.0 images" -- "$PARKSLAM" eval-detect --ps2 "$tmp"
 
 # Live cameras: rendered on the fly into the stream, nothing written.
 expect 0 "map written" -- "$PARKSLAM" map "$tmp/img" --out "$tmp/live_map.json" --live-images 1
