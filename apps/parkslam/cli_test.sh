@@ -102,6 +102,11 @@ expect nonzero "fake.png: not a readable image" -- "$PARKSLAM" detect --image "$
 expect 0 '"slots":\{"false_negatives"' -- "$PARKSLAM" eval-detect --seed 4 --set route.laps=0 --max-frames 3 --rate-hz 0.1 --json
 expect nonzero "no labelled ps2.0 images" -- "$PARKSLAM" eval-detect --ps2 "$tmp"
 
+# On the dataset's own images.
+expect 0 "map written" -- "$PARKSLAM" map "$tmp/img" --out "$tmp/rec_map.json" --images
+expect nonzero "images/index.csv: missing" -- "$PARKSLAM" map "$tmp/d" --out "$tmp/rec_map2.json" --images
+expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/rec_map.json" "$tmp/img" --out "$tmp/rec.tum" --images --init 0,0,0
+
 # Live cameras: rendered on the fly into the stream, nothing written.
 expect 0 "map written" -- "$PARKSLAM" map "$tmp/img" --out "$tmp/live_map.json" --live-images 1
 [ ! -e "$tmp/img/images/front/1000000000.jpg" ] && pass || fail "live images were written"

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 
 #include "commands.h"
 #include "parkslam/io/dataset.h"
@@ -21,6 +22,7 @@ void AddLocalizeCommand(CLI::App& app) {
     bool global = false;
     int kidnap_trials = 0;
     double live_images_hz = 0.0;
+    bool images = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -36,6 +38,9 @@ void AddLocalizeCommand(CLI::App& app) {
                   "writing nothing, and use the slots, IDs and tags the front end finds in "
                   "them instead of the dataset's detections (needs its ground truth)")
       ->check(CLI::Range(0.0, 30.0));
+  cmd->add_flag("--images", options->images,
+                "Run on the dataset's own images (DIR/images/, from simulate --images)")
+      ->excludes("--live-images");
   cmd->add_option("--kidnap-trials", options->kidnap_trials,
                   "Also run this many kidnapped-robot trials on the drive: the belief is "
                   "replaced by a confident wrong pose; a trial succeeds when the localizer is "
@@ -64,7 +69,9 @@ void AddLocalizeCommand(CLI::App& app) {
     TimeNs last_frame_ns = 0;
     std::vector<double> update_ms;
     localization::LocalizerState previous = localizer.state();
-    DatasetStream stream(dataset, options->live_images_hz);
+    DatasetStream stream(dataset, options->live_images_hz,
+                         options->images ? std::filesystem::path(options->dataset)
+                                         : std::filesystem::path());
     SensorSource& source = stream.source();
     const size_t total = dataset.log.slot_frames.size() + dataset.log.tag_frames.size();
     Progress progress("  localizing", static_cast<int>(total));

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 
 #include "commands.h"
 #include "parkslam/io/dataset.h"
@@ -17,6 +18,7 @@ void AddMapCommand(CLI::App& app) {
     std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init, solver = "lm";
     double initial_trust_region = 1e8;
     double live_images_hz = 0.0;
+    bool images = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -50,6 +52,10 @@ void AddMapCommand(CLI::App& app) {
                   "writing nothing, and use the slots, IDs and tags the front end finds in "
                   "them instead of the dataset's detections (needs its ground truth)")
       ->check(CLI::Range(0.0, 30.0));
+  cmd->add_flag("--images", options->images,
+                "Run on the dataset's own images (DIR/images/, from simulate --images): the "
+                "slots, IDs and tags found in them replace the dataset's detections")
+      ->excludes("--live-images");
   cmd->add_option("--init", options->init,
                   "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
                   "map frame starts at the first pose");
@@ -67,7 +73,9 @@ void AddMapCommand(CLI::App& app) {
     std::optional<SE2> init;
     if (!options->init.empty()) init = ParsePose(options->init, "--init");
     const auto start = std::chrono::steady_clock::now();
-    mapping::Mapper mapper = BuildMap(dataset, mapper_options, init, true, options->live_images_hz);
+    mapping::Mapper mapper = BuildMap(dataset, mapper_options, init, true, options->live_images_hz,
+                                       options->images ? std::filesystem::path(options->dataset)
+                                                       : std::filesystem::path());
     const double total_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     io::WriteMap(options->out, mapper.Map());

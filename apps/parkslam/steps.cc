@@ -7,6 +7,8 @@
 #include "parkslam/sim/simulator.h"
 #include "progress.h"
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/io/image_folder.h"
+#include "parkslam/io/rig_yaml.h"
 #include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
@@ -61,12 +63,26 @@ nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& m) {
 struct DatasetStream::Live {
   sim::World world;
   std::unique_ptr<render::Renderer> renderer;
-  std::unique_ptr<pipeline::RenderingSource> source;
+  std::unique_ptr<SensorSource> source;  // rendered or recorded frames
   std::unique_ptr<pipeline::PerceptionFrontEnd> front_end;
   std::unique_ptr<pipeline::PerceptionSource> perception;
 };
 
-DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz) : log_(dataset.log) {
+DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
+                             const std::filesystem::path& recorded_images_dir)
+    : log_(dataset.log) {
+  if (!recorded_images_dir.empty()) {
+    io::ReadImageIndex(recorded_images_dir);  // names what is missing before the rig does
+    const camera::CameraRig rig = io::LoadRig(recorded_images_dir / "images" / "rig.yaml");
+    live_ = std::make_unique<Live>();
+    live_->source = std::make_unique<io::ImageFolderSource>(
+        log_, recorded_images_dir, rig,
+        std::vector<std::string>{"front", "rear", "left", "right", "front_mono"});
+    live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(rig);
+    live_->perception =
+        std::make_unique<pipeline::PerceptionSource>(*live_->source, *live_->front_end);
+    return;
+  }
   if (rate_hz <= 0.0) return;
   if (dataset.groundtruth_trajectory.size() < 2) {
     throw std::runtime_error(dataset.name + ": live images need the dataset's ground truth");
@@ -94,7 +110,8 @@ SensorSource& DatasetStream::source() {
 
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
                          std::optional<SE2> initial_pose, bool progress,
-                         double live_image_rate_hz) {
+                         double live_image_rate_hz,
+                         const std::filesystem::path& recorded_images_dir) {
   mapping::Mapper mapper(options,
                          pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
                                                             dataset.scenario.vehicle),
@@ -104,7 +121,7 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
                        log.imu_samples.size() + log.slot_frames.size() + log.tag_frames.size();
   std::optional<Progress> bar;
   if (progress) bar.emplace("  mapping", static_cast<int>(total / 1000) + 1);
-  DatasetStream stream(dataset, live_image_rate_hz);
+  DatasetStream stream(dataset, live_image_rate_hz, recorded_images_dir);
   SensorSource& source = stream.source();
   size_t done = 0;
   while (const auto event = source.Next()) {

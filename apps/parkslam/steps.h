@@ -4,6 +4,7 @@
 // The steps the subcommands share (demo runs them one after the other).
 
 #include <cstdint>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <memory>
 #include <string>
@@ -31,14 +32,21 @@ nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& metrics);
 // With live_image_rate_hz > 0 the simulator's cameras render frame sets on
 // the fly along the dataset's true trajectory into the stream (nothing is
 // written); the dataset must then hold its ground truth.
+// With recorded_images_dir (the dataset's folder) the dataset's own images
+// (DIR/images/) are read instead.
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
                          std::optional<SE2> initial_pose, bool progress,
-                         double live_image_rate_hz = 0.0);
+                         double live_image_rate_hz = 0.0,
+                         const std::filesystem::path& recorded_images_dir = {});
 
-// The stream of a dataset, with live camera frames when rate_hz > 0.
+// The stream of a dataset: on pixels with live camera frames when
+// live_image_rate_hz > 0, or with the dataset's recorded images when
+// recorded_images_dir is given (its folder, holding images/); the slots and
+// tags the perception front end finds then replace the dataset's.
 class DatasetStream {
  public:
-  DatasetStream(const io::Dataset& dataset, double live_image_rate_hz);
+  DatasetStream(const io::Dataset& dataset, double live_image_rate_hz,
+                const std::filesystem::path& recorded_images_dir = {});
   ~DatasetStream();
   SensorSource& source();
 
