@@ -22,6 +22,20 @@ bool InView(const Eigen::Vector2d& px, const cv::Mat& mask, double margin_px, do
   return true;
 }
 
+// Indices of the detections matching a true item or no ignored one.
+template <typename T, typename Match>
+std::vector<int> Scored(const std::vector<T>& detected, const std::vector<T>& truth,
+                        const std::vector<T>& ignored, Match match) {
+  std::vector<int> out;
+  for (size_t k = 0; k < detected.size(); ++k) {
+    bool matches_truth = false, matches_ignored = false;
+    for (const T& t : truth) matches_truth |= match(detected[k], t);
+    for (const T& t : ignored) matches_ignored |= match(detected[k], t);
+    if (matches_truth || !matches_ignored) out.push_back(static_cast<int>(k));
+  }
+  return out;
+}
+
 double Angle(const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
   const Eigen::Vector2d d = to - from;
   return std::atan2(d.y(), d.x());
@@ -119,27 +133,17 @@ std::vector<eval::SlotCornersPx> CornersOf(const std::vector<perception::Detecte
 std::vector<int> ScoredPoints(const std::vector<eval::LabelledMarkingPoint>& detected,
                               const std::vector<eval::LabelledMarkingPoint>& truth,
                               const std::vector<eval::LabelledMarkingPoint>& ignored) {
-  std::vector<int> out;
-  for (size_t k = 0; k < detected.size(); ++k) {
-    bool matches_truth = false, matches_ignored = false;
-    for (const auto& t : truth) matches_truth |= eval::MarkingPointsMatch(detected[k], t);
-    for (const auto& t : ignored) matches_ignored |= eval::MarkingPointsMatch(detected[k], t);
-    if (matches_truth || !matches_ignored) out.push_back(static_cast<int>(k));
-  }
-  return out;
+  return Scored(detected, truth, ignored, [](const auto& d, const auto& t) {
+    return eval::MarkingPointsMatch(d, t);
+  });
 }
 
 std::vector<int> ScoredSlots(const std::vector<eval::EntranceLine>& detected,
                              const std::vector<eval::EntranceLine>& truth,
                              const std::vector<eval::EntranceLine>& ignored) {
-  std::vector<int> out;
-  for (size_t k = 0; k < detected.size(); ++k) {
-    bool matches_truth = false, matches_ignored = false;
-    for (const auto& t : truth) matches_truth |= eval::EntranceLinesMatch(detected[k], t);
-    for (const auto& t : ignored) matches_ignored |= eval::EntranceLinesMatch(detected[k], t);
-    if (matches_truth || !matches_ignored) out.push_back(static_cast<int>(k));
-  }
-  return out;
+  return Scored(detected, truth, ignored, [](const auto& d, const auto& t) {
+    return eval::EntranceLinesMatch(d, t);
+  });
 }
 
 }  // namespace parkslam::pipeline
