@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
@@ -280,6 +281,49 @@ double PaintAlong(const cv::Mat& paint, const Eigen::Vector2d& p, const Eigen::V
   return samples > 0 ? static_cast<double>(on) / samples : 0.0;
 }
 
+// An L corner from the long line and the stub's centreline measured near
+// the corner only: cross-section centroids along the stub out to one arm's
+// length, fitted by least squares, twice (the second time along the first
+// fit's direction). Empty when the stub is not found.
+std::optional<Eigen::Vector2d> RefineCorner(const cv::Mat& top_hat, double threshold,
+                                            const Eigen::Vector2d& corner,
+                                            const PaintLine& long_line, Eigen::Vector2d stub,
+                                            double width_px, double arm_px) {
+  Eigen::Vector2d x = corner;
+  for (int pass = 0; pass < 2; ++pass) {
+    const Eigen::Vector2d normal(-stub.y(), stub.x());
+    std::vector<Eigen::Vector2d> pts;
+    for (double t = width_px; t <= arm_px; t += 2.0) {
+      const Eigen::Vector2d base = x + t * stub;
+      double sum = 0.0, sum_s = 0.0;
+      for (double s = -width_px; s <= width_px; s += 1.0) {
+        const Eigen::Vector2d p = base + s * normal;
+        const double v = Sample(top_hat, p.x(), p.y()) - threshold / 2;
+        if (v <= 0.0) continue;
+        sum += v;
+        sum_s += v * s;
+      }
+      if (sum > 0.0) pts.push_back(base + (sum_s / sum) * normal);
+    }
+    if (pts.size() < 4) return std::nullopt;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& p : pts) mean += p;
+    mean /= static_cast<double>(pts.size());
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const Eigen::Vector2d& p : pts) scatter += (p - mean) * (p - mean).transpose();
+    Eigen::Vector2d d = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(1);
+    if (d.dot(stub) < 0) d = -d;
+    // Intersection of the long line with mean + u d.
+    const double sin_ld = Cross(long_line.dir, d);
+    if (std::abs(sin_ld) < 0.3) return std::nullopt;
+    const double u = Cross(long_line.point - mean, long_line.dir) / -sin_ld;
+    x = mean + u * d;
+    stub = d;
+  }
+  if ((x - corner).norm() > arm_px) return std::nullopt;
+  return x;
+}
+
 struct Junction {
   MarkingPoint point;
   // The arm of an L junction not taken as its separating line.
@@ -483,6 +527,13 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
         const Eigen::Vector2d& other = arm_a >= arm_b ? dir_b : dir_a;
         junction.point.direction_rad = std::atan2(main.y(), main.x());
         junction.other_direction_rad = std::atan2(other.y(), other.x());
+        // The stub's line, fitted over its whole length, can be pulled
+        // askew by paint beyond it (a digit); refit it next to the corner.
+        const PaintLine& long_line = arm_a >= arm_b ? a : b;
+        if (const std::optional<Eigen::Vector2d> refined = RefineCorner(
+                top_hat, threshold, x, long_line, other, long_line.width_px, min_arm_px)) {
+          junction.point.px = *refined;
+        }
       }
       if (!valid.empty()) {
         const int cx = static_cast<int>(std::lround(x.x())), cy = static_cast<int>(std::lround(x.y()));
@@ -491,7 +542,8 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
       std::vector<Eigen::Vector2d> arms{dir_a, dir_b};
       if (wa == 0) arms.push_back(-dir_a);
       if (wb == 0) arms.push_back(-dir_b);
-      const double clutter = Clutter(paint, x, arms, std::max(a.width_px, b.width_px), min_arm_px);
+      const double clutter =
+          Clutter(paint, junction.point.px, arms, std::max(a.width_px, b.width_px), min_arm_px);
       if (clutter > o.max_clutter) continue;
       junctions.push_back(junction);
     }
