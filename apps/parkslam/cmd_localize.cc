@@ -21,8 +21,7 @@ void AddLocalizeCommand(CLI::App& app) {
     std::string map, dataset, out, init;
     bool global = false;
     int kidnap_trials = 0;
-    double live_images_hz = 0.0;
-    bool images = false;
+    PixelOptions pixels;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -33,14 +32,7 @@ void AddLocalizeCommand(CLI::App& app) {
   cmd->add_option("--map", options->map, "Map JSON")->required();
   cmd->add_option("DIR", options->dataset, "Dataset folder")->required();
   cmd->add_option("--out", options->out, "TUM trajectory to write")->required();
-  cmd->add_option("--live-images", options->live_images_hz,
-                  "Run on pixels: render the simulated cameras on the fly at this rate (Hz), "
-                  "writing nothing, and use the slots, IDs and tags the front end finds in "
-                  "them instead of the dataset's detections (needs its ground truth)")
-      ->check(CLI::Range(0.0, 30.0));
-  cmd->add_flag("--images", options->images,
-                "Run on the dataset's own images (DIR/images/, from simulate --images)")
-      ->excludes("--live-images");
+  AddPixelOptions(cmd, &options->pixels);
   cmd->add_option("--kidnap-trials", options->kidnap_trials,
                   "Also run this many kidnapped-robot trials on the drive: the belief is "
                   "replaced by a confident wrong pose; a trial succeeds when the localizer is "
@@ -69,9 +61,9 @@ void AddLocalizeCommand(CLI::App& app) {
     TimeNs last_frame_ns = 0;
     std::vector<double> update_ms;
     localization::LocalizerState previous = localizer.state();
-    DatasetStream stream(dataset, options->live_images_hz,
-                         options->images ? std::filesystem::path(options->dataset)
-                                         : std::filesystem::path());
+    const std::filesystem::path recorded =
+        options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
+    DatasetStream stream(dataset, options->pixels.live_images_hz, recorded);
     SensorSource& source = stream.source();
     const size_t total = dataset.log.slot_frames.size() + dataset.log.tag_frames.size();
     Progress progress("  localizing", static_cast<int>(total));

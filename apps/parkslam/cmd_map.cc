@@ -17,8 +17,7 @@ void AddMapCommand(CLI::App& app) {
   struct Options {
     std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init, solver = "lm";
     double initial_trust_region = 1e8;
-    double live_images_hz = 0.0;
-    bool images = false;
+    PixelOptions pixels;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -47,15 +46,7 @@ void AddMapCommand(CLI::App& app) {
                   "Initial trust-region radius of the final solve")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_option("--live-images", options->live_images_hz,
-                  "Run on pixels: render the simulated cameras on the fly at this rate (Hz), "
-                  "writing nothing, and use the slots, IDs and tags the front end finds in "
-                  "them instead of the dataset's detections (needs its ground truth)")
-      ->check(CLI::Range(0.0, 30.0));
-  cmd->add_flag("--images", options->images,
-                "Run on the dataset's own images (DIR/images/, from simulate --images): the "
-                "slots, IDs and tags found in them replace the dataset's detections")
-      ->excludes("--live-images");
+  AddPixelOptions(cmd, &options->pixels);
   cmd->add_option("--init", options->init,
                   "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
                   "map frame starts at the first pose");
@@ -73,9 +64,10 @@ void AddMapCommand(CLI::App& app) {
     std::optional<SE2> init;
     if (!options->init.empty()) init = ParsePose(options->init, "--init");
     const auto start = std::chrono::steady_clock::now();
-    mapping::Mapper mapper = BuildMap(dataset, mapper_options, init, true, options->live_images_hz,
-                                       options->images ? std::filesystem::path(options->dataset)
-                                                       : std::filesystem::path());
+    const std::filesystem::path recorded =
+        options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
+    mapping::Mapper mapper =
+        BuildMap(dataset, mapper_options, init, true, options->pixels.live_images_hz, recorded);
     const double total_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     io::WriteMap(options->out, mapper.Map());

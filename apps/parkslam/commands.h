@@ -39,6 +39,14 @@ struct ScenarioOptions {
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options);
 sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options);
 
+// Where the cameras' frames come from for `map` and `localize`: rendered
+// live at a rate, or the dataset's own images.
+struct PixelOptions {
+  double live_images_hz = 0.0;
+  bool images = false;
+};
+void AddPixelOptions(CLI::App* command, PixelOptions* options);
+
 // Parses "x,y,yaw" (metres, metres, radians).
 SE2 ParsePose(const std::string& text, const std::string& option_name);
 

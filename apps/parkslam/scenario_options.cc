@@ -64,4 +64,18 @@ SE2 ParsePose(const std::string& text, const std::string& option_name) {
   return SE2(values[0], values[1], values[2]);
 }
 
+void AddPixelOptions(CLI::App* command, PixelOptions* options) {
+  command
+      ->add_option("--live-images", options->live_images_hz,
+                   "Run on pixels: render the simulated cameras on the fly at this rate (Hz), "
+                   "writing nothing, and use the slots, IDs and tags the front end finds in "
+                   "them instead of the dataset's detections (needs its ground truth)")
+      ->check(CLI::Range(0.0, 30.0));
+  command
+      ->add_flag("--images", options->images,
+                 "Run on the dataset's own images (DIR/images/, from simulate --images): the "
+                 "slots, IDs and tags found in them replace the dataset's detections")
+      ->excludes("--live-images");
+}
+
 }  // namespace parkslam::app
