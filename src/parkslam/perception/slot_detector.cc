@@ -364,6 +364,8 @@ bool SlotDetectorOptions::IsValid(std::string* error) const {
     return fail("long_line_m and max_width_deviation must be positive");
   if (!(min_contrast_grey >= 1.0 && min_contrast_grey <= 255.0))
     return fail("min_contrast_grey must be in [1, 255]");
+  if (!(local_contrast_factor >= 1.0 && local_window_m > 0.0))
+    return fail("local_contrast_factor must be at least 1 and local_window_m positive");
   if (!(min_junction_angle_rad > 0.0 && min_junction_angle_rad < kPi / 2))
     return fail("min_junction_angle_rad must be in (0, pi/2)");
   return true;
@@ -400,14 +402,25 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
               cv::Point(-1, -1), static_cast<int>(std::ceil(o.max_line_width_m * s)));
   }
 
-  // 1. Paint: the top-hat with a kernel twice the widest line, thresholded
-  //    relative to the brightest paint in view.
+  // 1. Paint: the top-hat with a kernel twice the widest line. A pixel is
+  //    paint when its response stands local_contrast_factor times above the
+  //    mean response around it (so that textured floor, grass or a car's
+  //    body, whose response is high everywhere, is not) and above
+  //    min_contrast_grey. Line refinement measures support against a
+  //    threshold relative to the brightest paint in view.
   const double max_width_px = o.max_line_width_m * s;
   const int kernel_px = 2 * static_cast<int>(std::ceil(max_width_px)) + 1;
   const cv::Mat top_hat = TopHat(grey, kernel_px);
   const double threshold =
       std::max(o.min_contrast_grey, o.relative_contrast * Percentile(top_hat, 0.995));
-  cv::Mat paint = top_hat > threshold;
+  cv::Mat paint;
+  {
+    const int window_px = 2 * static_cast<int>(std::lround(o.local_window_m * s / 2)) + 1;
+    cv::Mat local_mean, response;
+    cv::boxFilter(top_hat, local_mean, CV_32F, cv::Size(window_px, window_px));
+    top_hat.convertTo(response, CV_32F);
+    paint = (response > local_mean * o.local_contrast_factor) & (top_hat > o.min_contrast_grey);
+  }
   if (!valid.empty()) paint.setTo(0, valid == 0);
 
   // 2. Centrelines: the ridges of the paint, their straight pieces by the

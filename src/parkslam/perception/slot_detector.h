@@ -62,10 +62,14 @@ struct SlotDetectorOptions {
   // A marking point within this of an entrance line between two others
   // counts as lying on it (paper: such candidates are removed).
   double on_line_tolerance_m = 0.25;
-  // Paint must stand out of the floor's top-hat by at least
-  // min_contrast_grey grey levels and by relative_contrast of the
-  // brightest paint in view (its 99.5th percentile).
+  // Paint stands out of the floor's top-hat response by at least
+  // min_contrast_grey grey levels and local_contrast_factor times the mean
+  // response within local_window_m around it. Lines are refined against
+  // relative_contrast of the brightest paint in view (its 99.5th
+  // percentile).
   double min_contrast_grey = 20.0;
+  double local_contrast_factor = 2.0;
+  double local_window_m = 1.0;
   double relative_contrast = 0.35;
   // Arms of a junction are at least this long; junctions closer than this
   // are one marking point.
