@@ -17,8 +17,9 @@ cv::Point2f ToCv(const Eigen::Vector2d& p) {
   return {static_cast<float>(p.x()), static_cast<float>(p.y())};
 }
 
-// The detections drawn over the image: marking points as circles with
-// their direction, entrance lines solid, guessed sides thin, IDs as text.
+// The detections drawn over the image: painted lines found (thin purple),
+// marking points as circles with their direction, entrance lines solid,
+// guessed sides thin, IDs as text.
 cv::Mat DrawOverlay(const cv::Mat& image, const perception::SlotDetection& detection,
                     const std::vector<SlotIdReading>& ids) {
   cv::Mat overlay;
@@ -28,6 +29,9 @@ cv::Mat DrawOverlay(const cv::Mat& image, const perception::SlotDetection& detec
     overlay = image.clone();
   }
   const cv::Scalar entrance_colour(0, 200, 0), guessed_colour(0, 140, 255);
+  for (const perception::PaintedLine& line : detection.lines) {
+    cv::line(overlay, ToCv(line.a_px), ToCv(line.b_px), cv::Scalar(200, 0, 200), 1, cv::LINE_AA);
+  }
   for (size_t k = 0; k < detection.slots.size(); ++k) {
     const perception::DetectedSlot& slot = detection.slots[k];
     const auto& c = slot.corners_px;
