@@ -441,9 +441,9 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
     // Refinement may make two rough pieces one line: keep the first.
     bool duplicate = false;
     for (const PaintLine& other : lines) {
+      // Parallel, on the same centreline, overlapping along it.
       if (std::abs(Cross(other.dir, line.dir)) < 0.05 &&
-          std::abs(other.Across(line.point + (line.t0 + line.t1) / 2 * line.dir)) < 3.0 &&
-          line.t1 > other.Along(line.point + line.t0 * line.dir) - 1e9) {
+          std::abs(other.Across(line.point + (line.t0 + line.t1) / 2 * line.dir)) < 3.0) {
         const double a0 = other.Along(line.point + line.t0 * line.dir);
         const double a1 = other.Along(line.point + line.t1 * line.dir);
         const double lo = std::min(a0, a1), hi = std::max(a0, a1);
