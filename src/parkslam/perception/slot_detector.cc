@@ -488,7 +488,12 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
       const PaintLine& b = lines[j];
       const double sin_ab = Cross(a.dir, b.dir);
       if (std::abs(sin_ab) < min_sin) continue;
-      if (!width_ok(a) || !width_ok(b)) continue;
+      // A short line meeting a long one passes as well when their widths
+      // agree (the lot's line width varies with blur across a real view).
+      const bool alike = std::max(a.width_px, b.width_px) <=
+                             (1.0 + o.max_width_deviation) * std::min(a.width_px, b.width_px) &&
+                         std::max(a.length(), b.length()) >= o.long_line_m * s;
+      if (!(width_ok(a) && width_ok(b)) && !alike) continue;
       // Intersection: a.point + ta a.dir = b.point + tb b.dir.
       const Eigen::Vector2d d = b.point - a.point;
       const double ta = Cross(d, b.dir) / sin_ab;
