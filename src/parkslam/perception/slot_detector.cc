@@ -7,6 +7,8 @@
 #include <optional>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include "parkslam/common/angles.h"
 
@@ -106,6 +108,50 @@ cv::Mat Ridges(const cv::Mat& top_hat, const cv::Mat& paint, double max_width_px
   return ridges;
 }
 
+// The top-hat response above `floor` across a line at `base`, sampled along
+// `normal` within +-half_window_px: its sum, the offset of its centroid
+// along `normal` (0 when there is none) and its peak.
+struct CrossSection {
+  double sum = 0.0, offset = 0.0, peak = 0.0;
+};
+
+CrossSection MeasureCrossSection(const cv::Mat& top_hat, const Eigen::Vector2d& base,
+                                 const Eigen::Vector2d& normal, double half_window_px,
+                                 double floor) {
+  CrossSection c;
+  double sum_s = 0.0;
+  for (double s = -half_window_px; s <= half_window_px; s += 1.0) {
+    const Eigen::Vector2d p = base + s * normal;
+    const double v = Sample(top_hat, p.x(), p.y()) - floor;
+    if (v <= 0.0) continue;
+    c.sum += v;
+    sum_s += v * s;
+    c.peak = std::max(c.peak, v);
+  }
+  if (c.sum > 0.0) c.offset = sum_s / c.sum;
+  return c;
+}
+
+// The least-squares line through points (at least two): their mean, and
+// their principal direction signed to agree with `along`.
+std::pair<Eigen::Vector2d, Eigen::Vector2d> FitLine(const std::vector<Eigen::Vector2d>& pts,
+                                                    const Eigen::Vector2d& along) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : pts) mean += p;
+  mean /= static_cast<double>(pts.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const Eigen::Vector2d& p : pts) scatter += (p - mean) * (p - mean).transpose();
+  Eigen::Vector2d dir = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(1);
+  if (dir.dot(along) < 0) dir = -dir;
+  return {mean, dir};
+}
+
+double Median(std::vector<double> values) {
+  const auto middle = values.begin() + static_cast<long>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
 // Refines a rough line on the top-hat image: centroids of the response
 // across the line at regular steps give the centreline by least squares;
 // the painted extent is where the response holds. Returns false when too
@@ -124,18 +170,9 @@ bool RefineLine(const cv::Mat& top_hat, double threshold, double half_window_px,
   const double margin = 2.0 * half_window_px;
   for (double t = line->t0 - margin; t <= line->t1 + margin; t += kStepPx) {
     const Eigen::Vector2d base = line->point + t * line->dir;
-    double sum = 0.0, sum_s = 0.0, peak = 0.0;
-    for (double s = -half_window_px; s <= half_window_px; s += 1.0) {
-      const Eigen::Vector2d p = base + s * normal;
-      const double v = Sample(top_hat, p.x(), p.y()) - threshold / 2;
-      if (v <= 0.0) continue;
-      sum += v;
-      sum_s += v * s;
-      peak = std::max(peak, v);
-    }
-    if (peak < threshold / 2) continue;
-    const double s_mean = sum_s / sum;
-    support.push_back({t, base + s_mean * normal, sum / peak, peak});
+    const CrossSection c = MeasureCrossSection(top_hat, base, normal, half_window_px, threshold / 2);
+    if (c.peak < threshold / 2) continue;
+    support.push_back({t, base + c.offset * normal, c.sum / c.peak, c.peak});
   }
   if (support.size() < 4) return false;
   // Longest run of supported samples without a gap wider than a line width.
@@ -150,14 +187,14 @@ bool RefineLine(const cv::Mat& top_hat, double threshold, double half_window_px,
   if (t_hi - t_lo < min_length_px) return false;
   // Fit on the interior (the ends are disturbed by crossing lines), twice,
   // dropping outliers the second time.
-  std::vector<double> widths;
-  for (size_t i = best_begin; i < best_end; ++i) widths.push_back(support[i].width);
-  std::nth_element(widths.begin(), widths.begin() + static_cast<long>(widths.size() / 2),
-                   widths.end());
-  const double width = widths[widths.size() / 2];
+  std::vector<double> widths, peaks;
+  for (size_t i = best_begin; i < best_end; ++i) {
+    widths.push_back(support[i].width);
+    peaks.push_back(support[i].peak);
+  }
+  const double width = Median(widths);
   Eigen::Vector2d point = line->point, dir = line->dir;
   for (int pass = 0; pass < 2; ++pass) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     std::vector<Eigen::Vector2d> pts;
     for (size_t i = best_begin; i < best_end; ++i) {
       if (support[i].t < t_lo + width || support[i].t > t_hi - width) continue;
@@ -167,20 +204,12 @@ bool RefineLine(const cv::Mat& top_hat, double threshold, double half_window_px,
       const Eigen::Vector2d& c = support[i].centre;
       if (pass == 1 && std::abs(Cross(dir, c - point)) > 1.5) continue;
       pts.push_back(c);
-      mean += c;
     }
     if (pts.size() < 3) {
       if (pass == 0) return false;
       break;
     }
-    mean /= static_cast<double>(pts.size());
-    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-    for (const Eigen::Vector2d& p : pts) scatter += (p - mean) * (p - mean).transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(scatter);
-    Eigen::Vector2d d = eig.eigenvectors().col(1);
-    if (d.dot(line->dir) < 0) d = -d;
-    point = mean;
-    dir = d;
+    std::tie(point, dir) = FitLine(pts, line->dir);
   }
   const Eigen::Vector2d lo = line->point + t_lo * line->dir, hi = line->point + t_hi * line->dir;
   line->point = point;
@@ -188,11 +217,7 @@ bool RefineLine(const cv::Mat& top_hat, double threshold, double half_window_px,
   line->t0 = (lo - point).dot(dir);
   line->t1 = (hi - point).dot(dir);
   line->width_px = width;
-  std::vector<double> peaks;
-  for (size_t i = best_begin; i < best_end; ++i) peaks.push_back(support[i].peak);
-  std::nth_element(peaks.begin(), peaks.begin() + static_cast<long>(peaks.size() / 2),
-                   peaks.end());
-  line->contrast = peaks[peaks.size() / 2] + threshold / 2;
+  line->contrast = Median(peaks) + threshold / 2;
   return true;
 }
 
@@ -295,24 +320,11 @@ std::optional<Eigen::Vector2d> RefineCorner(const cv::Mat& top_hat, double thres
     std::vector<Eigen::Vector2d> pts;
     for (double t = width_px; t <= arm_px; t += 2.0) {
       const Eigen::Vector2d base = x + t * stub;
-      double sum = 0.0, sum_s = 0.0;
-      for (double s = -width_px; s <= width_px; s += 1.0) {
-        const Eigen::Vector2d p = base + s * normal;
-        const double v = Sample(top_hat, p.x(), p.y()) - threshold / 2;
-        if (v <= 0.0) continue;
-        sum += v;
-        sum_s += v * s;
-      }
-      if (sum > 0.0) pts.push_back(base + (sum_s / sum) * normal);
+      const CrossSection c = MeasureCrossSection(top_hat, base, normal, width_px, threshold / 2);
+      if (c.sum > 0.0) pts.push_back(base + c.offset * normal);
     }
     if (pts.size() < 4) return std::nullopt;
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const Eigen::Vector2d& p : pts) mean += p;
-    mean /= static_cast<double>(pts.size());
-    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-    for (const Eigen::Vector2d& p : pts) scatter += (p - mean) * (p - mean).transpose();
-    Eigen::Vector2d d = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(1);
-    if (d.dot(stub) < 0) d = -d;
+    const auto [mean, d] = FitLine(pts, stub);
     // Intersection of the long line with mean + u d.
     const double sin_ld = Cross(long_line.dir, d);
     if (std::abs(sin_ld) < 0.3) return std::nullopt;
@@ -462,13 +474,7 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
   for (const PaintLine& line : lines) {
     if (line.length() >= o.long_line_m * s) long_widths.push_back(line.width_px);
   }
-  double typical_width_px = 0.0;
-  if (long_widths.size() >= 2) {
-    std::nth_element(long_widths.begin(),
-                     long_widths.begin() + static_cast<long>(long_widths.size() / 2),
-                     long_widths.end());
-    typical_width_px = long_widths[long_widths.size() / 2];
-  }
+  const double typical_width_px = long_widths.size() >= 2 ? Median(long_widths) : 0.0;
   // Long lines are slot lines whatever their width (it grows with blur
   // far from the car); short ones must look like them.
   const auto width_ok = [&](const PaintLine& line) {
