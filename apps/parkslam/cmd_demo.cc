@@ -130,9 +130,7 @@ void AddDemoCommand(CLI::App& app) {
       while (const auto event = source.Next()) {
         const auto estimate = localizer.Process(*event);
         if (estimate && estimate->state == localization::LocalizerState::kTracking) {
-          // Slots and tags of one camera frame share its time.
-          if (!localized.empty() && localized.back().t_ns == estimate->t_ns) localized.pop_back();
-          localized.push_back({estimate->t_ns, T_world_map * estimate->T_map_vehicle});
+          AppendOrReplaceLast(&localized, {estimate->t_ns, T_world_map * estimate->T_map_vehicle});
         }
       }
     }

@@ -85,15 +85,7 @@ void AddLocalizeCommand(CLI::App& app) {
       }
       previous = estimate->state;
       if (estimate->state == localization::LocalizerState::kTracking) {
-        ++tracking;
-        // Slots and tags of one camera frame share its time: the later
-        // estimate (both applied) replaces the earlier.
-        if (!trajectory.empty() && trajectory.back().t_ns == estimate->t_ns) {
-          trajectory.back().T_map_vehicle = estimate->T_map_vehicle;
-          --tracking;
-        } else {
-          trajectory.push_back({estimate->t_ns, estimate->T_map_vehicle});
-        }
+        tracking += AppendOrReplaceLast(&trajectory, {estimate->t_ns, estimate->T_map_vehicle});
       }
     }
     progress.Finish();

@@ -38,4 +38,13 @@ double PathLength(const Trajectory& trajectory) {
   return length_m;
 }
 
+bool AppendOrReplaceLast(Trajectory* trajectory, const TimedPose& pose) {
+  if (!trajectory->empty() && trajectory->back().t_ns == pose.t_ns) {
+    trajectory->back() = pose;
+    return false;
+  }
+  trajectory->push_back(pose);
+  return true;
+}
+
 }  // namespace parkslam

@@ -34,6 +34,11 @@ std::optional<SE2> PoseAt(const Trajectory& trajectory, TimeNs t_ns);
 // T_b_a * T_a_vehicle.
 Trajectory Transformed(const SE2& T_b_a, const Trajectory& trajectory_a);
 
+// Appends `pose`, or replaces the last pose when it has the same time (the
+// slots and tags of one camera frame share its time; the later estimate,
+// which has used both, is kept). True when it appended.
+bool AppendOrReplaceLast(Trajectory* trajectory, const TimedPose& pose);
+
 // Length of the path through the trajectory's positions, in metres.
 double PathLength(const Trajectory& trajectory);
 

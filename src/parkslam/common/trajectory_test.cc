@@ -44,6 +44,16 @@ TEST(TrajectoryTest, TransformedMovesEveryPoseKeepingTimes) {
   EXPECT_NEAR(moved[1].T_map_vehicle.yaw(), kPi / 2 + 0.2, 1e-12);
 }
 
+TEST(TrajectoryTest, AppendOrReplaceLastKeepsTimesStrictlyIncreasing) {
+  Trajectory t;
+  EXPECT_TRUE(AppendOrReplaceLast(&t, {10, SE2(1.0, 0.0, 0.0)}));
+  EXPECT_FALSE(AppendOrReplaceLast(&t, {10, SE2(2.0, 0.0, 0.0)}));
+  EXPECT_TRUE(AppendOrReplaceLast(&t, {20, SE2(3.0, 0.0, 0.0)}));
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_DOUBLE_EQ(t[0].T_map_vehicle.x(), 2.0);  // the later estimate at t = 10
+  EXPECT_EQ(t[1].t_ns, 20);
+}
+
 TEST(TimeTest, SecondsRoundTrip) {
   EXPECT_EQ(FromSeconds(1.5), 1'500'000'000);
   EXPECT_DOUBLE_EQ(ToSeconds(FromSeconds(123.456789)), 123.456789);

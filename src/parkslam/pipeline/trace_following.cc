@@ -159,11 +159,7 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
         SE2 estimate;
         bool lost = false;
         if (!source.Process(event, &estimate, &lost)) continue;
-        // Slots and tags of one camera frame share its time: keep the later.
-        if (!run.estimate_map.empty() && run.estimate_map.back().t_ns == EventTime(event)) {
-          run.estimate_map.pop_back();
-        }
-        run.estimate_map.push_back({EventTime(event), estimate});
+        AppendOrReplaceLast(&run.estimate_map, {EventTime(event), estimate});
         run.lost_frames += lost;
         // The truth of this frame in the map frame.
         const SE2 truth_map = T_map_world * simulator.state().T_map_vehicle;
