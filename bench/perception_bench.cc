@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/camera/image_plane.h"
 #include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
@@ -35,8 +36,7 @@ struct Fixture {
     frame = pipeline::RenderCameraFrame(renderer, SE2(12.0, 9.1, 0.0), 0,
                                         {"front", "rear", "left", "right", "front_mono"});
     for (size_t k = 0; k < 5; ++k) {
-      const ImagePlane& p = frame.images[k];
-      cv::Mat m(p.height, p.width, CV_8UC1, const_cast<std::uint8_t*>(p.pixels->data()));
+      const cv::Mat m = camera::AsMat(frame.images[k]);
       if (k < 4) {
         fisheyes.push_back(m);
       } else {

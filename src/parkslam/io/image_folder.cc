@@ -2,6 +2,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "parkslam/camera/image_plane.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/text_util.h"
@@ -91,13 +92,8 @@ CameraFrame ImageFolderSource::ReadFrame(TimeNs t_ns) {
                                     std::to_string(image.rows) + ", camera '" + name + "' " +
                                     std::to_string(width) + "x" + std::to_string(height));
     }
-    auto pixels = std::make_shared<std::vector<std::uint8_t>>(image.total());
-    for (int r = 0; r < image.rows; ++r) {
-      std::copy(image.ptr<std::uint8_t>(r), image.ptr<std::uint8_t>(r) + image.cols,
-                pixels->begin() + static_cast<long>(r) * image.cols);
-    }
     frame.cameras.push_back(name);
-    frame.images.push_back({image.cols, image.rows, std::move(pixels)});
+    frame.images.push_back(camera::ToImagePlane(image));
   }
   ++frames_read_;
   return frame;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "parkslam/camera/image_plane.h"
 #include "parkslam/common/angles.h"
 
 namespace parkslam::pipeline {
@@ -14,12 +15,6 @@ using Clock = std::chrono::steady_clock;
 
 double MsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// A grey plane as a cv::Mat header over the shared pixels (no copy).
-cv::Mat AsMat(const ImagePlane& plane) {
-  return cv::Mat(plane.height, plane.width, CV_8UC1,
-                 const_cast<std::uint8_t*>(plane.pixels->data()));
 }
 
 double Cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -113,7 +108,7 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame) const {
   // Slots (paper III-A): fusion, detection, ID reading.
   std::vector<cv::Mat> fisheyes;
   for (const std::string& name : options_.fisheye_cameras) {
-    if (const ImagePlane* plane = image_of(name)) fisheyes.push_back(AsMat(*plane));
+    if (const ImagePlane* plane = image_of(name)) fisheyes.push_back(camera::AsMat(*plane));
   }
   if (fisheyes.size() == options_.fisheye_cameras.size()) {
     Clock::time_point start = Clock::now();
@@ -156,7 +151,7 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame) const {
   // Tags (paper III-B) in the front camera.
   if (const ImagePlane* plane = image_of(options_.tag_camera)) {
     const Clock::time_point start = Clock::now();
-    const cv::Mat image = AsMat(*plane);
+    const cv::Mat image = camera::AsMat(*plane);
     if (image.cols != tag_camera_.intrinsics.width || image.rows != tag_camera_.intrinsics.height) {
       throw std::invalid_argument("perception: the " + options_.tag_camera + " image is " +
                                   std::to_string(image.cols) + "x" + std::to_string(image.rows) +

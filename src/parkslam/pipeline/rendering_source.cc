@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "parkslam/camera/image_plane.h"
+
 namespace parkslam::pipeline {
 
 CameraFrame RenderCameraFrame(const render::Renderer& renderer, const SE2& T_map_vehicle,
@@ -10,13 +12,7 @@ CameraFrame RenderCameraFrame(const render::Renderer& renderer, const SE2& T_map
   frame.t_ns = t_ns;
   frame.cameras = cameras;
   for (const cv::Mat& image : renderer.RenderAll(T_map_vehicle, t_ns, cameras)) {
-    auto pixels = std::make_shared<std::vector<std::uint8_t>>(
-        static_cast<size_t>(image.cols) * static_cast<size_t>(image.rows));
-    for (int v = 0; v < image.rows; ++v) {
-      std::copy(image.ptr<std::uint8_t>(v), image.ptr<std::uint8_t>(v) + image.cols,
-                pixels->begin() + static_cast<long>(v) * image.cols);
-    }
-    frame.images.push_back({image.cols, image.rows, std::move(pixels)});
+    frame.images.push_back(camera::ToImagePlane(image));
   }
   return frame;
 }
