@@ -159,7 +159,7 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame) const {
                                   "x" + std::to_string(tag_camera_.intrinsics.height));
     }
     const std::vector<perception::DetectedTag> tags = tag_detector_->Detect(
-        image.rowRange(tag_first_row_, tag_first_row_ + tag_rows_).clone(), &tag_band_intrinsics_);
+        image.rowRange(tag_first_row_, tag_first_row_ + tag_rows_), &tag_band_intrinsics_);
     out.timing.tags_ms = MsSince(start);
     const Eigen::Matrix3d R_vehicle_camera = tag_camera_.T_vehicle_camera.rotation();
     const Eigen::Vector3d camera_vehicle = tag_camera_.T_vehicle_camera.translation();
