@@ -27,7 +27,7 @@ struct PaintLine {
   Eigen::Vector2d dir = Eigen::Vector2d::UnitX();
   double t0 = 0.0, t1 = 0.0;
   double width_px = 0.0;
-  double contrast = 0.0;  // median top-hat response on the centreline
+  double contrast = 0.0;  // median brightness above the floor on the centreline
 
   double Along(const Eigen::Vector2d& p) const { return (p - point).dot(dir); }
   double Across(const Eigen::Vector2d& p) const { return Cross(dir, p - point); }
@@ -45,14 +45,22 @@ double Sample(const cv::Mat& image, double x, double y) {
          fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
 }
 
-// The white top-hat of the grey image: the brightness of structures
-// narrower than kernel_px above their surroundings, which keeps painted
-// lines and removes light gradients, bright walls and glare.
-cv::Mat TopHat(const cv::Mat& grey, int kernel_px) {
-  cv::Mat top_hat;
-  cv::morphologyEx(grey, top_hat, cv::MORPH_TOPHAT,
-                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kernel_px, kernel_px)));
-  return top_hat;
+// The brightness of structures narrower than about half of kernel_px above
+// the floor around them: the grey image less its median over kernel_px
+// (negative values clipped). A median, unlike a morphological opening, is
+// not dragged down by dark specks, cracks or tile joints beside a line.
+// The median is taken at reduced resolution (a painted line stays well
+// under half its window) and interpolated back.
+cv::Mat BrightAboveFloor(const cv::Mat& grey, int kernel_px) {
+  const int shrink = std::max(1, kernel_px / 9);
+  cv::Mat small, small_floor, floor;
+  cv::resize(grey, small, cv::Size(), 1.0 / shrink, 1.0 / shrink, cv::INTER_AREA);
+  const int window = std::max(3, (kernel_px / shrink) | 1);
+  cv::medianBlur(small, small_floor, window);
+  cv::resize(small_floor, floor, grey.size(), 0.0, 0.0, cv::INTER_LINEAR);
+  cv::Mat response;
+  cv::subtract(grey, floor, response);  // saturates at 0
+  return response;
 }
 
 // The grey level below which `share` of the image's pixels lie.
@@ -71,15 +79,15 @@ int Percentile(const cv::Mat& image, double share) {
   return 255;
 }
 
-// Centreline pixels of the paint: where the smoothed top-hat peaks across
+// Centreline pixels of the paint: where the smoothed brightness above the floor peaks across
 // the line, along x or along y (every line but a purely horizontal one peaks
 // along x, and vice versa), by at least a quarter of the threshold within
 // half the widest line.
-cv::Mat Ridges(const cv::Mat& top_hat, const cv::Mat& paint, double max_width_px,
+cv::Mat Ridges(const cv::Mat& bright, const cv::Mat& paint, double max_width_px,
                double threshold) {
   cv::Mat smooth;
   const double sigma = std::max(1.0, max_width_px / 6.0);
-  cv::GaussianBlur(top_hat, smooth, cv::Size(0, 0), sigma);
+  cv::GaussianBlur(bright, smooth, cv::Size(0, 0), sigma);
   const int r = static_cast<int>(std::ceil(max_width_px / 2));
   const cv::Mat kx = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 1));
   const cv::Mat ky = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, 2 * r + 1));
@@ -89,7 +97,7 @@ cv::Mat Ridges(const cv::Mat& top_hat, const cv::Mat& paint, double max_width_px
   cv::dilate(smooth, max_y, ky);
   cv::erode(smooth, min_y, ky);
   const int drop = std::max(1, static_cast<int>(threshold / 4));
-  cv::Mat ridges = cv::Mat::zeros(top_hat.size(), CV_8U);
+  cv::Mat ridges = cv::Mat::zeros(bright.size(), CV_8U);
   for (int y = 0; y < smooth.rows; ++y) {
     const std::uint8_t* v = smooth.ptr<std::uint8_t>(y);
     const std::uint8_t* ax = max_x.ptr<std::uint8_t>(y);
@@ -108,21 +116,21 @@ cv::Mat Ridges(const cv::Mat& top_hat, const cv::Mat& paint, double max_width_px
   return ridges;
 }
 
-// The top-hat response above `floor` across a line at `base`, sampled along
+// The brightness above the floor, less `floor`, across a line at `base`, sampled along
 // `normal` within +-half_window_px: its sum, the offset of its centroid
 // along `normal` (0 when there is none) and its peak.
 struct CrossSection {
   double sum = 0.0, offset = 0.0, peak = 0.0;
 };
 
-CrossSection MeasureCrossSection(const cv::Mat& top_hat, const Eigen::Vector2d& base,
+CrossSection MeasureCrossSection(const cv::Mat& bright, const Eigen::Vector2d& base,
                                  const Eigen::Vector2d& normal, double half_window_px,
                                  double floor) {
   CrossSection c;
   double sum_s = 0.0;
   for (double s = -half_window_px; s <= half_window_px; s += 1.0) {
     const Eigen::Vector2d p = base + s * normal;
-    const double v = Sample(top_hat, p.x(), p.y()) - floor;
+    const double v = Sample(bright, p.x(), p.y()) - floor;
     if (v <= 0.0) continue;
     c.sum += v;
     sum_s += v * s;
@@ -152,36 +160,78 @@ double Median(std::vector<double> values) {
   return *middle;
 }
 
-// Refines a rough line on the top-hat image: centroids of the response
+// Refines a rough line on the brightness above the floor: centroids of the response
 // across the line at regular steps give the centreline by least squares;
 // the painted extent is where the response holds. Returns false when too
 // little of the line is supported.
-bool RefineLine(const cv::Mat& top_hat, double threshold, double half_window_px,
-                double min_length_px, PaintLine* line) {
+bool RefineLine(const cv::Mat& bright, double global_threshold, double min_threshold,
+                double line_share, double half_window_px, double min_length_px,
+                PaintLine* line) {
   constexpr double kStepPx = 2.0;
   const Eigen::Vector2d normal(-line->dir.y(), line->dir.x());
+  // A faint line (worn paint, shadow) holds against its own contrast: the
+  // threshold is the lower of the global one and line_share of the line's
+  // median peak over its rough extent, but not below min_threshold.
+  double threshold = global_threshold;
+  {
+    std::vector<double> peaks;
+    for (double t = line->t0; t <= line->t1; t += kStepPx) {
+      const Eigen::Vector2d base = line->point + t * line->dir;
+      peaks.push_back(MeasureCrossSection(bright, base, normal, half_window_px, 0.0).peak);
+    }
+    if (!peaks.empty()) {
+      threshold = std::clamp(line_share * Median(peaks), min_threshold, global_threshold);
+    }
+  }
   struct Support {
     double t;
     Eigen::Vector2d centre;
     double width, peak;
   };
-  std::vector<Support> support;
-  // Search a little beyond the rough ends: the skeleton stops short of them.
-  const double margin = 2.0 * half_window_px;
-  for (double t = line->t0 - margin; t <= line->t1 + margin; t += kStepPx) {
+  const auto measure = [&](double t) -> std::optional<Support> {
     const Eigen::Vector2d base = line->point + t * line->dir;
-    const CrossSection c = MeasureCrossSection(top_hat, base, normal, half_window_px, threshold / 2);
-    if (c.peak < threshold / 2) continue;
-    support.push_back({t, base + c.offset * normal, c.sum / c.peak, c.peak});
+    if (base.x() < 0 || base.y() < 0 || base.x() > bright.cols - 1 ||
+        base.y() > bright.rows - 1) {
+      return std::nullopt;
+    }
+    const CrossSection c = MeasureCrossSection(bright, base, normal, half_window_px, threshold / 2);
+    if (c.peak < threshold / 2) return std::nullopt;
+    return Support{t, base + c.offset * normal, c.sum / c.peak, c.peak};
+  };
+  // Search a little beyond the rough ends (the skeleton stops short of
+  // them), and on while the paint goes on: the Hough transform cuts a real
+  // line into pieces where its paint is worn or its width changes.
+  constexpr double kMaxGapPx = 3 * kStepPx;
+  const double margin = 2.0 * half_window_px;
+  std::vector<Support> support;
+  for (double t = line->t0 - margin; t <= line->t1 + margin; t += kStepPx) {
+    if (const std::optional<Support> sample = measure(t)) support.push_back(*sample);
   }
   if (support.size() < 4) return false;
   // Longest run of supported samples without a gap wider than a line width.
   size_t best_begin = 0, best_end = 0;
   for (size_t begin = 0; begin < support.size();) {
     size_t end = begin + 1;
-    while (end < support.size() && support[end].t - support[end - 1].t <= 3 * kStepPx) ++end;
+    while (end < support.size() && support[end].t - support[end - 1].t <= kMaxGapPx) ++end;
     if (end - begin > best_end - best_begin) best_begin = begin, best_end = end;
     begin = end;
+  }
+  {
+    // Grow the run past the searched range while the paint goes on.
+    std::vector<Support> run(support.begin() + static_cast<long>(best_begin),
+                             support.begin() + static_cast<long>(best_end));
+    for (double t = run.back().t + kStepPx; t - run.back().t <= kMaxGapPx; t += kStepPx) {
+      if (const std::optional<Support> sample = measure(t)) run.push_back(*sample);
+    }
+    std::vector<Support> before;
+    for (double t = run.front().t - kStepPx;
+         (before.empty() ? run.front().t : before.back().t) - t <= kMaxGapPx; t -= kStepPx) {
+      if (const std::optional<Support> sample = measure(t)) before.push_back(*sample);
+    }
+    run.insert(run.begin(), before.rbegin(), before.rend());
+    support = std::move(run);
+    best_begin = 0;
+    best_end = support.size();
   }
   const double t_lo = support[best_begin].t, t_hi = support[best_end - 1].t;
   if (t_hi - t_lo < min_length_px) return false;
@@ -310,7 +360,7 @@ double PaintAlong(const cv::Mat& paint, const Eigen::Vector2d& p, const Eigen::V
 // the corner only: cross-section centroids along the stub out to one arm's
 // length, fitted by least squares, twice (the second time along the first
 // fit's direction). Empty when the stub is not found.
-std::optional<Eigen::Vector2d> RefineCorner(const cv::Mat& top_hat, double threshold,
+std::optional<Eigen::Vector2d> RefineCorner(const cv::Mat& bright, double threshold,
                                             const Eigen::Vector2d& corner,
                                             const PaintLine& long_line, Eigen::Vector2d stub,
                                             double width_px, double arm_px) {
@@ -320,7 +370,7 @@ std::optional<Eigen::Vector2d> RefineCorner(const cv::Mat& top_hat, double thres
     std::vector<Eigen::Vector2d> pts;
     for (double t = width_px; t <= arm_px; t += 2.0) {
       const Eigen::Vector2d base = x + t * stub;
-      const CrossSection c = MeasureCrossSection(top_hat, base, normal, width_px, threshold / 2);
+      const CrossSection c = MeasureCrossSection(bright, base, normal, width_px, threshold / 2);
       if (c.sum > 0.0) pts.push_back(base + c.offset * normal);
     }
     if (pts.size() < 4) return std::nullopt;
@@ -380,6 +430,12 @@ bool SlotDetectorOptions::IsValid(std::string* error) const {
     return fail("local_contrast_factor must be at least 1 and local_window_m positive");
   if (!(min_junction_angle_rad > 0.0 && min_junction_angle_rad < kPi / 2))
     return fail("min_junction_angle_rad must be in (0, pi/2)");
+  if (!(relative_contrast > 0.0 && relative_contrast <= 1.0 && line_relative_contrast > 0.0 &&
+        line_relative_contrast <= 1.0)) {
+    return fail("relative_contrast and line_relative_contrast must be in (0, 1]");
+  }
+  if (!(max_lines_nearby >= 0 && nearby_radius_m > 0.0))
+    return fail("max_lines_nearby must be non-negative and nearby_radius_m positive");
   return true;
 }
 
@@ -404,41 +460,56 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
   } else {
     grey = top_view.clone();
   }
+  // Fused top views paint what no camera sees (the car's footprint) pure
+  // black: regions of it are masked like the given mask.
+  cv::Mat seen;
+  {
+    cv::Mat unseen = grey <= 2;
+    cv::morphologyEx(unseen, unseen, cv::MORPH_OPEN,
+                     cv::getStructuringElement(cv::MORPH_RECT, cv::Size(9, 9)));
+    if (cv::countNonZero(unseen) > 0) {
+      seen = unseen == 0;
+      if (!mask.empty()) seen &= mask;
+    } else {
+      seen = mask;
+    }
+  }
   cv::Mat valid;
-  if (!mask.empty()) {
+  if (!seen.empty()) {
     // Masked pixels take the mean of the rest, so that their border makes
     // no edge; a margin of one line width is ignored around them.
-    grey.setTo(cv::mean(grey, mask), mask == 0);
-    cv::erode(mask, valid, cv::getStructuringElement(
+    grey.setTo(cv::mean(grey, seen), seen == 0);
+    cv::erode(seen, valid, cv::getStructuringElement(
                                cv::MORPH_RECT, cv::Size(3, 3)),
               cv::Point(-1, -1), static_cast<int>(std::ceil(o.max_line_width_m * s)));
   }
 
-  // 1. Paint: the top-hat with a kernel twice the widest line. A pixel is
-  //    paint when its response stands local_contrast_factor times above the
-  //    mean response around it (so that textured floor, grass or a car's
-  //    body, whose response is high everywhere, is not) and above
-  //    min_contrast_grey. Line refinement measures support against a
-  //    threshold relative to the brightest paint in view.
+  // 1. Paint: the brightness above the floor's median over twice the
+  //    widest line. A pixel is paint when it stands local_contrast_factor
+  //    times above the mean response around it (so that textured floor,
+  //    grass or a car's body, whose response is high everywhere, is not)
+  //    and above min_contrast_grey. Line refinement measures support
+  //    against a threshold relative to the brightest paint in view, or to
+  //    the line's own contrast for a faint line.
   const double max_width_px = o.max_line_width_m * s;
   const int kernel_px = 2 * static_cast<int>(std::ceil(max_width_px)) + 1;
-  const cv::Mat top_hat = TopHat(grey, kernel_px);
+  const cv::Mat bright = BrightAboveFloor(grey, kernel_px);
   const double threshold =
-      std::max(o.min_contrast_grey, o.relative_contrast * Percentile(top_hat, 0.995));
+      std::max(o.min_contrast_grey, o.relative_contrast * Percentile(bright, 0.995));
   cv::Mat paint;
   {
     const int window_px = 2 * static_cast<int>(std::lround(o.local_window_m * s / 2)) + 1;
     cv::Mat local_mean, response;
-    cv::boxFilter(top_hat, local_mean, CV_32F, cv::Size(window_px, window_px));
-    top_hat.convertTo(response, CV_32F);
-    paint = (response > local_mean * o.local_contrast_factor) & (top_hat > o.min_contrast_grey);
+    cv::boxFilter(bright, local_mean, CV_32F, cv::Size(window_px, window_px));
+    bright.convertTo(response, CV_32F);
+    paint = (response > local_mean * o.local_contrast_factor) & (bright > o.min_contrast_grey);
   }
   if (!valid.empty()) paint.setTo(0, valid == 0);
 
   // 2. Centrelines: the ridges of the paint, their straight pieces by the
   //    probabilistic Hough transform, merged per painted line and refined
-  //    on the top-hat response.
-  const cv::Mat ridges = Ridges(top_hat, paint, max_width_px, threshold);
+  //    on the brightness above the floor.
+  const cv::Mat ridges = Ridges(bright, paint, max_width_px, threshold);
   const double min_arm_px = o.min_arm_m * s;
   const double min_stem_px = o.min_stem_m * s;
   std::vector<cv::Vec4i> segments;
@@ -448,11 +519,15 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
   std::vector<PaintLine> rough = MergeSegments(segments, max_width_px / 2, o.max_merge_gap_m * s);
   std::vector<PaintLine> lines;
   for (PaintLine& line : rough) {
-    if (!RefineLine(top_hat, threshold, max_width_px, min_arm_px, &line)) continue;
+    if (!RefineLine(bright, threshold, o.min_contrast_grey, o.line_relative_contrast,
+                    max_width_px, min_arm_px, &line)) {
+      continue;
+    }
     if (line.width_px < o.min_line_width_m * s * 0.5 || line.width_px > max_width_px * 1.5) continue;
-    // Refinement may make two rough pieces one line: keep the first.
+    // Refinement may make two rough pieces one line: the first takes the
+    // other's extent.
     bool duplicate = false;
-    for (const PaintLine& other : lines) {
+    for (PaintLine& other : lines) {
       // Parallel, on the same centreline, overlapping along it.
       if (std::abs(Cross(other.dir, line.dir)) < 0.05 &&
           std::abs(other.Across(line.point + (line.t0 + line.t1) / 2 * line.dir)) < 3.0) {
@@ -460,6 +535,8 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
         const double a1 = other.Along(line.point + line.t1 * line.dir);
         const double lo = std::min(a0, a1), hi = std::max(a0, a1);
         if (lo < other.t1 && hi > other.t0) {
+          other.t0 = std::min(other.t0, lo);
+          other.t1 = std::max(other.t1, hi);
           duplicate = true;
           break;
         }
@@ -555,7 +632,7 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
         // askew by paint beyond it (a digit); refit it next to the corner.
         const PaintLine& long_line = arm_a >= arm_b ? a : b;
         if (const std::optional<Eigen::Vector2d> refined = RefineCorner(
-                top_hat, threshold, x, long_line, other, long_line.width_px, min_arm_px)) {
+                bright, threshold, x, long_line, other, long_line.width_px, min_arm_px)) {
           junction.point.px = *refined;
         }
       }
@@ -569,6 +646,18 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
       const double clutter =
           Clutter(paint, junction.point.px, arms, std::max(a.width_px, b.width_px), min_arm_px);
       if (clutter > o.max_clutter) continue;
+      // A slot's corner has few lines around it; a car's body, grass or a
+      // textured wall make many.
+      int lines_nearby = 0;
+      for (size_t k = 0; k < lines.size(); ++k) {
+        if (k == i || k == j) continue;
+        const Eigen::Vector2d ka = lines[k].point + lines[k].t0 * lines[k].dir;
+        const Eigen::Vector2d kb = lines[k].point + lines[k].t1 * lines[k].dir;
+        if (PointDistanceToSegment(junction.point.px, ka, kb, nullptr) < o.nearby_radius_m * s) {
+          ++lines_nearby;
+        }
+      }
+      if (lines_nearby > o.max_lines_nearby) continue;
       junctions.push_back(junction);
     }
   }

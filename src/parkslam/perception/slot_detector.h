@@ -62,15 +62,18 @@ struct SlotDetectorOptions {
   // A marking point within this of an entrance line between two others
   // counts as lying on it (paper: such candidates are removed).
   double on_line_tolerance_m = 0.25;
-  // Paint stands out of the floor's top-hat response by at least
-  // min_contrast_grey grey levels and local_contrast_factor times the mean
-  // response within local_window_m around it. Lines are refined against
-  // relative_contrast of the brightest paint in view (its 99.5th
-  // percentile).
+  // Paint stands above the floor (the grey image less its median over
+  // twice the widest line) by at least min_contrast_grey grey levels and
+  // local_contrast_factor times the mean response within local_window_m
+  // around it. Lines are refined against relative_contrast of the
+  // brightest paint in view (its 99.5th percentile), or a faint line
+  // against line_relative_contrast of its own median peak, whichever is
+  // lower (never below min_contrast_grey).
   double min_contrast_grey = 20.0;
   double local_contrast_factor = 2.0;
   double local_window_m = 1.0;
   double relative_contrast = 0.35;
+  double line_relative_contrast = 0.5;
   // Arms of a junction are at least this long; junctions closer than this
   // are one marking point.
   double min_arm_m = 0.4;
@@ -80,6 +83,10 @@ struct SlotDetectorOptions {
   // At most this share of the paint in a ring round a junction may lie off
   // its arms (painted digits and texture make cluttered junctions).
   double max_clutter = 0.15;
+  // At most this many other lines pass within nearby_radius_m of a
+  // junction (a car's body, grass or a textured wall make many).
+  int max_lines_nearby = 5;
+  double nearby_radius_m = 1.0;
   // Lines at least long_line_m long are slot lines; shorter lines of a
   // junction may differ from their median width by at most this share
   // (painted digits' strokes are thinner, merged strokes wider).
@@ -120,7 +127,8 @@ class SlotDetector {
 
   // Detects marking points and slots in an 8-bit grey (or BGR) top view.
   // Pixels where mask is zero (the car's footprint) are ignored; mask may
-  // be empty.
+  // be empty. Regions of pure black (what no camera of a fused view sees)
+  // are ignored as well.
   SlotDetection Detect(const cv::Mat& top_view, const cv::Mat& mask = cv::Mat()) const;
 
   const SlotDetectorOptions& options() const { return options_; }
