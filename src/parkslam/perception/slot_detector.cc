@@ -217,16 +217,42 @@ bool RefineLine(const cv::Mat& bright, double global_threshold, double min_thres
     begin = end;
   }
   {
-    // Grow the run past the searched range while the paint goes on.
+    // Grow the run past the searched range while the paint goes on, on
+    // the run's own axis and at its own width: a narrow cross-section
+    // centred on the axis, so that growth neither drifts with the rough
+    // direction nor bridges to paint beside the line.
     std::vector<Support> run(support.begin() + static_cast<long>(best_begin),
                              support.begin() + static_cast<long>(best_end));
+    std::vector<double> run_widths;
+    std::vector<Eigen::Vector2d> run_centres;
+    for (const Support& sample : run) {
+      run_widths.push_back(sample.width);
+      run_centres.push_back(sample.centre);
+    }
+    const double run_width = Median(run_widths);
+    const auto [axis_point, axis_dir] = FitLine(run_centres, line->dir);
+    const Eigen::Vector2d axis_normal(-axis_dir.y(), axis_dir.x());
+    const auto grow = [&](double t) -> std::optional<Support> {
+      const Eigen::Vector2d on_rough = line->point + t * line->dir;
+      const Eigen::Vector2d base = axis_point + (on_rough - axis_point).dot(axis_dir) * axis_dir;
+      if (base.x() < 0 || base.y() < 0 || base.x() > bright.cols - 1 || base.y() > bright.rows - 1) {
+        return std::nullopt;
+      }
+      const CrossSection c =
+          MeasureCrossSection(bright, base, axis_normal, std::max(3.0, run_width), threshold / 2);
+      if (c.peak < threshold / 2 || std::abs(c.offset) > std::max(1.5, run_width / 2) ||
+          c.sum / c.peak > 1.5 * run_width) {
+        return std::nullopt;
+      }
+      return Support{t, base + c.offset * axis_normal, c.sum / c.peak, c.peak};
+    };
     for (double t = run.back().t + kStepPx; t - run.back().t <= kMaxGapPx; t += kStepPx) {
-      if (const std::optional<Support> sample = measure(t)) run.push_back(*sample);
+      if (const std::optional<Support> sample = grow(t)) run.push_back(*sample);
     }
     std::vector<Support> before;
     for (double t = run.front().t - kStepPx;
          (before.empty() ? run.front().t : before.back().t) - t <= kMaxGapPx; t -= kStepPx) {
-      if (const std::optional<Support> sample = measure(t)) before.push_back(*sample);
+      if (const std::optional<Support> sample = grow(t)) before.push_back(*sample);
     }
     run.insert(run.begin(), before.rbegin(), before.rend());
     support = std::move(run);

@@ -26,7 +26,7 @@ class TopView {
     cv::add(image_, grain, image_, cv::noArray(), CV_8U);
   }
 
-  void Stripe(const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+  void Stripe(const Eigen::Vector2d& p, const Eigen::Vector2d& q, double grey = 225.0) {
     const Eigen::Vector2d d = (q - p).normalized();
     const Eigen::Vector2d n(-d.y(), d.x());
     const double h = kLineWidthPx / 2;
@@ -37,21 +37,22 @@ class TopView {
       pts[static_cast<size_t>(i)] = cv::Point(static_cast<int>(std::lround(quad[i].x() * 16)),
                                               static_cast<int>(std::lround(quad[i].y() * 16)));
     }
-    cv::fillConvexPoly(image_, pts.data(), 4, cv::Scalar(225), cv::LINE_AA, 4);
+    cv::fillConvexPoly(image_, pts.data(), 4, cv::Scalar(grey), cv::LINE_AA, 4);
   }
 
   // A slot (paper Fig. 3): separating lines from both entrance corners
   // along `depth` (unit, image frame) and entrance stubs of 0.5 m.
   void Slot(const Eigen::Vector2d& c0, const Eigen::Vector2d& c1, const Eigen::Vector2d& depth,
-            double depth_m = 5.3) {
+            double depth_m = 5.3, double grey = 225.0) {
     const Eigen::Vector2d e = (c1 - c0).normalized();
-    Stripe(c0, c0 + depth * depth_m * kPxPerM);
-    Stripe(c1, c1 + depth * depth_m * kPxPerM);
-    Stripe(c0, c0 + e * 0.5 * kPxPerM);
-    Stripe(c1, c1 - e * 0.5 * kPxPerM);
+    Stripe(c0, c0 + depth * depth_m * kPxPerM, grey);
+    Stripe(c1, c1 + depth * depth_m * kPxPerM, grey);
+    Stripe(c0, c0 + e * 0.5 * kPxPerM, grey);
+    Stripe(c1, c1 - e * 0.5 * kPxPerM, grey);
   }
 
   const cv::Mat& image() const { return image_; }
+  cv::Mat& image() { return image_; }
 
  private:
   cv::Mat image_;
@@ -197,12 +198,91 @@ TEST(SlotDetectorTest, ShortStrokesAndMaskedPaintMakeNoMarkingPoints) {
   EXPECT_TRUE(d.slots.empty());
 }
 
+// Worn paint next to glare: a slot painted 44 grey levels above the floor,
+// dark specks (oil, tile joints) along its lines, and a bright glare stripe
+// (which sets the brightest paint in view, 0.35 of which is above the
+// slot's contrast). The slot is still found, against its own contrast.
+TEST(SlotDetectorTest, FindsAFaintSlotAmongSpecksAndGlare) {
+  TopView view;
+  const Eigen::Vector2d c0(150.4, 200.2), c1(300.4, 200.2), up(0.0, -1.0);
+  view.Slot(c0, c1, up, 2.5, 140.0);
+  view.Stripe({480, 40}, {480, 560}, 255.0);
+  cv::RNG rng(3);
+  for (int k = 0; k < 40; ++k) {
+    const double x = k % 2 == 0 ? c0.x() : c1.x();
+    const double y = 200.0 - rng.uniform(0.0, 150.0);
+    cv::circle(view.image(), cv::Point(static_cast<int>(x + (k % 4 < 2 ? -9 : 9)), static_cast<int>(y)),
+               2, cv::Scalar(20), cv::FILLED);
+  }
+  const SlotDetection d = SlotDetector().Detect(view.image());
+  EXPECT_NE(FindPoint(d, c0, 1.5), nullptr);
+  EXPECT_NE(FindPoint(d, c1, 1.5), nullptr);
+  EXPECT_NE(FindSlot(d, c0, c1, 1.5), nullptr);
+}
+
+// Junctions among many lines (a car's body, grass) are rejected: an L
+// corner keeps its marking point with five strokes passing 0.9 m from it,
+// and loses it with six (max_lines_nearby = 5 within 1 m).
+TEST(SlotDetectorTest, RejectsJunctionsAmongManyLines) {
+  const Eigen::Vector2d corner(300.3, 300.2);
+  const auto detect_with = [&](int distractors) {
+    TopView view;
+    view.Stripe(corner, corner + Eigen::Vector2d(0, -1.5 * kPxPerM));
+    view.Stripe(corner, corner + Eigen::Vector2d(0.5 * kPxPerM, 0));
+    // Radial strokes from 0.9 to 2 m, away from the corner's two arms
+    // (up and right).
+    const std::array<double, 6> angles_deg = {45, 90, 135, 180, 225, 315};
+    for (int k = 0; k < distractors; ++k) {
+      const double a = DegToRad(angles_deg[static_cast<size_t>(k)]);
+      const Eigen::Vector2d u(std::cos(a), std::sin(a));
+      view.Stripe(corner + 0.9 * kPxPerM * u, corner + 2.0 * kPxPerM * u);
+    }
+    SlotDetectorOptions options;
+    options.require_entrance_facing_vehicle = false;
+    return SlotDetector(options).Detect(view.image());
+  };
+  const SlotDetection few = detect_with(5);
+  ASSERT_NE(FindPoint(few, corner, 1.5), nullptr);
+  EXPECT_EQ(FindPoint(few, corner, 1.5)->shape, MarkingShape::kL);
+  EXPECT_EQ(FindPoint(detect_with(6), corner, 1.5), nullptr);
+}
+
+// What a fused view paints pure black (no camera sees it) is masked like
+// the mask: the same marking points either way, and the slot in view kept.
+TEST(SlotDetectorTest, PureBlackRegionsAreMasked) {
+  TopView view;
+  const Eigen::Vector2d c0(100.4, 300.2), c1(250.4, 300.2), up(0.0, -1.0);
+  view.Slot(c0, c1, up, 2.5);
+  view.Slot({360.4, 300.2}, {510.4, 300.2}, up, 2.5);
+  const cv::Rect unseen(330, 240, 220, 120);
+  view.image()(unseen).setTo(0);
+  cv::Mat mask(view.image().size(), CV_8UC1, cv::Scalar(255));
+  mask(unseen).setTo(0);
+  SlotDetectorOptions options;
+  options.require_entrance_facing_vehicle = false;
+  const SlotDetector detector(options);
+  const SlotDetection black = detector.Detect(view.image());
+  const SlotDetection masked = detector.Detect(view.image(), mask);
+  ASSERT_EQ(black.marking_points.size(), masked.marking_points.size());
+  for (size_t k = 0; k < black.marking_points.size(); ++k) {
+    EXPECT_LT((black.marking_points[k].px - masked.marking_points[k].px).norm(), 1e-9);
+  }
+  EXPECT_EQ(black.marking_points.size(), 2u);
+  EXPECT_NE(FindSlot(black, c0, c1, 1.5), nullptr);
+}
+
 TEST(SlotDetectorTest, RejectsInvalidOptionsAndImages) {
   SlotDetectorOptions options;
   options.min_entrance_m = 8.0;  // above max_entrance_m
   EXPECT_THROW(SlotDetector{options}, std::invalid_argument);
   options = {};
   options.min_stem_m = 0.1;  // below min_arm_m
+  EXPECT_THROW(SlotDetector{options}, std::invalid_argument);
+  options = {};
+  options.max_lines_nearby = -1;
+  EXPECT_THROW(SlotDetector{options}, std::invalid_argument);
+  options = {};
+  options.line_relative_contrast = 0.0;
   EXPECT_THROW(SlotDetector{options}, std::invalid_argument);
   const SlotDetector detector;
   EXPECT_THROW(detector.Detect(cv::Mat()), std::invalid_argument);
