@@ -28,6 +28,8 @@ struct PaintLine {
   double t0 = 0.0, t1 = 0.0;
   double width_px = 0.0;
   double contrast = 0.0;  // median brightness above the floor on the centreline
+  // Share of the centreline brighter than the floor on both sides.
+  double two_sided_share = 1.0;
 
   double Along(const Eigen::Vector2d& p) const { return (p - point).dot(dir); }
   double Across(const Eigen::Vector2d& p) const { return Cross(dir, p - point); }
@@ -164,7 +166,8 @@ double Median(std::vector<double> values) {
 // across the line at regular steps give the centreline by least squares;
 // the painted extent is where the response holds. Returns false when too
 // little of the line is supported.
-bool RefineLine(const cv::Mat& bright, double global_threshold, double min_threshold,
+bool RefineLine(const cv::Mat& grey, const cv::Mat& bright, double global_threshold,
+                double min_threshold,
                 double line_share, double half_window_px, double min_length_px,
                 PaintLine* line) {
   constexpr double kStepPx = 2.0;
@@ -294,6 +297,29 @@ bool RefineLine(const cv::Mat& bright, double global_threshold, double min_thres
   line->t1 = (hi - point).dot(dir);
   line->width_px = width;
   line->contrast = Median(peaks) + threshold / 2;
+  // Paint is brighter than the floor on both sides; the bright side of a
+  // shadow's edge, a kerb or a lit patch is not. Count the samples whose
+  // centre stands above both sides, one line width out, by at least half
+  // of its contrast over the darker side. Painted digits or other lines
+  // beside a line hide one side in places, not along the whole line.
+  {
+    const Eigen::Vector2d fit_normal(-dir.y(), dir.x());
+    const double out = std::max(3.0, width);
+    int samples = 0, two_sided = 0;
+    for (size_t i = best_begin; i < best_end; ++i) {
+      if (support[i].t < t_lo + width || support[i].t > t_hi - width) continue;
+      const Eigen::Vector2d& c = support[i].centre;
+      const Eigen::Vector2d l = c + out * fit_normal, r = c - out * fit_normal;
+      const double centre = Sample(grey, c.x(), c.y());
+      const double left = centre - Sample(grey, l.x(), l.y());
+      const double right = centre - Sample(grey, r.x(), r.y());
+      ++samples;
+      if (std::max(left, right) > 0.0 && std::min(left, right) >= 0.5 * std::max(left, right)) {
+        ++two_sided;
+      }
+    }
+    line->two_sided_share = samples > 0 ? static_cast<double>(two_sided) / samples : 1.0;
+  }
   return true;
 }
 
@@ -460,6 +486,8 @@ bool SlotDetectorOptions::IsValid(std::string* error) const {
         line_relative_contrast <= 1.0)) {
     return fail("relative_contrast and line_relative_contrast must be in (0, 1]");
   }
+  if (!(min_two_sided_share >= 0.0 && min_two_sided_share <= 1.0))
+    return fail("min_two_sided_share must be in [0, 1]");
   if (!(max_lines_nearby >= 0 && nearby_radius_m > 0.0))
     return fail("max_lines_nearby must be non-negative and nearby_radius_m positive");
   return true;
@@ -545,11 +573,12 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
   std::vector<PaintLine> rough = MergeSegments(segments, max_width_px / 2, o.max_merge_gap_m * s);
   std::vector<PaintLine> lines;
   for (PaintLine& line : rough) {
-    if (!RefineLine(bright, threshold, o.min_contrast_grey, o.line_relative_contrast,
+    if (!RefineLine(grey, bright, threshold, o.min_contrast_grey, o.line_relative_contrast,
                     max_width_px, min_arm_px, &line)) {
       continue;
     }
     if (line.width_px < o.min_line_width_m * s * 0.5 || line.width_px > max_width_px * 1.5) continue;
+    if (line.two_sided_share < o.min_two_sided_share) continue;
     // Refinement may make two rough pieces one line: the first takes the
     // other's extent.
     bool duplicate = false;

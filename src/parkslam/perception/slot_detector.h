@@ -74,6 +74,12 @@ struct SlotDetectorOptions {
   double local_window_m = 1.0;
   double relative_contrast = 0.35;
   double line_relative_contrast = 0.5;
+  // Paint is brighter than the floor on both sides: at least this share
+  // of a line's centreline stands above both sides, one line width out, by
+  // half its contrast over the darker side (the bright side of a shadow's
+  // edge or a lit patch does not; digits beside a line hide a side only
+  // in places).
+  double min_two_sided_share = 0.5;
   // Arms of a junction are at least this long; junctions closer than this
   // are one marking point.
   double min_arm_m = 0.4;

@@ -247,6 +247,32 @@ TEST(SlotDetectorTest, RejectsJunctionsAmongManyLines) {
   EXPECT_EQ(FindPoint(detect_with(6), corner, 1.5), nullptr);
 }
 
+// The bright rim of a shadow's edge stands above the floor's median like
+// paint, but on one side only: a painted line running into it makes no
+// marking point, while the same line meeting a painted line does.
+TEST(SlotDetectorTest, AShadowsEdgeIsNoPaintedLine) {
+  const auto detect = [](bool painted) {
+    TopView view;
+    if (painted) {
+      view.Stripe({300, 100}, {300, 500});
+    } else {
+      // Lit floor right of x = 300 with the bright rim that sharpening
+      // leaves along a shadow's edge.
+      view.image()(cv::Rect(300, 0, 300, 600)) += cv::Scalar(54);
+      view.image()(cv::Rect(300, 0, 8, 600)) += cv::Scalar(40);
+    }
+    view.Stripe({296, 300}, {150, 300});
+    SlotDetectorOptions options;
+    options.require_entrance_facing_vehicle = false;
+    return SlotDetector(options).Detect(view.image());
+  };
+  const SlotDetection lit = detect(false);
+  EXPECT_TRUE(lit.marking_points.empty());
+  const SlotDetection painted = detect(true);
+  ASSERT_EQ(painted.marking_points.size(), 1u);
+  EXPECT_EQ(painted.marking_points[0].shape, MarkingShape::kT);
+}
+
 // What a fused view paints pure black (no camera sees it) is masked like
 // the mask: the same marking points either way, and the slot in view kept.
 TEST(SlotDetectorTest, PureBlackRegionsAreMasked) {
