@@ -65,12 +65,16 @@ expect nonzero "badmap.json.*version" -- "$PARKSLAM" eval-map --map "$tmp/badmap
 printf '{"format": "parkslam-map", ' > "$tmp/truncated.json"
 expect nonzero "truncated.json" -- "$PARKSLAM" render "$tmp/truncated.json" --out "$tmp/x.svg"
 [ ! -e "$tmp/x.svg" ] && pass || fail "a failed render left an output file"
+# A number beyond a double is refused by the JSON parser without a position.
+printf '{"format": "parkslam-map", "version": 1, "frame": "map", "units": {"length": "m", "angle": "rad"}, "metadata": {}, "slots": [], "tags": [{"id": 7, "x": 1e999, "y": 0, "yaw": 0, "size_m": 0.488, "obstacle": -1}], "obstacles": []}' > "$tmp/overflow.json"
+expect nonzero "overflow.json: tags\[0\]\.x: invalid JSON.*1e999" -- "$PARKSLAM" eval-map --map "$tmp/overflow.json" --truth "$tmp/d/groundtruth/map.json"
 
 # Localizing on the map and following the trace in closed loop.
 expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --global
 expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0
 expect nonzero "excludes|--global" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0 --global
 expect nonzero "badmap.json" -- "$PARKSLAM" localize --map "$tmp/badmap.json" "$tmp/d" --out "$tmp/l2.tum"
+expect nonzero "overflow.json: tags\[0\]\.x: invalid JSON" -- "$PARKSLAM" localize --map "$tmp/overflow.json" "$tmp/d" --out "$tmp/l2.tum"
 expect 0 '"repeat_std_m"' -- "$PARKSLAM" follow --map "$tmp/m.json" --runs 2 --speed-kmh 10 --set route.laps=0 --out "$tmp/f" --json
 [ -f "$tmp/f/run_01.tum" ] && [ -f "$tmp/f/traces.svg" ] && pass || fail "follow outputs missing"
 printf '0 0 0 0 0 0 0 1\n1 nan 0 0 0 0 0 1\n' > "$tmp/nan.tum"
@@ -124,6 +128,9 @@ cp -r "$tmp/d" "$tmp/corrupt"
 sed -i '5s/.*/123,abc/' "$tmp/corrupt/sensors/wheel_speed.csv"
 expect nonzero "wheel_speed.csv:5" -- "$PARKSLAM" odometry "$tmp/corrupt" --out "$tmp/o3.tum"
 [ ! -e "$tmp/o3.tum" ] && pass || fail "a failed odometry run left an output file"
+cp -r "$tmp/d" "$tmp/overflow"
+sed -i '0,/"sigma_m":[^,]*/s//"sigma_m":1e999/' "$tmp/overflow/observations/slots.jsonl"
+expect nonzero 'slots.jsonl:[0-9]+: slots\[[0-9]+\]\.sigma_m: invalid JSON' -- "$PARKSLAM" odometry "$tmp/overflow" --out "$tmp/o4.tum"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -310,12 +310,7 @@ std::vector<Frame> ReadJsonl(const fs::path& file, ParseFrame parse_frame) {
   while (lines.Next(&line)) {
     const int n = lines.line_number();
     if (line.empty()) ThrowIoError(source, n, "", "empty line");
-    Json json;
-    try {
-      json = Json::parse(line);
-    } catch (const Json::parse_error& e) {
-      ThrowIoError(source, n, "", std::string("invalid JSON: ") + e.what());
-    }
+    const Json json = json_util::ParseJson(line, source, n);
     const JsonReader reader(source, n);
     Frame frame = parse_frame(json, reader);
     if (!frames.empty() && frame.t_ns <= frames.back().t_ns) {

@@ -329,6 +329,38 @@ TEST(DatasetTest, WrongTypeInJsonLineNamesItsPath) {
                 ":1: slots[0].id[0][1][0]: expected a string, got an integer");
 }
 
+// The message of reading the sample dataset with the first `from` in `file`
+// replaced by `to`.
+std::string ErrorReadingEdited(const std::string& file, const std::string& from,
+                               const std::string& to) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d" / file, from, to);
+  return ErrorOf([&] { ReadDataset(dir / "d"); });
+}
+
+// nlohmann refuses a number beyond the range of a double with out_of_range,
+// not parse_error, and names no position: every JSON file of a dataset must
+// still fail with an IoError naming the file, the line and the field.
+TEST(DatasetTest, NumberTooLargeForADoubleInJsonNamesFileLineAndField) {
+  const std::string sigma =
+      ErrorReadingEdited("observations/slots.jsonl", "\"sigma_m\":0.031", "\"sigma_m\":1e999");
+  EXPECT_THAT(sigma, HasSubstr("observations/slots.jsonl:1: slots[0].sigma_m: invalid JSON: "));
+  EXPECT_THAT(sigma, HasSubstr("1e999"));
+  EXPECT_THAT(ErrorReadingEdited("observations/slots.jsonl", "[\"8\",0.15]", "[\"8\",-1e999]"),
+              HasSubstr("observations/slots.jsonl:1: slots[0].id[0][1][1]: invalid JSON: "));
+  EXPECT_THAT(ErrorReadingEdited("observations/tags.jsonl", "\"yaw_sigma_rad\":0.03",
+                                 "\"yaw_sigma_rad\":1e999"),
+              HasSubstr("observations/tags.jsonl:1: tags[0].yaw_sigma_rad: invalid JSON: "));
+  EXPECT_THAT(ErrorReadingEdited("observations/tags.jsonl", "250000000", "1e999"),
+              HasSubstr("observations/tags.jsonl:2: t_ns: invalid JSON: "));
+  EXPECT_THAT(ErrorReadingEdited("groundtruth/slot_labels.jsonl", "\"slots\":[2]",
+                                 "\"slots\":[1e999]"),
+              HasSubstr("groundtruth/slot_labels.jsonl:2: slots[0]: invalid JSON: "));
+  EXPECT_THAT(ErrorReadingEdited("groundtruth/map.json", "5.3]", "1e999]"),
+              HasSubstr("groundtruth/map.json: slots[0].corners[2][1]: invalid JSON: "));
+}
+
 TEST(DatasetTest, UnknownTopLevelKeyInDatasetYamlIsRejected) {
   const TempDir dir;
   WriteDataset(dir / "d", SampleDataset());

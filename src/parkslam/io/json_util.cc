@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "parkslam/io/io_error.h"
 
@@ -107,6 +108,58 @@ void AppendPretty(const Json& j, int indent,
   out->push_back(j.is_array() ? ']' : '}');
 }
 
+// The path of the value the parser stopped at in `text` ("slots[2].corners[1][0]"),
+// spelled like JsonPath; "" at the top level. Parses `text` again, following
+// keys and array indices, and is only called once parsing has failed.
+std::string ErrorPath(std::string_view text) {
+  struct Level {
+    bool array = false;
+    std::size_t index = 0;           // elements read so far, in an array
+    std::optional<std::string> key;  // the key whose value is being read
+  };
+  std::vector<Level> levels;
+  const auto element_read = [&levels] {
+    if (levels.empty()) return;
+    Level& parent = levels.back();
+    if (parent.array) {
+      ++parent.index;
+    } else {
+      parent.key.reset();
+    }
+  };
+  const Json::parser_callback_t follow = [&](int /*depth*/, Json::parse_event_t event,
+                                             Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start: levels.push_back({false, 0, std::nullopt}); break;
+      case Json::parse_event_t::array_start: levels.push_back({true, 0, std::nullopt}); break;
+      case Json::parse_event_t::key:
+        if (!levels.empty()) levels.back().key = parsed.get<std::string>();
+        break;
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        if (!levels.empty()) levels.pop_back();
+        element_read();
+        break;
+      case Json::parse_event_t::value: element_read(); break;
+    }
+    return true;
+  };
+  // Only the events matter; the parse stops at the same value as before.
+  [[maybe_unused]] const Json discarded = Json::parse(text, follow, /*allow_exceptions=*/false);
+  std::string path;
+  for (const Level& level : levels) {
+    if (level.array) {
+      path += '[' + std::to_string(level.index) + ']';
+    } else if (level.key) {
+      if (!path.empty()) path += '.';
+      path += *level.key;
+    } else {
+      break;  // between two keys of an object: the object itself
+    }
+  }
+  return path;
+}
+
 }  // namespace
 
 void JsonPath::AppendTo(std::string* out) const {
@@ -206,6 +259,18 @@ Eigen::Vector2d JsonReader::Point(const Json& j, const JsonPath& path) const {
   const JsonPath x_path = path.Index(0);
   const JsonPath y_path = path.Index(1);
   return Eigen::Vector2d(Number(j[0], x_path), Number(j[1], y_path));
+}
+
+Json ParseJson(std::string_view text, std::string_view source, int line) {
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    ThrowIoError(source, line, "", std::string("invalid JSON: ") + e.what());
+  } catch (const Json::exception& e) {
+    // out_of_range for a number beyond a double; and, should a later
+    // nlohmann throw some other kind here, still an IoError.
+    ThrowIoError(source, line, ErrorPath(text), std::string("invalid JSON: ") + e.what());
+  }
 }
 
 std::string PrettyJson(const Json& j, const std::vector<std::string>& key_order) {

@@ -71,6 +71,13 @@ class JsonReader {
   int line_;
 };
 
+// Json::parse that throws nothing but IoError "source[:line]: invalid JSON: ...".
+// nlohmann reports a syntax error as parse_error, whose message gives the
+// position, but a number beyond the range of a double (1e999) as
+// out_of_range, with no position: then the message names the path of the
+// value instead ("source: tags[0].x: invalid JSON: ... '1e999'").
+Json ParseJson(std::string_view text, std::string_view source, int line);
+
 // Indented JSON text that keeps small arrays and objects on one line. Object
 // keys listed in `key_order` come first, in that order, the others after
 // them in sorted order.

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "parkslam/io/atomic_file.h"
-#include "parkslam/io/io_error.h"
 #include "parkslam/io/json_util.h"
 
 namespace parkslam::io {
@@ -262,12 +261,7 @@ void WriteMap(const std::filesystem::path& path, const SemanticMap& map) {
 
 SemanticMap ReadMap(const std::filesystem::path& path) {
   const std::string text = ReadTextFile(path);
-  Json json;
-  try {
-    json = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    ThrowIoError(path.string(), 0, "", std::string("invalid JSON: ") + e.what());
-  }
+  const Json json = json_util::ParseJson(text, path.string(), 0);
   return MapFromJson(json, path.string());
 }
 

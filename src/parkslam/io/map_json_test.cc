@@ -206,6 +206,39 @@ TEST(MapJsonTest, ReadingMalformedJsonNamesTheFile) {
   EXPECT_THAT(ErrorOf([&] { ReadMap(file); }), HasSubstr("map.json: invalid JSON"));
 }
 
+// The message of reading the sample map written to "map.json" with its first
+// `from` replaced by `to`.
+std::string ErrorReadingEdited(const std::string& from, const std::string& to) {
+  const TempDir dir;
+  WriteMap(dir / "map.json", SampleMap());
+  std::string text = ReadTextFile(dir / "map.json");
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at == std::string::npos) return "";
+  text.replace(at, from.size(), to);
+  return ErrorOf([&] { ReadMap(dir.Write("map.json", text)); });
+}
+
+// nlohmann refuses a number beyond the range of a double with out_of_range,
+// not parse_error, and names no position: the reader must still throw an
+// IoError, and name the file and the field.
+TEST(MapJsonTest, ReadingANumberTooLargeForADoubleNamesFileAndField) {
+  const std::string yaw = ErrorReadingEdited("\"yaw\": 1.570796", "\"yaw\": 1e999");
+  EXPECT_THAT(yaw, HasSubstr("map.json: tags[0].yaw: invalid JSON: "));
+  EXPECT_THAT(yaw, HasSubstr("1e999"));
+  EXPECT_THAT(ErrorReadingEdited("[10.5, 0.3], [8.0, 0.3]]", "[10.5, -1e999], [8.0, 0.3]]"),
+              HasSubstr("map.json: slots[0].corners[2][1]: invalid JSON: "));
+  EXPECT_THAT(ErrorReadingEdited("\"corner_sigma_m\": [0.05, 0.06, 0.25",
+                                 "\"corner_sigma_m\": [0.05, 0.06, 2e308"),
+              HasSubstr("map.json: slots[1].corner_sigma_m[2]: invalid JSON: "));
+  // An integer field: 400 digits are read as a double, which overflows.
+  const std::string huge_integer(400, '9');
+  EXPECT_THAT(ErrorReadingEdited("\"obstacle\": 0}", "\"obstacle\": " + huge_integer + "}"),
+              HasSubstr("map.json: tags[0].obstacle: invalid JSON: "));
+  EXPECT_THAT(ErrorReadingEdited("\"version\": 1,", "\"version\": 1e999,"),
+              HasSubstr("map.json: version: invalid JSON: "));
+}
+
 TEST(MapJsonTest, ReadingAMissingFileNamesIt) {
   const TempDir dir;
   EXPECT_THAT(ErrorOf([&] { ReadMap(dir / "none.json"); }), HasSubstr("none.json"));

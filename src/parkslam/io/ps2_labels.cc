@@ -120,12 +120,7 @@ Ps2Labels Ps2LabelsFromJson(const nlohmann::json& json, const std::string& sourc
 
 Ps2Labels ReadPs2Labels(const std::filesystem::path& json_path) {
   const std::string text = ReadTextFile(json_path);
-  Json json;
-  try {
-    json = Json::parse(text);
-  } catch (const Json::exception& e) {  // parse_error, and out_of_range for 1e999
-    ThrowIoError(json_path.string(), 0, "", std::string("invalid JSON: ") + e.what());
-  }
+  const Json json = json_util::ParseJson(text, json_path.string(), 0);
   return Ps2LabelsFromJson(json, json_path.string());
 }
 

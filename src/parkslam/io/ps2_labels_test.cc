@@ -87,9 +87,12 @@ TEST(Ps2LabelsTest, RejectsWhatIsNotALabelObject) {
   // Python's json.dump writes NaN as a bare word, which is not JSON.
   EXPECT_THAT(ErrorReading(R"({"marks": [[NaN, 1, 2, 3, 0]], "slots": []})"),
               HasSubstr("invalid JSON"));
-  // A number too large for a double is refused by the parser.
+  // A number too large for a double is refused by the parser, which does not
+  // say where: the message names the field.
   EXPECT_THAT(ErrorReading(R"({"marks": [[1e999, 2, 3, 4, 0]], "slots": []})"),
-              HasSubstr("invalid JSON"));
+              HasSubstr("bad.json: marks[0][0]: invalid JSON"));
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1, 2, 3, 4, 0]], "slots": [[1, 1, 1, -1e999]]})"),
+              HasSubstr("bad.json: slots[0][3]: invalid JSON"));
   EXPECT_THAT(ErrorReading(R"([1, 2])"), HasSubstr("expected an object"));
   EXPECT_THAT(ErrorReading(R"({"marks": []})"), HasSubstr("slots: missing key"));
   EXPECT_THAT(ErrorReading(R"({"marks": [], "slots": [], "extra": 1})"),
