@@ -488,6 +488,7 @@ bool SlotDetectorOptions::IsValid(std::string* error) const {
   }
   if (!(min_two_sided_share >= 0.0 && min_two_sided_share <= 1.0))
     return fail("min_two_sided_share must be in [0, 1]");
+  if (!(mask_margin_m >= 0.0 && mask_margin_m < 1.0)) return fail("mask_margin_m must be in [0, 1)");
   if (!(max_lines_nearby >= 0 && nearby_radius_m > 0.0))
     return fail("max_lines_nearby must be non-negative and nearby_radius_m positive");
   return true;
@@ -531,11 +532,11 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
   cv::Mat valid;
   if (!seen.empty()) {
     // Masked pixels take the mean of the rest, so that their border makes
-    // no edge; a margin of one line width is ignored around them.
+    // no edge; a margin of mask_margin_m is ignored around them.
     grey.setTo(cv::mean(grey, seen), seen == 0);
     cv::erode(seen, valid, cv::getStructuringElement(
                                cv::MORPH_RECT, cv::Size(3, 3)),
-              cv::Point(-1, -1), static_cast<int>(std::ceil(o.max_line_width_m * s)));
+              cv::Point(-1, -1), static_cast<int>(std::ceil(o.mask_margin_m * s)));
   }
 
   // 1. Paint: the brightness above the floor's median over twice the

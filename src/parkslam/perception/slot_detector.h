@@ -98,6 +98,10 @@ struct SlotDetectorOptions {
   // (painted digits' strokes are thinner, merged strokes wider).
   double long_line_m = 1.2;
   double max_width_deviation = 0.25;
+  // Junctions this close to masked or unseen pixels are ignored (the
+  // border blends the image with what is masked); a typical line's width,
+  // so that a line painted next to the car's footprint is still seen.
+  double mask_margin_m = 0.1;
   // Collinear pieces of one line merge across gaps up to this.
   double max_merge_gap_m = 0.1;
   // A line ends at a junction when its end lies within half the other
