@@ -81,10 +81,10 @@ int Percentile(const cv::Mat& image, double share) {
   return 255;
 }
 
-// Centreline pixels of the paint: where the smoothed brightness above the floor peaks across
-// the line, along x or along y (every line but a purely horizontal one peaks
-// along x, and vice versa), by at least a quarter of the threshold within
-// half the widest line.
+// Centreline pixels of the paint: where the smoothed brightness above the
+// floor peaks across the line, along x or along y (every line but a purely
+// horizontal one peaks along x, and vice versa), by at least a quarter of
+// the threshold within half the widest line.
 cv::Mat Ridges(const cv::Mat& bright, const cv::Mat& paint, double max_width_px,
                double threshold) {
   cv::Mat smooth;
@@ -118,9 +118,9 @@ cv::Mat Ridges(const cv::Mat& bright, const cv::Mat& paint, double max_width_px,
   return ridges;
 }
 
-// The brightness above the floor, less `floor`, across a line at `base`, sampled along
-// `normal` within +-half_window_px: its sum, the offset of its centroid
-// along `normal` (0 when there is none) and its peak.
+// The brightness above the floor, less `floor`, across a line at `base`,
+// sampled along `normal` within +-half_window_px: its sum, the offset of
+// its centroid along `normal` (0 when there is none) and its peak.
 struct CrossSection {
   double sum = 0.0, offset = 0.0, peak = 0.0;
 };
@@ -162,19 +162,92 @@ double Median(std::vector<double> values) {
   return *middle;
 }
 
-// Refines a rough line on the brightness above the floor: centroids of the response
-// across the line at regular steps give the centreline by least squares;
-// the painted extent is where the response holds. Returns false when too
-// little of the line is supported.
+// One cross-section of a line: where along the rough line, the centroid
+// of the response, its width (sum over peak) and peak.
+struct LineSample {
+  double t;
+  Eigen::Vector2d centre;
+  double width, peak;
+};
+
+// Grows a run of samples past both ends while the paint goes on, on the
+// run's own axis and at its own width: a narrow cross-section centred on
+// the axis, so that growth neither drifts with the rough direction nor
+// bridges to paint beside the line. Gaps up to max_gap_px are crossed.
+std::vector<LineSample> GrowRun(const cv::Mat& bright, const PaintLine& rough, double threshold,
+                                double step_px, double max_gap_px, std::vector<LineSample> run) {
+  std::vector<double> widths;
+  std::vector<Eigen::Vector2d> centres;
+  for (const LineSample& sample : run) {
+    widths.push_back(sample.width);
+    centres.push_back(sample.centre);
+  }
+  const double width = Median(widths);
+  const auto [axis_point, axis_dir] = FitLine(centres, rough.dir);
+  const Eigen::Vector2d axis_normal(-axis_dir.y(), axis_dir.x());
+  const auto measure = [&](double t) -> std::optional<LineSample> {
+    const Eigen::Vector2d on_rough = rough.point + t * rough.dir;
+    const Eigen::Vector2d base = axis_point + (on_rough - axis_point).dot(axis_dir) * axis_dir;
+    if (base.x() < 0 || base.y() < 0 || base.x() > bright.cols - 1 ||
+        base.y() > bright.rows - 1) {
+      return std::nullopt;
+    }
+    const CrossSection c =
+        MeasureCrossSection(bright, base, axis_normal, std::max(3.0, width), threshold / 2);
+    if (c.peak < threshold / 2 || std::abs(c.offset) > std::max(1.5, width / 2) ||
+        c.sum / c.peak > 1.5 * width) {
+      return std::nullopt;
+    }
+    return LineSample{t, base + c.offset * axis_normal, c.sum / c.peak, c.peak};
+  };
+  for (double t = run.back().t + step_px; t - run.back().t <= max_gap_px; t += step_px) {
+    if (const std::optional<LineSample> sample = measure(t)) run.push_back(*sample);
+  }
+  std::vector<LineSample> before;
+  for (double t = run.front().t - step_px;
+       (before.empty() ? run.front().t : before.back().t) - t <= max_gap_px; t -= step_px) {
+    if (const std::optional<LineSample> sample = measure(t)) before.push_back(*sample);
+  }
+  run.insert(run.begin(), before.rbegin(), before.rend());
+  return run;
+}
+
+// Paint is brighter than the floor on both sides; the bright side of a
+// shadow's edge, a kerb or a lit patch is not. The share of the centres
+// (of the grey image) that stand above both sides, one line width out
+// along `normal`, by at least half their contrast over the darker side.
+// Painted digits or other lines beside a line hide one side in places, not
+// along the whole line. 1 when there is no centre.
+double TwoSidedShare(const cv::Mat& grey, const std::vector<Eigen::Vector2d>& centres,
+                     const Eigen::Vector2d& normal, double width_px) {
+  const double out = std::max(3.0, width_px);
+  int two_sided = 0;
+  for (const Eigen::Vector2d& c : centres) {
+    const Eigen::Vector2d l = c + out * normal, r = c - out * normal;
+    const double centre = Sample(grey, c.x(), c.y());
+    const double left = centre - Sample(grey, l.x(), l.y());
+    const double right = centre - Sample(grey, r.x(), r.y());
+    if (std::max(left, right) > 0.0 && std::min(left, right) >= 0.5 * std::max(left, right)) {
+      ++two_sided;
+    }
+  }
+  return centres.empty() ? 1.0 : static_cast<double>(two_sided) / centres.size();
+}
+
+// Refines a rough line on the brightness above the floor (`bright`):
+// centroids of the response across the line at regular steps give the
+// centreline by least squares; the painted extent is where the response
+// holds. Support is measured against global_threshold or, for a faint line
+// (worn paint, shadow), against line_share of its own median peak over its
+// rough extent, whichever is lower but not below min_threshold. Returns
+// false when too little of the line is supported.
 bool RefineLine(const cv::Mat& grey, const cv::Mat& bright, double global_threshold,
-                double min_threshold,
-                double line_share, double half_window_px, double min_length_px,
-                PaintLine* line) {
+                double min_threshold, double line_share, double half_window_px,
+                double min_length_px, PaintLine* line) {
   constexpr double kStepPx = 2.0;
+  // The widest gap within one line's run: narrower than a line's width.
+  constexpr double kMaxGapPx = 3 * kStepPx;
   const Eigen::Vector2d normal(-line->dir.y(), line->dir.x());
-  // A faint line (worn paint, shadow) holds against its own contrast: the
-  // threshold is the lower of the global one and line_share of the line's
-  // median peak over its rough extent, but not below min_threshold.
   double threshold = global_threshold;
   {
     std::vector<double> peaks;
@@ -186,32 +259,24 @@ bool RefineLine(const cv::Mat& grey, const cv::Mat& bright, double global_thresh
       threshold = std::clamp(line_share * Median(peaks), min_threshold, global_threshold);
     }
   }
-  struct Support {
-    double t;
-    Eigen::Vector2d centre;
-    double width, peak;
-  };
-  const auto measure = [&](double t) -> std::optional<Support> {
+  // Search a little beyond the rough ends: the skeleton stops short of
+  // them.
+  const double margin = 2.0 * half_window_px;
+  std::vector<LineSample> support;
+  for (double t = line->t0 - margin; t <= line->t1 + margin; t += kStepPx) {
     const Eigen::Vector2d base = line->point + t * line->dir;
     if (base.x() < 0 || base.y() < 0 || base.x() > bright.cols - 1 ||
         base.y() > bright.rows - 1) {
-      return std::nullopt;
+      continue;
     }
     const CrossSection c = MeasureCrossSection(bright, base, normal, half_window_px, threshold / 2);
-    if (c.peak < threshold / 2) return std::nullopt;
-    return Support{t, base + c.offset * normal, c.sum / c.peak, c.peak};
-  };
-  // Search a little beyond the rough ends (the skeleton stops short of
-  // them), and on while the paint goes on: the Hough transform cuts a real
-  // line into pieces where its paint is worn or its width changes.
-  constexpr double kMaxGapPx = 3 * kStepPx;
-  const double margin = 2.0 * half_window_px;
-  std::vector<Support> support;
-  for (double t = line->t0 - margin; t <= line->t1 + margin; t += kStepPx) {
-    if (const std::optional<Support> sample = measure(t)) support.push_back(*sample);
+    if (c.peak < threshold / 2) continue;
+    support.push_back({t, base + c.offset * normal, c.sum / c.peak, c.peak});
   }
   if (support.size() < 4) return false;
-  // Longest run of supported samples without a gap wider than a line width.
+  // Longest run of supported samples, grown on while the paint goes on:
+  // the Hough transform cuts a real line into pieces where its paint is
+  // worn or its width changes.
   size_t best_begin = 0, best_end = 0;
   for (size_t begin = 0; begin < support.size();) {
     size_t end = begin + 1;
@@ -219,70 +284,32 @@ bool RefineLine(const cv::Mat& grey, const cv::Mat& bright, double global_thresh
     if (end - begin > best_end - best_begin) best_begin = begin, best_end = end;
     begin = end;
   }
-  {
-    // Grow the run past the searched range while the paint goes on, on
-    // the run's own axis and at its own width: a narrow cross-section
-    // centred on the axis, so that growth neither drifts with the rough
-    // direction nor bridges to paint beside the line.
-    std::vector<Support> run(support.begin() + static_cast<long>(best_begin),
-                             support.begin() + static_cast<long>(best_end));
-    std::vector<double> run_widths;
-    std::vector<Eigen::Vector2d> run_centres;
-    for (const Support& sample : run) {
-      run_widths.push_back(sample.width);
-      run_centres.push_back(sample.centre);
-    }
-    const double run_width = Median(run_widths);
-    const auto [axis_point, axis_dir] = FitLine(run_centres, line->dir);
-    const Eigen::Vector2d axis_normal(-axis_dir.y(), axis_dir.x());
-    const auto grow = [&](double t) -> std::optional<Support> {
-      const Eigen::Vector2d on_rough = line->point + t * line->dir;
-      const Eigen::Vector2d base = axis_point + (on_rough - axis_point).dot(axis_dir) * axis_dir;
-      if (base.x() < 0 || base.y() < 0 || base.x() > bright.cols - 1 || base.y() > bright.rows - 1) {
-        return std::nullopt;
-      }
-      const CrossSection c =
-          MeasureCrossSection(bright, base, axis_normal, std::max(3.0, run_width), threshold / 2);
-      if (c.peak < threshold / 2 || std::abs(c.offset) > std::max(1.5, run_width / 2) ||
-          c.sum / c.peak > 1.5 * run_width) {
-        return std::nullopt;
-      }
-      return Support{t, base + c.offset * axis_normal, c.sum / c.peak, c.peak};
-    };
-    for (double t = run.back().t + kStepPx; t - run.back().t <= kMaxGapPx; t += kStepPx) {
-      if (const std::optional<Support> sample = grow(t)) run.push_back(*sample);
-    }
-    std::vector<Support> before;
-    for (double t = run.front().t - kStepPx;
-         (before.empty() ? run.front().t : before.back().t) - t <= kMaxGapPx; t -= kStepPx) {
-      if (const std::optional<Support> sample = grow(t)) before.push_back(*sample);
-    }
-    run.insert(run.begin(), before.rbegin(), before.rend());
-    support = std::move(run);
-    best_begin = 0;
-    best_end = support.size();
-  }
-  const double t_lo = support[best_begin].t, t_hi = support[best_end - 1].t;
+  const std::vector<LineSample> run =
+      GrowRun(bright, *line, threshold, kStepPx, kMaxGapPx,
+              std::vector<LineSample>(support.begin() + static_cast<long>(best_begin),
+                                      support.begin() + static_cast<long>(best_end)));
+  const double t_lo = run.front().t, t_hi = run.back().t;
   if (t_hi - t_lo < min_length_px) return false;
   // Fit on the interior (the ends are disturbed by crossing lines), twice,
   // dropping outliers the second time.
   std::vector<double> widths, peaks;
-  for (size_t i = best_begin; i < best_end; ++i) {
-    widths.push_back(support[i].width);
-    peaks.push_back(support[i].peak);
+  for (const LineSample& sample : run) {
+    widths.push_back(sample.width);
+    peaks.push_back(sample.peak);
   }
   const double width = Median(widths);
   Eigen::Vector2d point = line->point, dir = line->dir;
+  std::vector<Eigen::Vector2d> interior;
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<Eigen::Vector2d> pts;
-    for (size_t i = best_begin; i < best_end; ++i) {
-      if (support[i].t < t_lo + width || support[i].t > t_hi - width) continue;
+    for (const LineSample& sample : run) {
+      if (sample.t < t_lo + width || sample.t > t_hi - width) continue;
+      if (pass == 0) interior.push_back(sample.centre);
       // Wide cross-sections run along a crossing line: their centroid is
       // pulled sideways.
-      if (support[i].width > 1.3 * width) continue;
-      const Eigen::Vector2d& c = support[i].centre;
-      if (pass == 1 && std::abs(Cross(dir, c - point)) > 1.5) continue;
-      pts.push_back(c);
+      if (sample.width > 1.3 * width) continue;
+      if (pass == 1 && std::abs(Cross(dir, sample.centre - point)) > 1.5) continue;
+      pts.push_back(sample.centre);
     }
     if (pts.size() < 3) {
       if (pass == 0) return false;
@@ -297,29 +324,7 @@ bool RefineLine(const cv::Mat& grey, const cv::Mat& bright, double global_thresh
   line->t1 = (hi - point).dot(dir);
   line->width_px = width;
   line->contrast = Median(peaks) + threshold / 2;
-  // Paint is brighter than the floor on both sides; the bright side of a
-  // shadow's edge, a kerb or a lit patch is not. Count the samples whose
-  // centre stands above both sides, one line width out, by at least half
-  // of its contrast over the darker side. Painted digits or other lines
-  // beside a line hide one side in places, not along the whole line.
-  {
-    const Eigen::Vector2d fit_normal(-dir.y(), dir.x());
-    const double out = std::max(3.0, width);
-    int samples = 0, two_sided = 0;
-    for (size_t i = best_begin; i < best_end; ++i) {
-      if (support[i].t < t_lo + width || support[i].t > t_hi - width) continue;
-      const Eigen::Vector2d& c = support[i].centre;
-      const Eigen::Vector2d l = c + out * fit_normal, r = c - out * fit_normal;
-      const double centre = Sample(grey, c.x(), c.y());
-      const double left = centre - Sample(grey, l.x(), l.y());
-      const double right = centre - Sample(grey, r.x(), r.y());
-      ++samples;
-      if (std::max(left, right) > 0.0 && std::min(left, right) >= 0.5 * std::max(left, right)) {
-        ++two_sided;
-      }
-    }
-    line->two_sided_share = samples > 0 ? static_cast<double>(two_sided) / samples : 1.0;
-  }
+  line->two_sided_share = TwoSidedShare(grey, interior, Eigen::Vector2d(-dir.y(), dir.x()), width);
   return true;
 }
 
