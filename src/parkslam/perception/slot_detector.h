@@ -91,7 +91,7 @@ struct SlotDetectorOptions {
   double max_clutter = 0.15;
   // At most this many other lines pass within nearby_radius_m of a
   // junction (a car's body, grass or a textured wall make many).
-  int max_lines_nearby = 5;
+  int max_lines_nearby = 4;
   double nearby_radius_m = 1.0;
   // Lines at least long_line_m long are slot lines; shorter lines of a
   // junction may differ from their median width by at most this share

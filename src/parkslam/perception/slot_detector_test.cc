@@ -221,8 +221,8 @@ TEST(SlotDetectorTest, FindsAFaintSlotAmongSpecksAndGlare) {
 }
 
 // Junctions among many lines (a car's body, grass) are rejected: an L
-// corner keeps its marking point with five strokes passing 0.9 m from it,
-// and loses it with six (max_lines_nearby = 5 within 1 m).
+// corner keeps its marking point with four strokes passing 0.9 m from it,
+// and loses it with five (max_lines_nearby = 4 within 1 m).
 TEST(SlotDetectorTest, RejectsJunctionsAmongManyLines) {
   const Eigen::Vector2d corner(300.3, 300.2);
   const auto detect_with = [&](int distractors) {
@@ -241,10 +241,11 @@ TEST(SlotDetectorTest, RejectsJunctionsAmongManyLines) {
     options.require_entrance_facing_vehicle = false;
     return SlotDetector(options).Detect(view.image());
   };
-  const SlotDetection few = detect_with(5);
+  ASSERT_EQ(SlotDetectorOptions().max_lines_nearby, 4);
+  const SlotDetection few = detect_with(4);
   ASSERT_NE(FindPoint(few, corner, 1.5), nullptr);
   EXPECT_EQ(FindPoint(few, corner, 1.5)->shape, MarkingShape::kL);
-  EXPECT_EQ(FindPoint(detect_with(6), corner, 1.5), nullptr);
+  EXPECT_EQ(FindPoint(detect_with(5), corner, 1.5), nullptr);
 }
 
 // The bright rim of a shadow's edge stands above the floor's median like
