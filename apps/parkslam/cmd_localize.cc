@@ -65,9 +65,10 @@ void AddLocalizeCommand(CLI::App& app) {
         options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
     DatasetStream stream(dataset, options->pixels.live_images_hz, recorded);
     SensorSource& source = stream.source();
-    const size_t total = dataset.log.slot_frames.size() + dataset.log.tag_frames.size();
-    Progress progress("  localizing", static_cast<int>(total));
+    const DriveSpan span = SpanOf(dataset.log);
+    Progress progress("  localizing", span.TotalTenths());
     while (const auto event = source.Next()) {
+      progress.Update(span.Tenths(EventTime(*event)));
       const auto start = std::chrono::steady_clock::now();
       const auto estimate = localizer.Process(*event);
       if (!estimate) continue;
@@ -77,7 +78,6 @@ void AddLocalizeCommand(CLI::App& app) {
       // Slots and tags of one camera frame (on pixels) count as one frame.
       if (frames == 0 || estimate->t_ns != last_frame_ns) ++frames;
       last_frame_ns = estimate->t_ns;
-      progress.Update(frames);
       relocalizations += estimate->relocalized;
       if (estimate->state == localization::LocalizerState::kLost &&
           previous != localization::LocalizerState::kLost) {

@@ -18,7 +18,9 @@ Progress::Progress(std::string label, int total)
 Progress::~Progress() { Finish(); }
 
 void Progress::Update(int done) {
-  if (tty_ && !finished_) Draw(done, false);
+  // Redraw only when the bar moves: callers may update once per event.
+  if (!tty_ || finished_ || done == last_drawn_) return;
+  Draw(done, false);
 }
 
 void Progress::Finish() {
@@ -28,6 +30,7 @@ void Progress::Finish() {
 }
 
 void Progress::Draw(int done, bool final_line) {
+  last_drawn_ = done;
   constexpr int kWidth = 30;
   const int filled = kWidth * std::clamp(done, 0, total_) / total_;
   const double elapsed_s =

@@ -23,6 +23,7 @@ class Progress {
   int total_;
   bool tty_;
   bool finished_ = false;
+  int last_drawn_ = -1;
   std::chrono::steady_clock::time_point start_;
 };
 

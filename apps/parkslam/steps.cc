@@ -108,6 +108,31 @@ SensorSource& DatasetStream::source() {
   return log_;
 }
 
+int DriveSpan::TotalTenths() const {
+  return static_cast<int>(std::max<TimeNs>(0, end_ns - start_ns) / 100'000'000);
+}
+
+int DriveSpan::Tenths(TimeNs t_ns) const {
+  return std::clamp(static_cast<int>((t_ns - start_ns) / 100'000'000), 0, TotalTenths());
+}
+
+DriveSpan SpanOf(const SensorLog& log) {
+  std::optional<DriveSpan> span;
+  const auto cover = [&span](const auto& events) {
+    if (events.empty()) return;
+    const TimeNs first = events.front().t_ns, last = events.back().t_ns;
+    if (!span) span = DriveSpan{first, last};
+    span->start_ns = std::min(span->start_ns, first);
+    span->end_ns = std::max(span->end_ns, last);
+  };
+  cover(log.wheel_speeds);
+  cover(log.steering_angles);
+  cover(log.imu_samples);
+  cover(log.slot_frames);
+  cover(log.tag_frames);
+  return span.value_or(DriveSpan{});
+}
+
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
                          std::optional<SE2> initial_pose, bool progress,
                          double live_image_rate_hz,
@@ -116,17 +141,14 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
                          pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
                                                             dataset.scenario.vehicle),
                          initial_pose);
-  const SensorLog& log = dataset.log;
-  const size_t total = log.wheel_speeds.size() + log.steering_angles.size() +
-                       log.imu_samples.size() + log.slot_frames.size() + log.tag_frames.size();
+  const DriveSpan span = SpanOf(dataset.log);
   std::optional<Progress> bar;
-  if (progress) bar.emplace("  mapping", static_cast<int>(total / 1000) + 1);
+  if (progress) bar.emplace("  mapping", span.TotalTenths());
   DatasetStream stream(dataset, live_image_rate_hz, recorded_images_dir);
   SensorSource& source = stream.source();
-  size_t done = 0;
   while (const auto event = source.Next()) {
     mapper.Process(*event);
-    if (bar && ++done % 1000 == 0) bar->Update(static_cast<int>(done / 1000));
+    if (bar) bar->Update(span.Tenths(EventTime(*event)));
   }
   mapper.Finish();
   if (bar) bar->Finish();

@@ -27,6 +27,17 @@ pipeline::DeadReckoningResult RunOdometry(const io::Dataset& dataset,
 
 nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& metrics);
 
+// The time a dataset's log spans, to draw progress through its stream in
+// tenths of a second: on pixels the stream's events are not the log's, so
+// counting them gives no fixed total.
+struct DriveSpan {
+  TimeNs start_ns = 0, end_ns = 0;
+  int TotalTenths() const;
+  // Tenths of a second from the start to t_ns, within [0, TotalTenths()].
+  int Tenths(TimeNs t_ns) const;
+};
+DriveSpan SpanOf(const SensorLog& log);
+
 // Runs the mapper over a dataset, tuned from its sensor spec; with a
 // progress bar on stderr when `progress`.
 // With live_image_rate_hz > 0 the simulator's cameras render frame sets on
