@@ -119,13 +119,18 @@ void Mapper::Process(const SensorEvent& event) {
   const auto start = std::chrono::steady_clock::now();
   const bool has_observations = slot_frame != nullptr ? !slot_frame->slots.empty()
                                                      : !tag_frame->tags.empty();
-  if (!MaybeAddKeyframe(t_ns, has_observations)) return;
+  // One camera frame set gives a slot frame and a tag frame of the same
+  // time: the second joins the keyframe the first made (it has not moved,
+  // so it would never make one of its own).
+  const bool same_time = !keyframes_.empty() && keyframes_.back().t_ns == t_ns;
+  if (!same_time && !MaybeAddKeyframe(t_ns, has_observations)) return;
   const int k = static_cast<int>(keyframes_.size()) - 1;
   if (slot_frame != nullptr) {
     for (const SlotObservation& obs : slot_frame->slots) AssociateSlot(k, obs);
   } else {
     for (const TagObservation& obs : tag_frame->tags) AddTag(k, obs);
   }
+  if (same_time) return;  // these observations join the next solve
   AfterKeyframe();
   stats_.keyframe_update_ms.push_back(ElapsedMs(start));
 }

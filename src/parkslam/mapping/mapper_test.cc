@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <optional>
 
 #include "parkslam/common/angles.h"
 
@@ -33,8 +34,11 @@ using ReadingFn = std::function<SlotIdReading(int s, int f)>;
 
 // A straight drive along +x at 1 m/s from x = x0 to x1 (perfect odometry),
 // the top view seeing slots whose entrance corners are within 5 m of the car.
+// With tag_map, the front camera sees tag 7 there in every frame, facing -y,
+// in a tag frame of the slot frame's time (as one camera frame set gives).
 void Drive(Mapper& mapper, const std::vector<TestSlot>& slots, const ReadingFn& reading,
-           double x0, double x1, double y = 0.0, TimeNs t0 = 0, int frame0 = 0) {
+           double x0, double x1, double y = 0.0, TimeNs t0 = 0, int frame0 = 0,
+           std::optional<Eigen::Vector2d> tag_map = std::nullopt) {
   const double speed = 1.0;
   const int steps = static_cast<int>((x1 - x0) / speed * 100);
   for (int i = 0; i <= steps; ++i) {
@@ -65,6 +69,16 @@ void Drive(Mapper& mapper, const std::vector<TestSlot>& slots, const ReadingFn& 
         frame.slots.push_back(obs);
       }
       mapper.Process(frame);
+      if (tag_map) {
+        TagObservation tag;
+        tag.tag_id = 7;
+        tag.p_vehicle = *tag_map - Eigen::Vector2d(x, y);
+        tag.range_m = tag.p_vehicle.norm();
+        tag.yaw_vehicle_rad = -kPi / 2;
+        tag.covariance_vehicle = Eigen::Matrix2d::Identity() * 0.02 * 0.02;
+        tag.yaw_sigma_rad = 0.05;
+        mapper.Process(TagObservationFrame{t, {tag}});
+      }
     }
   }
 }
@@ -219,6 +233,25 @@ TEST(MapperTest, SpuriousSingleDetectionIsDropped) {
   mapper.Process(frame);
   mapper.Finish();
   EXPECT_EQ(mapper.Map().slots.size(), 1u);
+}
+
+TEST(MapperTest, TagSeenWithSlotsInOneFrameSetIsMapped) {
+  // The slot frame makes the keyframe; the tag frame of the same time joins
+  // it instead of being dropped for not having moved.
+  Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
+  const std::vector<TestSlot> slots{SlotAt(3.0), SlotAt(5.5), SlotAt(8.0), SlotAt(10.5)};
+  const Eigen::Vector2d tag_map(8.0, -4.0);
+  Drive(mapper, slots, [](int s, int) { return Reading(std::to_string(40 + s)); }, 0, 12, 0.0, 0,
+        0, tag_map);
+  mapper.Finish();
+  // Every keyframe is a frame set with slots and the tag in view.
+  EXPECT_GT(mapper.stats().keyframes, 50);
+  EXPECT_EQ(mapper.stats().tag_observations, mapper.stats().keyframes);
+  const SemanticMap map = mapper.Map();
+  ASSERT_EQ(map.tags.size(), 1u);
+  EXPECT_EQ(map.tags[0].tag_id, 7);
+  EXPECT_LT((map.tags[0].p_map - tag_map).norm(), 0.02);
+  EXPECT_EQ(map.slots.size(), 4u);
 }
 
 TEST(MapperTest, OnlineModeBuildsTheSameSlots) {
