@@ -805,6 +805,26 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
         if (dist < o.on_line_tolerance_m * s && along > 0.0 && along < 1.0) third_point = true;
       }
       if (third_point) continue;
+      // A parallel slot's entrance is as long as two perpendicular slots'
+      // entrances: where the corner between two of those was missed, its
+      // separating line still ends on the candidate between the two points.
+      bool separating_line_between = false;
+      if (length_m >= o.parallel_min_entrance_m) {
+        for (const PaintLine& line : lines) {
+          if (line.length() < min_stem_px || std::abs(Cross(e_unit, line.dir)) < min_sin) continue;
+          for (const double t : {line.t0, line.t1}) {
+            const Eigen::Vector2d end = line.point + t * line.dir;
+            const Eigen::Vector2d leaving = t == line.t0 ? line.dir : Eigen::Vector2d(-line.dir);
+            double along = 0.0;
+            const double dist = PointDistanceToSegment(end, mp[i].px, mp[j].px, &along);
+            if (dist < o.on_line_tolerance_m * s && along > 0.2 && along < 0.8 &&
+                leaving.dot(depth_dir) > 0.0) {
+              separating_line_between = true;
+            }
+          }
+        }
+      }
+      if (separating_line_between) continue;
       DetectedSlot slot;
       // Corner order: walking from corner 0 to corner 1 the slot lies on
       // the left in the vehicle frame, which the top view mirrors: on the

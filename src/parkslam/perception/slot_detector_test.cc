@@ -128,6 +128,25 @@ TEST(SlotDetectorTest, RemovesEntranceCandidatesWithAThirdMarkingPoint) {
   EXPECT_NEAR((d2.slots[0].corners_px[3] - a).norm(), 2.5 * kPxPerM, 2.0);
 }
 
+// Where the middle corner of two perpendicular slots is missed (its
+// separating line stops short of the entrance line), the outer pair is no
+// parallel slot: that separating line still ends on it between them.
+TEST(SlotDetectorTest, RemovesEntranceCandidatesWithASeparatingLineBetween) {
+  TopView view;
+  const Eigen::Vector2d a(150, 180), b(300, 180), c(450, 180), up(0, -1);
+  view.Slot(a, c, up, 5.3);
+  view.Stripe(a, c);
+  // Its paint ends 0.225 m from the entrance line's centre (the stripe
+  // reaches half its width beyond its end point): within on_line_tolerance_m.
+  view.Stripe(b + up * 0.3 * kPxPerM, b + up * 5.3 * kPxPerM);
+  const SlotDetection d = SlotDetector().Detect(view.image());
+  ASSERT_NE(FindPoint(d, a, 2.0), nullptr);
+  ASSERT_NE(FindPoint(d, c, 2.0), nullptr);
+  ASSERT_EQ(FindPoint(d, b, 20.0), nullptr);  // the middle corner is missed
+  EXPECT_EQ(FindSlot(d, a, c), nullptr);
+  EXPECT_TRUE(d.slots.empty());
+}
+
 // Extremely small or large candidates are discarded: entrances on both
 // sides of min_entrance_m (2.0 m) and max_entrance_m (7.5 m).
 TEST(SlotDetectorTest, DiscardsEntrancesOutsideTheLengthLimits) {
