@@ -445,8 +445,10 @@ std::optional<Eigen::Vector2d> RefineCorner(const cv::Mat& bright, double thresh
 
 struct Junction {
   MarkingPoint point;
-  // The arm of an L junction not taken as its separating line.
+  // The arm of an L junction not taken as its separating line, and its
+  // length in view.
   double other_direction_rad = 0.0;
+  double other_arm_px = 0.0;
 };
 
 double PointDistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
@@ -689,6 +691,7 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
         const Eigen::Vector2d& other = arm_a >= arm_b ? dir_b : dir_a;
         junction.point.direction_rad = std::atan2(main.y(), main.x());
         junction.other_direction_rad = std::atan2(other.y(), other.x());
+        junction.other_arm_px = std::min(arm_a, arm_b);
         // The stub's line, fitted over its whole length, can be pulled
         // askew by paint beyond it (a digit); refit it next to the corner.
         const PaintLine& long_line = arm_a >= arm_b ? a : b;
@@ -732,7 +735,7 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
     result.lines.push_back({line.point + line.t0 * line.dir, line.point + line.t1 * line.dir,
                             line.width_px});
   }
-  std::vector<double> other_direction;
+  std::vector<double> other_direction, other_arm_px;
   const double nms_px = o.min_arm_m * s;
   for (const Junction& junction : junctions) {
     bool near = false;
@@ -742,6 +745,7 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
     if (near) continue;
     result.marking_points.push_back(junction.point);
     other_direction.push_back(junction.other_direction_rad);
+    other_arm_px.push_back(junction.other_arm_px);
   }
 
   // 4. Entrance lines (paper III-A): pairs of marking points at a slot's
@@ -779,6 +783,15 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
         for (double aj : {mp[j].direction_rad, other_direction[j]}) {
           if (found) break;
           if (std::abs(AngleDiff(ai, aj)) > o.max_direction_difference_rad) continue;
+          // The separating line is a stem (at least min_stem_m in view),
+          // also where an L's shorter arm is taken as it: the short strokes
+          // at both ends of a row's end line make no parallel slot.
+          const auto short_arm_used = [&](size_t k, double used) {
+            return mp[k].shape == MarkingShape::kL &&
+                   std::abs(AngleDiff(used, mp[k].direction_rad)) > 1e-9 &&
+                   other_arm_px[k] < min_stem_px;
+          };
+          if (short_arm_used(i, ai) || short_arm_used(j, aj)) continue;
           if (!entrance_arm_ok(i, ai, e_unit) || !entrance_arm_ok(j, aj, -e_unit)) continue;
           const Eigen::Vector2d di(std::cos(ai), std::sin(ai)), dj(std::cos(aj), std::sin(aj));
           const Eigen::Vector2d mean = (di + dj).normalized();

@@ -147,6 +147,24 @@ TEST(SlotDetectorTest, RemovesEntranceCandidatesWithASeparatingLineBetween) {
   EXPECT_TRUE(d.slots.empty());
 }
 
+// A separating line is a stem, also where an L's shorter arm is taken as
+// it: a 5.3 m line with 0.5 m strokes at both ends (a row's end line) is no
+// parallel slot; with 2.5 m side lines it is one.
+TEST(SlotDetectorTest, ParallelSlotNeedsSideLinesNotStubs) {
+  const Eigen::Vector2d a(100, 140), c(100, 140 + 5.3 * kPxPerM), left(-1, 0);
+  const SlotDetector detector;
+  for (const double side_m : {0.5, 2.5}) {
+    TopView view;
+    view.Stripe(a, c);
+    view.Stripe(a, a + left * side_m * kPxPerM);
+    view.Stripe(c, c + left * side_m * kPxPerM);
+    const SlotDetection d = detector.Detect(view.image());
+    ASSERT_NE(FindPoint(d, a, 2.0), nullptr) << side_m;
+    ASSERT_NE(FindPoint(d, c, 2.0), nullptr) << side_m;
+    EXPECT_EQ(d.slots.size(), side_m < 1.0 ? 0u : 1u) << side_m;
+  }
+}
+
 // Extremely small or large candidates are discarded: entrances on both
 // sides of min_entrance_m (2.0 m) and max_entrance_m (7.5 m).
 TEST(SlotDetectorTest, DiscardsEntrancesOutsideTheLengthLimits) {
