@@ -459,6 +459,27 @@ double PointDistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a
   return (p - (a + u * ab)).norm();
 }
 
+// Whether a line at least min_length_px long, at least asin(min_sin) across
+// the segment p-q, ends within tolerance_px of it in its middle 60 % and
+// leaves it towards `side`.
+bool LineEndsBetween(const std::vector<PaintLine>& lines, const Eigen::Vector2d& p,
+                     const Eigen::Vector2d& q, const Eigen::Vector2d& side,
+                     double min_length_px, double min_sin, double tolerance_px) {
+  const Eigen::Vector2d pq = (q - p).normalized();
+  for (const PaintLine& line : lines) {
+    if (line.length() < min_length_px || std::abs(Cross(pq, line.dir)) < min_sin) continue;
+    for (const double t : {line.t0, line.t1}) {
+      const Eigen::Vector2d leaving = t == line.t0 ? line.dir : Eigen::Vector2d(-line.dir);
+      double along = 0.0;
+      const double dist = PointDistanceToSegment(line.point + t * line.dir, p, q, &along);
+      if (dist < tolerance_px && along > 0.2 && along < 0.8 && leaving.dot(side) > 0.0) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 const char* ToString(MarkingShape shape) { return shape == MarkingShape::kT ? "T" : "L"; }
@@ -777,20 +798,20 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
         }
         return PaintAlong(paint, mp[k].px, to_partner, 0.5 * max_width_px, min_arm_px) >= 0.5;
       };
+      // The separating line is a stem (at least min_stem_m in view), also
+      // where an L's shorter arm is taken as it: the short strokes at both
+      // ends of a row's end line make no parallel slot.
+      const auto short_arm_used = [&](size_t k, double used) {
+        return mp[k].shape == MarkingShape::kL &&
+               std::abs(AngleDiff(used, mp[k].direction_rad)) > 1e-9 &&
+               other_arm_px[k] < min_stem_px;
+      };
       bool found = false;
       Eigen::Vector2d dir_i, dir_j;
       for (double ai : {mp[i].direction_rad, other_direction[i]}) {
         for (double aj : {mp[j].direction_rad, other_direction[j]}) {
           if (found) break;
           if (std::abs(AngleDiff(ai, aj)) > o.max_direction_difference_rad) continue;
-          // The separating line is a stem (at least min_stem_m in view),
-          // also where an L's shorter arm is taken as it: the short strokes
-          // at both ends of a row's end line make no parallel slot.
-          const auto short_arm_used = [&](size_t k, double used) {
-            return mp[k].shape == MarkingShape::kL &&
-                   std::abs(AngleDiff(used, mp[k].direction_rad)) > 1e-9 &&
-                   other_arm_px[k] < min_stem_px;
-          };
           if (short_arm_used(i, ai) || short_arm_used(j, aj)) continue;
           if (!entrance_arm_ok(i, ai, e_unit) || !entrance_arm_ok(j, aj, -e_unit)) continue;
           const Eigen::Vector2d di(std::cos(ai), std::sin(ai)), dj(std::cos(aj), std::sin(aj));
@@ -821,23 +842,11 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
       // A parallel slot's entrance is as long as two perpendicular slots'
       // entrances: where the corner between two of those was missed, its
       // separating line still ends on the candidate between the two points.
-      bool separating_line_between = false;
-      if (length_m >= o.parallel_min_entrance_m) {
-        for (const PaintLine& line : lines) {
-          if (line.length() < min_stem_px || std::abs(Cross(e_unit, line.dir)) < min_sin) continue;
-          for (const double t : {line.t0, line.t1}) {
-            const Eigen::Vector2d end = line.point + t * line.dir;
-            const Eigen::Vector2d leaving = t == line.t0 ? line.dir : Eigen::Vector2d(-line.dir);
-            double along = 0.0;
-            const double dist = PointDistanceToSegment(end, mp[i].px, mp[j].px, &along);
-            if (dist < o.on_line_tolerance_m * s && along > 0.2 && along < 0.8 &&
-                leaving.dot(depth_dir) > 0.0) {
-              separating_line_between = true;
-            }
-          }
-        }
+      if (length_m >= o.parallel_min_entrance_m &&
+          LineEndsBetween(lines, mp[i].px, mp[j].px, depth_dir, min_stem_px, min_sin,
+                          o.on_line_tolerance_m * s)) {
+        continue;
       }
-      if (separating_line_between) continue;
       DetectedSlot slot;
       // Corner order: walking from corner 0 to corner 1 the slot lies on
       // the left in the vehicle frame, which the top view mirrors: on the
