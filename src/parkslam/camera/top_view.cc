@@ -58,6 +58,8 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
   cv::Mat primary(n, n, CV_32FC2, cv::Scalar(-1, -1)), secondary(n, n, CV_32FC2, cv::Scalar(-1, -1));
   primary_weight_ = cv::Mat(n, n, CV_16U, cv::Scalar(0));
   valid_ = cv::Mat(n, n, CV_8U, cv::Scalar(0));
+  primary_camera_ = cv::Mat(n, n, CV_8S, cv::Scalar(-1));
+  secondary_camera_ = cv::Mat(n, n, CV_8S, cv::Scalar(-1));
   const double x_front = options_.footprint_length_m - options_.footprint_rear_overhang_m;
   for (int v = 0; v < n; ++v) {
     for (int u = 0; u < n; ++u) {
@@ -70,6 +72,7 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
       double best_w = 0.0, second_w = 0.0;
       bool has_best = false, has_second = false;
       cv::Point2f best_px(-1, -1), second_px(-1, -1);
+      int best_camera = -1, second_camera = -1;
       for (size_t c = 0; c < cameras.size(); ++c) {
         const Eigen::Vector3d p_camera =
             cameras[c]->T_vehicle_camera.inverse() * Eigen::Vector3d(g.x(), g.y(), 0.0);
@@ -82,18 +85,22 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
         if (!has_best || w > best_w) {
           second_w = best_w;
           second_px = best_px;
+          second_camera = best_camera;
           has_second = has_best;
           best_w = w;
           best_px = stacked;
           has_best = true;
+          best_camera = static_cast<int>(c);
         } else if (!has_second || w > second_w) {
           second_w = w;
           second_px = stacked;
+          second_camera = static_cast<int>(c);
           has_second = true;
         }
       }
       if (!has_best) continue;
       valid_.at<uint8_t>(v, u) = 255;
+      primary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(best_camera);
       primary.at<cv::Point2f>(v, u) = best_px;
       // Feather: the second camera takes up to half where the two are
       // within blend_angle of each other.
@@ -102,6 +109,7 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
         const double gap = best_w - second_w;  // >= 0, radians
         alpha = 0.5 + 0.5 * std::min(1.0, gap / options_.blend_angle_rad);
         secondary.at<cv::Point2f>(v, u) = second_px;
+        secondary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(second_camera);
       } else {
         secondary.at<cv::Point2f>(v, u) = best_px;
       }
@@ -163,6 +171,21 @@ cv::Mat TopViewFusion::Fuse(const std::vector<cv::Mat>& images) const {
     }
   }
   return out;
+}
+
+int TopViewFusion::PrimaryCamera(int u, int v) const {
+  if (u < 0 || v < 0 || u >= primary_camera_.cols || v >= primary_camera_.rows) return -1;
+  return primary_camera_.at<int8_t>(v, u);
+}
+
+double TopViewFusion::PrimaryWeight(int u, int v) const {
+  if (u < 0 || v < 0 || u >= primary_weight_.cols || v >= primary_weight_.rows) return 1.0;
+  return primary_weight_.at<uint16_t>(v, u) / 256.0;
+}
+
+int TopViewFusion::SecondaryCamera(int u, int v) const {
+  if (u < 0 || v < 0 || u >= secondary_camera_.cols || v >= secondary_camera_.rows) return -1;
+  return secondary_camera_.at<int8_t>(v, u);
 }
 
 CameraRig PerturbExtrinsics(const CameraRig& rig, double rotation_sigma_rad,

@@ -54,6 +54,14 @@ class TopViewFusion {
   Eigen::Vector2d VehicleToPixel(const Eigen::Vector2d& p_vehicle) const;
   Eigen::Vector2d PixelToVehicle(const Eigen::Vector2d& pixel) const;
 
+  // The index (into camera_names) of the camera that a top-view pixel
+  // takes most of its value from; -1 where no camera sees the ground.
+  int PrimaryCamera(int u, int v) const;
+  // The blend at a top-view pixel: the primary camera's share of the value
+  // (0.5 to 1) and the second camera (-1 where the primary is alone).
+  double PrimaryWeight(int u, int v) const;
+  int SecondaryCamera(int u, int v) const;
+
   const TopViewOptions& options() const { return options_; }
 
  private:
@@ -66,6 +74,8 @@ class TopViewFusion {
   cv::Mat primary_xy_, primary_frac_, secondary_xy_, secondary_frac_;
   cv::Mat primary_weight_;  // CV_16U, 256: the best camera alone
   cv::Mat valid_;           // CV_8U, 0 where no camera sees the ground (or the car)
+  cv::Mat primary_camera_;  // CV_8S, the best camera's index, -1 where none
+  cv::Mat secondary_camera_;  // CV_8S, the blended second camera, -1 where none
 };
 
 // A world-to-camera perturbation of a rig's extrinsics: each camera is
