@@ -118,6 +118,18 @@ Ps2Labels Ps2LabelsFromJson(const nlohmann::json& json, const std::string& sourc
   return labels;
 }
 
+nlohmann::json Ps2LabelsToJson(const Ps2Labels& labels) {
+  nlohmann::json marks = nlohmann::json::array();
+  for (const Ps2MarkingPoint& m : labels.marking_points) {
+    const double x = m.px.x() + kPs2LabelOffsetPx, y = m.px.y() + kPs2LabelOffsetPx;
+    marks.push_back({x, y, x + kPs2DirectionLengthPx * std::cos(m.direction_rad),
+                     y + kPs2DirectionLengthPx * std::sin(m.direction_rad), m.is_t ? 0 : 1});
+  }
+  nlohmann::json slots = nlohmann::json::array();
+  for (const Ps2Slot& s : labels.slots) slots.push_back({s.a + 1, s.b + 1, s.type, s.angle_deg});
+  return nlohmann::json{{"marks", marks}, {"slots", slots}};
+}
+
 Ps2Labels ReadPs2Labels(const std::filesystem::path& json_path) {
   const std::string text = ReadTextFile(json_path);
   const Json json = json_util::ParseJson(text, json_path.string(), 0);

@@ -47,6 +47,8 @@ struct Ps2MarkingPoint {
 struct Ps2Slot {
   int a = 0;
   int b = 0;
+  int type = 1;             // written as labelled; not read back
+  double angle_deg = 90.0;  // written as labelled; not read back
 };
 
 struct Ps2Labels {
@@ -61,6 +63,13 @@ Ps2Labels Ps2LabelsFromJson(const nlohmann::json& json, const std::string& sourc
 // Throws IoError naming the file when it cannot be read or is not JSON, and
 // as Ps2LabelsFromJson.
 Ps2Labels ReadPs2Labels(const std::filesystem::path& json_path);
+
+// The labels in the same JSON form, always as lists of lists: 1-based
+// pixels, each mark's separating-line point kPs2DirectionLengthPx along
+// its direction, slots as [i, j, type, angle] with 1-based indices.
+// Ps2LabelsFromJson reads it back to the same points and directions.
+inline constexpr double kPs2DirectionLengthPx = 25.0;
+nlohmann::json Ps2LabelsToJson(const Ps2Labels& labels);
 
 // The names without extension ("20160725-3-1") of the .jpg images in
 // `folder` that have a .json label file beside them, sorted; images without
