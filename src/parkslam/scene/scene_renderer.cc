@@ -1,0 +1,944 @@
+#include "parkslam/scene/scene_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "parkslam/common/angles.h"
+#include "parkslam/common/random.h"
+#include "parkslam/scene/floor_painter.h"
+
+namespace parkslam::scene {
+namespace {
+
+constexpr int kAtlasGap = 4;
+constexpr int kNoiseBankSize = 509;  // prime: offsets never line up with image rows
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr double kMaxFootprintNearM = 0.035;   // finer footprints sample the 1.75 cm floor
+constexpr double kMaxFootprintMidM = 0.07;     // then the 3.5 cm level, then the far floor
+constexpr double kSpecularCellM = 0.08;
+constexpr double kMaxOffAxisRad = 1.66;  // 95 degrees: a 190-degree lens
+constexpr float kAutoExposureTarget = 115.0f;  // mean grey level the cameras meter for
+constexpr double kSpecularHalfExtentM = 10.0;
+
+enum PixelKind : std::uint8_t { kNone, kGround, kUp, kEgo };
+
+std::uint64_t Mix(std::uint64_t seed, std::uint64_t tag) {
+  std::uint64_t z = seed + 0x9e3779b97f4a7c15ull * (tag + 1);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+// The floor at three resolutions side by side, so that one remap per camera
+// samples each pixel's footprint.
+struct AtlasLayout {
+  cv::Rect near, mid, far;
+  cv::Size size;
+};
+
+struct CameraTable {
+  std::string name;
+  int width = 0, height = 0;
+  Eigen::Vector3d c_vehicle = Eigen::Vector3d::Zero();
+  cv::Mat map_xy, map_frac;  // fixed-point maps into the atlas
+  cv::Mat kind;              // CV_8U PixelKind
+  cv::Mat vignette;          // CV_32F, squared off-axis angle over its maximum
+  cv::Mat ego_shade;         // CV_32F, where kind is kEgo
+  cv::Mat needed;            // CV_8U, 255 where the top view samples (with a margin for blur)
+  cv::Range needed_rows = cv::Range::all();  // the rows that hold any of them
+  std::vector<Eigen::Vector3f> rays;  // unit, vehicle frame
+  std::vector<float> ground_t;        // along the ray to the floor; inf where none
+  std::vector<float> horizontal;      // horizontal length of the unit ray
+  std::vector<Eigen::Vector2f> ground_xy;
+  std::vector<int> by_azimuth;        // pixel indices sorted by the azimuth of their ray
+  std::vector<float> azimuth_sorted;  // radians in (-pi, pi]
+};
+
+struct SolidHit {
+  float t = kInf;
+  Eigen::Vector3f normal = Eigen::Vector3f::UnitZ();
+  bool top = false;
+};
+
+// Ray (origin o, unit direction d) against a solid; the nearest hit beyond
+// a millimetre, if any.
+bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o, const Eigen::Vector3f& d,
+               SolidHit* hit) {
+  const double ox = o.x() - s.center.x(), oy = o.y() - s.center.y();
+  if (s.shape == SolidShape::kBox) {
+    // Slabs in the box's frame.
+    const double lo[3] = {-s.half_x, -s.half_y, s.z0}, hi[3] = {s.half_x, s.half_y, s.z1};
+    const double lo_o[3] = {cy * ox + sy * oy, -sy * ox + cy * oy, o.z()};
+    const double ld[3] = {cy * d.x() + sy * d.y(), -sy * d.x() + cy * d.y(), d.z()};
+    double enter = -1e30, leave = 1e30;
+    int axis = -1;
+    double sign = 1;
+    for (int k = 0; k < 3; ++k) {
+      if (std::abs(ld[k]) < 1e-12) {
+        if (lo_o[k] < lo[k] || lo_o[k] > hi[k]) return false;
+        continue;
+      }
+      double t0 = (lo[k] - lo_o[k]) / ld[k], t1 = (hi[k] - lo_o[k]) / ld[k];
+      double face_sign = -1;
+      if (t0 > t1) {
+        std::swap(t0, t1);
+        face_sign = 1;
+      }
+      if (t0 > enter) {
+        enter = t0;
+        axis = k;
+        sign = face_sign;
+      }
+      leave = std::min(leave, t1);
+    }
+    if (axis < 0 || enter > leave || enter < 1e-3 || enter >= hit->t) return false;
+    hit->t = static_cast<float>(enter);
+    Eigen::Vector3f n = Eigen::Vector3f::Zero();
+    if (axis == 0) n = Eigen::Vector3f(static_cast<float>(sign * cy), static_cast<float>(sign * sy), 0);
+    if (axis == 1) n = Eigen::Vector3f(static_cast<float>(-sign * sy), static_cast<float>(sign * cy), 0);
+    if (axis == 2) n = Eigen::Vector3f(0, 0, static_cast<float>(sign));
+    hit->normal = n;
+    hit->top = axis == 2 && sign > 0;
+    return true;
+  }
+  // Vertical cylinder or cone: radius(z) = r0 - k (z - z0).
+  const double r0 = s.half_x;
+  const double k = s.shape == SolidShape::kCone ? r0 / std::max(1e-6, s.z1 - s.z0) : 0.0;
+  const double e = r0 - k * (o.z() - s.z0), g = -k * d.z();
+  const double a = d.x() * d.x() + d.y() * d.y() - g * g;
+  const double b = 2 * (ox * d.x() + oy * d.y() - e * g);
+  const double c = ox * ox + oy * oy - e * e;
+  double best = hit->t;
+  bool found = false;
+  Eigen::Vector3f normal;
+  bool top = false;
+  if (std::abs(a) > 1e-12) {
+    const double disc = b * b - 4 * a * c;
+    if (disc >= 0) {
+      const double sq = std::sqrt(disc);
+      for (const double t : {(-b - sq) / (2 * a), (-b + sq) / (2 * a)}) {
+        const double z = o.z() + t * d.z();
+        if (t > 1e-3 && t < best && z >= s.z0 && z <= s.z1 && e + g * t >= 0) {
+          best = t;
+          found = true;
+          const double px = ox + t * d.x(), py = oy + t * d.y();
+          const double r = std::max(1e-6, std::hypot(px, py));
+          normal = Eigen::Vector3f(static_cast<float>(px / r), static_cast<float>(py / r), static_cast<float>(k)).normalized();
+          top = false;
+          break;
+        }
+      }
+    }
+  }
+  if (s.shape == SolidShape::kCylinder && d.z() < 0) {
+    const double t = (s.z1 - o.z()) / d.z();
+    const double px = ox + t * d.x(), py = oy + t * d.y();
+    if (t > 1e-3 && t < best && px * px + py * py <= r0 * r0) {
+      best = t;
+      found = true;
+      normal = Eigen::Vector3f::UnitZ();
+      top = true;
+    }
+  }
+  if (!found) return false;
+  hit->t = static_cast<float>(best);
+  hit->normal = normal;
+  hit->top = top;
+  return true;
+}
+
+float Luma(const cv::Vec3f& p) { return 0.114f * p[0] + 0.587f * p[1] + 0.299f * p[2]; }
+
+}  // namespace
+
+bool SceneRendererOptions::IsValid(std::string* error) const {
+  const auto fail = [error](const char* what) {
+    if (error != nullptr) *error = what;
+    return false;
+  };
+  if (fisheye_names.empty()) return fail("fisheye_names is empty");
+  if (!(near_resolution_m > 0.002 && near_resolution_m < 0.2)) return fail("near_resolution_m must be in (0.002, 0.2)");
+  if (!(near_max_x_m > near_min_x_m && near_half_width_m > 0)) return fail("the near floor must have an area");
+  if (!(far_resolution_m >= near_resolution_m && far_half_extent_m > 1.0)) {
+    return fail("far_resolution_m must be at least near_resolution_m and far_half_extent_m above 1");
+  }
+  if (perturbed_calibrations < 0 || perturbed_calibrations > 64) return fail("perturbed_calibrations must be in [0, 64]");
+  if (!(calibration_rotation_sigma_rad >= 0 && calibration_translation_sigma_m >= 0)) {
+    return fail("calibration sigmas must be non-negative");
+  }
+  if (!(ceiling_height_m > 1.5)) return fail("ceiling_height_m must exceed 1.5");
+  std::string top_error;
+  if (!top_view.IsValid(&top_error)) return fail("top_view is invalid");
+  return true;
+}
+
+struct SceneRenderer::Impl {
+  SceneRendererOptions options;
+  camera::CameraRig rig;
+  std::vector<camera::CameraConfig> fisheye_configs;
+  std::vector<std::unique_ptr<camera::TopViewFusion>> fusions;  // 0: exact
+  std::vector<camera::CameraRig> fusion_rigs;
+  std::vector<CameraTable> fisheyes;
+  std::optional<CameraTable> front;
+  AtlasLayout atlas;
+  cv::Mat noise_bank;  // CV_32F standard normal
+
+  Impl(const camera::CameraRig& r, const SceneRendererOptions& o);
+  CameraTable BuildTable(const camera::CameraConfig& config) const;
+  // full: every pixel; otherwise only those the top view needs (the rest black).
+  cv::Mat RenderCamera(const CameraTable& table, const Scene& scene, const CameraLook& look,
+                       const cv::Mat& atlas_bgr, const LightMap& light, const Colour& ego_colour,
+                       bool full, cv::Mat* solid_mask) const;
+  void ApplyLook(const CameraLook& look, const CameraTable& table, float gain, bool full,
+                 cv::Mat* radiance, cv::Mat* out8) const;
+  void MarkNeeded();
+  // The near floor's place in the far one, when its edges fall on far
+  // pixels' edges (the defaults do); empty otherwise.
+  cv::Rect NearInFar() const {
+    const double f = options.far_resolution_m;
+    const double x0 = (options.near_min_x_m + options.far_half_extent_m) / f;
+    const double y0 = (options.far_half_extent_m - options.near_half_width_m) / f;
+    const double w = (options.near_max_x_m - options.near_min_x_m) / f, h = 2 * options.near_half_width_m / f;
+    const auto whole = [](double v) { return std::abs(v - std::round(v)) < 1e-6; };
+    if (!whole(x0) || !whole(y0) || !whole(w) || !whole(h)) return {};
+    const cv::Rect r(static_cast<int>(std::lround(x0)), static_cast<int>(std::lround(y0)),
+                     static_cast<int>(std::lround(w)), static_cast<int>(std::lround(h)));
+    return r == (r & cv::Rect(0, 0, atlas.far.width, atlas.far.height)) ? r : cv::Rect();
+  }
+};
+
+SceneRenderer::Impl::Impl(const camera::CameraRig& r, const SceneRendererOptions& o)
+    : options(o), rig(r) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument("scene renderer: " + error);
+  const double near_w = options.near_max_x_m - options.near_min_x_m;
+  const cv::Size near(static_cast<int>(std::lround(near_w / options.near_resolution_m)),
+                      static_cast<int>(std::lround(2 * options.near_half_width_m / options.near_resolution_m)));
+  const cv::Size mid((near.width + 1) / 2, (near.height + 1) / 2);
+  const int far_n = static_cast<int>(std::lround(2 * options.far_half_extent_m / options.far_resolution_m));
+  atlas.near = cv::Rect(0, 0, near.width, near.height);
+  atlas.mid = cv::Rect(near.width + kAtlasGap, 0, mid.width, mid.height);
+  atlas.far = cv::Rect(atlas.mid.x + mid.width + kAtlasGap, 0, far_n, far_n);
+  atlas.size = cv::Size(atlas.far.x + far_n, std::max(near.height, far_n));
+
+  for (const std::string& name : options.fisheye_names) {
+    const camera::CameraConfig* c = rig.Find(name);
+    if (c == nullptr) throw std::invalid_argument("scene renderer: the rig has no camera '" + name + "'");
+    fisheye_configs.push_back(*c);
+    fisheyes.push_back(BuildTable(*c));
+  }
+  if (!options.front_camera.empty()) {
+    const camera::CameraConfig* c = rig.Find(options.front_camera);
+    if (c == nullptr) {
+      throw std::invalid_argument("scene renderer: the rig has no camera '" + options.front_camera + "'");
+    }
+    front = BuildTable(*c);
+  }
+  fusion_rigs.push_back(rig);
+  for (int k = 1; k <= options.perturbed_calibrations; ++k) {
+    fusion_rigs.push_back(camera::PerturbExtrinsics(rig, options.calibration_rotation_sigma_rad,
+                                                    options.calibration_translation_sigma_m,
+                                                    Mix(options.calibration_seed, static_cast<std::uint64_t>(k))));
+  }
+  for (const camera::CameraRig& fr : fusion_rigs) {
+    fusions.push_back(std::make_unique<camera::TopViewFusion>(fr, options.fisheye_names, options.top_view));
+  }
+  MarkNeeded();
+  noise_bank = cv::Mat(kNoiseBankSize, kNoiseBankSize, CV_32F);
+  cv::RNG rng(0x5eed);
+  rng.fill(noise_bank, cv::RNG::NORMAL, 0.0, 1.0);
+}
+
+// The fisheye pixels that the exact fusion samples, widened by the largest
+// blur and calibration error, so that a scene renders only those.
+void SceneRenderer::Impl::MarkNeeded() {
+  const camera::TopViewFusion& fusion = *fusions.front();
+  const int size = options.top_view.size_px;
+  for (size_t c = 0; c < fisheyes.size(); ++c) {
+    CameraTable& t = fisheyes[c];
+    t.needed = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(0));
+    const camera::CameraModel model(fisheye_configs[c].intrinsics);
+    const Eigen::Isometry3d T_camera_vehicle = fisheye_configs[c].T_vehicle_camera.inverse();
+    for (int v = 0; v < size; ++v) {
+      for (int u = 0; u < size; ++u) {
+        if (fusion.PrimaryCamera(u, v) < 0) continue;
+        const Eigen::Vector2d g = fusion.PixelToVehicle(Eigen::Vector2d(u, v));
+        const auto px = model.Project(T_camera_vehicle * Eigen::Vector3d(g.x(), g.y(), 0.0));
+        if (!px) continue;
+        t.needed.at<std::uint8_t>(static_cast<int>(px->y()), static_cast<int>(px->x())) = 255;
+      }
+    }
+    cv::dilate(t.needed, t.needed, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(25, 25)));
+    int first = t.height, last = 0;
+    for (int v = 0; v < t.height; ++v) {
+      if (cv::countNonZero(t.needed.row(v)) > 0) {
+        first = std::min(first, v);
+        last = v + 1;
+      }
+    }
+    t.needed_rows = first < last ? cv::Range(first, last) : cv::Range(0, 0);
+  }
+}
+
+CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) const {
+  const camera::CameraModel model(config.intrinsics);
+  CameraTable t;
+  t.name = config.name;
+  t.width = model.width();
+  t.height = model.height();
+  t.c_vehicle = config.T_vehicle_camera.translation();
+  const Eigen::Matrix3d R = config.T_vehicle_camera.linear();
+  const size_t n = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
+  t.rays.assign(n, Eigen::Vector3f::Zero());
+  t.ground_t.assign(n, kInf);
+  t.horizontal.assign(n, 0.0f);
+  t.ground_xy.assign(n, Eigen::Vector2f::Zero());
+  t.kind = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(kNone));
+  t.vignette = cv::Mat(t.height, t.width, CV_32F, cv::Scalar(0));
+  t.ego_shade = cv::Mat(t.height, t.width, CV_32F, cv::Scalar(0));
+  cv::Mat map(t.height, t.width, CV_32FC2, cv::Scalar(-10, -10));
+  std::vector<double> off_axis(n, 0.0);
+  double max_off = 1e-6;
+  std::vector<Eigen::Vector3d> cam_rays(n);
+  std::vector<bool> valid(n, false);
+  for (int v = 0; v < t.height; ++v) {
+    for (int u = 0; u < t.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
+      const auto ray = model.Unproject(Eigen::Vector2d(u, v));
+      if (!ray) continue;
+      const double angle = std::acos(std::clamp(ray->normalized().z(), -1.0, 1.0));
+      // A real fisheye's image circle ends at its field of view: black beyond.
+      if (angle > kMaxOffAxisRad) continue;
+      valid[i] = true;
+      cam_rays[i] = ray->normalized();
+      off_axis[i] = angle;
+      max_off = std::max(max_off, off_axis[i]);
+    }
+  }
+  const double cz = t.c_vehicle.z();
+  // The car's own body, as in the system's renderer.
+  const double ego_lo[3] = {-1.0, -0.925, 0.25}, ego_hi[3] = {3.7, 0.925, 1.45};
+  bool camera_in_body = true;
+  for (int k = 0; k < 3; ++k) camera_in_body &= t.c_vehicle[k] > ego_lo[k] && t.c_vehicle[k] < ego_hi[k];
+  const double near_res = options.near_resolution_m;
+  for (int v = 0; v < t.height; ++v) {
+    for (int u = 0; u < t.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
+      if (!valid[i]) continue;
+      const Eigen::Vector3d d = R * cam_rays[i];
+      t.rays[i] = d.cast<float>();
+      t.horizontal[i] = static_cast<float>(std::hypot(d.x(), d.y()));
+      const double vig = off_axis[i] / max_off;
+      t.vignette.at<float>(v, u) = static_cast<float>(vig * vig);
+      std::uint8_t kind = kUp;
+      if (d.z() < -1e-6) {
+        const double s = cz / -d.z();
+        const Eigen::Vector2d g = t.c_vehicle.head<2>() + s * d.head<2>();
+        // The pixel's footprint on the floor: its angle times the distance,
+        // stretched by the grazing angle.
+        const double pixel_angle = 1.0 / std::max(1.0, config.intrinsics.fx);
+        const double footprint = s * pixel_angle / std::sqrt(std::max(1e-3, -d.z()));
+        cv::Point2f atlas_px(-10, -10);
+        const double nx = (g.x() - options.near_min_x_m) / near_res - 0.5;
+        const double ny = (options.near_half_width_m - g.y()) / near_res - 0.5;
+        const bool in_near = nx > 1 && ny > 1 && nx < atlas.near.width - 2 && ny < atlas.near.height - 2;
+        const double fx = (g.x() + options.far_half_extent_m) / options.far_resolution_m - 0.5;
+        const double fy = (options.far_half_extent_m - g.y()) / options.far_resolution_m - 0.5;
+        const bool in_far = fx > 1 && fy > 1 && fx < atlas.far.width - 2 && fy < atlas.far.height - 2;
+        if (in_near && footprint < kMaxFootprintNearM) {
+          atlas_px = cv::Point2f(static_cast<float>(atlas.near.x + nx), static_cast<float>(atlas.near.y + ny));
+        } else if (in_near && footprint < kMaxFootprintMidM) {
+          atlas_px = cv::Point2f(static_cast<float>(atlas.mid.x + (nx + 0.5) / 2 - 0.5),
+                                 static_cast<float>(atlas.mid.y + (ny + 0.5) / 2 - 0.5));
+        } else if (in_far) {
+          atlas_px = cv::Point2f(static_cast<float>(atlas.far.x + fx), static_cast<float>(atlas.far.y + fy));
+        }
+        if (atlas_px.x >= 0) {
+          kind = kGround;
+          map.at<cv::Point2f>(v, u) = atlas_px;
+          t.ground_t[i] = static_cast<float>(cz / -d.z());
+          t.ground_xy[i] = g.cast<float>();
+        }
+      }
+      if (!camera_in_body) {
+        double enter = -1e30, leave = 1e30;
+        int axis = -1;
+        for (int k = 0; k < 3; ++k) {
+          if (std::abs(d[k]) < 1e-12) {
+            if (t.c_vehicle[k] < ego_lo[k] || t.c_vehicle[k] > ego_hi[k]) leave = -1;
+            continue;
+          }
+          double t0 = (ego_lo[k] - t.c_vehicle[k]) / d[k], t1 = (ego_hi[k] - t.c_vehicle[k]) / d[k];
+          if (t0 > t1) std::swap(t0, t1);
+          if (t0 > enter) {
+            enter = t0;
+            axis = k;
+          }
+          leave = std::min(leave, t1);
+        }
+        if (axis >= 0 && enter >= -1e-9 && enter < leave && enter < t.ground_t[i]) {
+          kind = kEgo;
+          t.ego_shade.at<float>(v, u) = static_cast<float>(0.55 + 0.45 * std::abs(d[axis]));
+        }
+      }
+      t.kind.at<std::uint8_t>(v, u) = kind;
+    }
+  }
+  cv::convertMaps(map, cv::noArray(), t.map_xy, t.map_frac, CV_16SC2);
+  std::vector<std::pair<float, int>> az;
+  az.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (!valid[i]) continue;
+    az.emplace_back(std::atan2(t.rays[i].y(), t.rays[i].x()), static_cast<int>(i));
+  }
+  std::sort(az.begin(), az.end());
+  for (const auto& [a, i] : az) {
+    t.azimuth_sorted.push_back(a);
+    t.by_azimuth.push_back(i);
+  }
+  return t;
+}
+
+cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& scene,
+                                          const CameraLook& look, const cv::Mat& atlas_bgr,
+                                          const LightMap& light, const Colour& ego_colour,
+                                          bool full, cv::Mat* solid_mask) const {
+  const std::uint8_t* need = full || t.needed.empty() ? nullptr : t.needed.data;
+  cv::Mat ground;
+  const cv::Range rows = need != nullptr ? t.needed_rows : cv::Range(0, t.height);
+  ground = cv::Mat(t.height, t.width, CV_8UC3, cv::Scalar::all(0));
+  if (rows.size() > 0) {
+    cv::Mat band = ground.rowRange(rows);
+    cv::remap(atlas_bgr, band, t.map_xy.rowRange(rows), t.map_frac.rowRange(rows), cv::INTER_LINEAR,
+              cv::BORDER_CONSTANT);
+  }
+  const Lighting& l = scene.light;
+  const float light_here = light.At(t.c_vehicle.x(), t.c_vehicle.y());
+  const Colour tint = l.tint;
+
+  // Lamps mirrored in a glossy floor: where the reflection of each lamp
+  // meets the floor for this camera, an elongated highlight.
+  cv::Mat specular;
+  const int spec_n = static_cast<int>(2 * kSpecularHalfExtentM / kSpecularCellM);
+  if (!l.outdoor && scene.floor.gloss > 0.05) {
+    specular = cv::Mat(spec_n, spec_n, CV_32F, cv::Scalar(0));
+    const double cz = t.c_vehicle.z(), h = l.lamp_height_m;
+    const Eigen::Vector2d c = t.c_vehicle.head<2>();
+    const double s = l.lamp_spacing_m;
+    constexpr double kReachM = 12.0;  // lamps farther mirror beyond the top view
+    for (double gx = std::floor((c.x() - kReachM - l.lamp_offset.x()) / s); gx <= (c.x() + kReachM - l.lamp_offset.x()) / s; gx += 1) {
+      for (double gy = std::floor((c.y() - kReachM - l.lamp_offset.y()) / s); gy <= (c.y() + kReachM - l.lamp_offset.y()) / s; gy += 1) {
+        const Eigen::Vector2d lamp = l.lamp_offset + Eigen::Vector2d(gx, gy) * s;
+        const Eigen::Vector2d r = c + (lamp - c) * (cz / (cz + h));
+        const Eigen::Vector2d away = (r - c).norm() > 1e-3 ? Eigen::Vector2d((r - c).normalized()) : Eigen::Vector2d::UnitX();
+        const double dist = (r - c).norm();
+        const double along = std::min(1.5, 0.25 + 0.35 * dist), across = std::min(0.3, 0.08 + 0.04 * dist);
+        const double strength = 140.0 * scene.floor.gloss * light.At(lamp.x(), lamp.y());
+        const int cx = static_cast<int>((r.x() - c.x() + kSpecularHalfExtentM) / kSpecularCellM);
+        const int cy = static_cast<int>((kSpecularHalfExtentM - (r.y() - c.y())) / kSpecularCellM);
+        const int rad = static_cast<int>(std::ceil(3 * along / kSpecularCellM));
+        for (int y = std::max(0, cy - rad); y < std::min(spec_n, cy + rad); ++y) {
+          for (int x = std::max(0, cx - rad); x < std::min(spec_n, cx + rad); ++x) {
+            const Eigen::Vector2d p(c.x() - kSpecularHalfExtentM + (x + 0.5) * kSpecularCellM,
+                                    c.y() + kSpecularHalfExtentM - (y + 0.5) * kSpecularCellM);
+            const Eigen::Vector2d dp = p - r;
+            const double a = dp.dot(away) / along, b = (dp.x() * away.y() - dp.y() * away.x()) / across;
+            const double q = a * a + b * b;
+            if (q < 16.0) specular.at<float>(y, x) += static_cast<float>(strength * std::exp(-0.5 * q));
+          }
+        }
+      }
+    }
+  }
+
+  cv::Mat radiance(t.height, t.width, CV_32FC3, cv::Scalar::all(0));
+  const double ceiling = options.ceiling_height_m;
+  const Eigen::Vector3f sun(static_cast<float>(std::cos(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
+                            static_cast<float>(std::sin(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
+                            static_cast<float>(std::sin(l.sun_elevation_rad)));
+  for (int v = rows.start; v < rows.end; ++v) {
+    const std::uint8_t* kind = t.kind.ptr<std::uint8_t>(v);
+    const cv::Vec3b* g = ground.ptr<cv::Vec3b>(v);
+    cv::Vec3f* out = radiance.ptr<cv::Vec3f>(v);
+    const float* ego = t.ego_shade.ptr<float>(v);
+    for (int u = 0; u < t.width; ++u) {
+      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
+      cv::Vec3f& p = out[u];
+      if (need != nullptr && need[i] == 0) {
+        p = cv::Vec3f(0, 0, 0);
+        continue;
+      }
+      switch (kind[u]) {
+        case kGround: {
+          for (int k = 0; k < 3; ++k) p[k] = g[u][k] * kRadianceScale;
+          if (!specular.empty()) {
+            const Eigen::Vector2f gp = t.ground_xy[i];
+            const int x = static_cast<int>((gp.x() - t.c_vehicle.x() + kSpecularHalfExtentM) / kSpecularCellM);
+            const int y = static_cast<int>((kSpecularHalfExtentM - (gp.y() - t.c_vehicle.y())) / kSpecularCellM);
+            if (x >= 0 && y >= 0 && x < spec_n && y < spec_n) {
+              const float add = specular.at<float>(y, x);
+              for (int k = 0; k < 3; ++k) p[k] += add * tint[k];
+            }
+          }
+          break;
+        }
+        case kUp: {
+          const Eigen::Vector3f& d = t.rays[i];
+          if (l.outdoor) {
+            const float up = std::max(0.0f, d.z());
+            p = cv::Vec3f(250 - 30 * up, 235 - 40 * up, 225 - 60 * up) * static_cast<float>(l.gain);
+          } else if (d.z() > 0.02f) {
+            const float s = static_cast<float>((ceiling - t.c_vehicle.z()) / d.z());
+            const float x = static_cast<float>(t.c_vehicle.x()) + s * d.x();
+            const float y = static_cast<float>(t.c_vehicle.y()) + s * d.y();
+            const double ls = l.lamp_spacing_m;
+            const double lx = x - l.lamp_offset.x() - std::round((x - l.lamp_offset.x()) / ls) * ls;
+            const double ly = y - l.lamp_offset.y() - std::round((y - l.lamp_offset.y()) / ls) * ls;
+            const bool lamp = std::abs(lx) < 0.6 && std::abs(ly) < 0.08;
+            const float level = lamp ? 480.0f : 55.0f * light.At(x, y);
+            p = cv::Vec3f(level * tint[0], level * tint[1], level * tint[2]);
+          } else {
+            const float level = 45.0f * light_here;
+            p = cv::Vec3f(level, level, level);
+          }
+          break;
+        }
+        case kEgo: {
+          const float shade = ego[u] * light_here;
+          for (int k = 0; k < 3; ++k) p[k] = ego_colour[k] * shade * tint[k];
+          break;
+        }
+        default:
+          p = cv::Vec3f(0, 0, 0);
+      }
+    }
+  }
+
+  // Solids, each in the azimuth wedge it covers.
+  const size_t n = t.rays.size();
+  std::vector<float> depth(t.ground_t);
+  std::vector<std::int16_t> which(n, -1);
+  const Eigen::Vector2d c2 = t.c_vehicle.head<2>();
+  for (size_t s = 0; s < scene.solids.size(); ++s) {
+    const Solid& solid = scene.solids[s];
+    // The solid's footprint corners (or its circle's bounding square) seen
+    // from the camera: the wedge of azimuths, and the nearest horizontal
+    // distance, inside which no ray meets it.
+    std::vector<Eigen::Vector2d> corners;
+    if (solid.shape == SolidShape::kBox) {
+      const Eigen::Vector2d ax(std::cos(solid.yaw_rad), std::sin(solid.yaw_rad)), ay(-ax.y(), ax.x());
+      for (int sx = -1; sx <= 1; sx += 2) {
+        for (int sy = -1; sy <= 1; sy += 2) corners.push_back(solid.center + ax * (sx * solid.half_x) + ay * (sy * solid.half_y));
+      }
+    } else {
+      for (int sx = -1; sx <= 1; sx += 2) {
+        for (int sy = -1; sy <= 1; sy += 2) corners.push_back(solid.center + Eigen::Vector2d(sx, sy) * solid.half_x);
+      }
+    }
+    const double cos_yaw = std::cos(solid.yaw_rad), sin_yaw = std::sin(solid.yaw_rad);
+    const Eigen::Vector2d to = solid.center - c2;
+    const double centre = std::atan2(to.y(), to.x());
+    double spread_lo = 0.0, spread_hi = 0.0, nearest = 1e9;
+    bool all = false;
+    for (size_t k = 0; k < corners.size(); ++k) {
+      const Eigen::Vector2d a = corners[k] - c2, b = corners[(k + 1) % corners.size()] - c2;
+      const double rel = AngleDiff(std::atan2(a.y(), a.x()), centre);
+      spread_lo = std::min(spread_lo, rel);
+      spread_hi = std::max(spread_hi, rel);
+      // Distance from the camera to the edge a-b.
+      const Eigen::Vector2d ab = b - a;
+      const double u = std::clamp(-a.dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
+      nearest = std::min(nearest, (a + u * ab).norm());
+    }
+    // Inside the footprint, or a wedge of half a turn or more: every azimuth.
+    if (spread_hi - spread_lo > 0.95 * kPi || (solid.shape == SolidShape::kBox &&
+        std::abs((c2 - solid.center).dot(Eigen::Vector2d(std::cos(solid.yaw_rad), std::sin(solid.yaw_rad)))) < solid.half_x &&
+        std::abs((c2 - solid.center).dot(Eigen::Vector2d(-std::sin(solid.yaw_rad), std::cos(solid.yaw_rad)))) < solid.half_y)) {
+      all = true;
+      nearest = 0.0;
+    }
+    float lo = static_cast<float>(centre + spread_lo - 0.01), hi = static_cast<float>(centre + spread_hi + 0.01);
+    const float near_xy = static_cast<float>(nearest);
+    const auto scan = [&](float a0, float a1) {
+      const auto first = std::lower_bound(t.azimuth_sorted.begin(), t.azimuth_sorted.end(), a0);
+      const auto last = std::upper_bound(t.azimuth_sorted.begin(), t.azimuth_sorted.end(), a1);
+      for (auto it = first; it != last; ++it) {
+        const size_t i = static_cast<size_t>(t.by_azimuth[static_cast<size_t>(it - t.azimuth_sorted.begin())]);
+        if (t.kind.data[i] == kEgo || depth[i] * t.horizontal[i] < near_xy) continue;
+        if (need != nullptr && need[i] == 0) continue;
+        SolidHit hit;
+        hit.t = depth[i];
+        if (Intersect(solid, cos_yaw, sin_yaw, t.c_vehicle, t.rays[i], &hit)) {
+          depth[i] = hit.t;
+          which[i] = static_cast<std::int16_t>(s);
+        }
+      }
+    };
+    if (all) {
+      scan(-static_cast<float>(kPi) - 1, static_cast<float>(kPi) + 1);
+    } else {
+      const float pi = static_cast<float>(kPi);
+      if (lo < -pi) {
+        scan(lo + 2 * pi, pi + 1);
+        scan(-pi - 1, hi);
+      } else if (hi > pi) {
+        scan(lo, pi + 1);
+        scan(-pi - 1, hi - 2 * pi);
+      } else {
+        scan(lo, hi);
+      }
+    }
+  }
+  if (solid_mask != nullptr) *solid_mask = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(0));
+  for (size_t i = 0; i < n; ++i) {
+    if (which[i] < 0) continue;
+    const Solid& solid = scene.solids[static_cast<size_t>(which[i])];
+    SolidHit hit;
+    Intersect(solid, std::cos(solid.yaw_rad), std::sin(solid.yaw_rad), t.c_vehicle, t.rays[i], &hit);
+    const Eigen::Vector3f p = t.c_vehicle.cast<float>() + t.rays[i] * hit.t;
+    const float facing = std::abs(hit.normal.dot(t.rays[i]));
+    float lit = light.At(p.x(), p.y());
+    if (l.outdoor) lit *= 0.55f + 0.6f * std::max(0.0f, hit.normal.dot(sun));
+    Colour albedo = solid.colour;
+    switch (solid.material) {
+      case SolidMaterial::kPaint: {
+        // A car body: a sill in shadow, a highlight along the shoulder,
+        // lamps at the corners of its ends, a sheen at grazing angles.
+        albedo *= 0.6f + 0.4f * facing + (hit.top ? 0.15f : 0.0f);
+        const double cy = std::cos(solid.yaw_rad), sy = std::sin(solid.yaw_rad);
+        const double lx = cy * (p.x() - solid.center.x()) + sy * (p.y() - solid.center.y());
+        const double ly = -sy * (p.x() - solid.center.x()) + cy * (p.y() - solid.center.y());
+        if (!hit.top) {
+          if (p.z() < solid.z0 + 0.15) albedo *= 0.55f;
+          if (p.z() > solid.z1 - 0.07) albedo *= 1.25f;
+          const bool end = std::abs(std::abs(lx) - solid.half_x) < 0.02;
+          if (end && std::abs(ly) > solid.half_y - 0.35 && p.z() > solid.z1 - 0.25) {
+            albedo = lx > 0 ? Colour(215, 225, 230) : Colour(40, 40, 190);
+          }
+        }
+        albedo += Colour(35, 35, 35) * (1.0f - facing);
+        break;
+      }
+      case SolidMaterial::kGlass:
+        if (!hit.top) albedo = Colour(45, 42, 40) * (1.0f + 1.2f * (1.0f - facing));
+        break;
+      case SolidMaterial::kTyre:
+        break;
+      case SolidMaterial::kMatt:
+      case SolidMaterial::kSkin:
+        albedo *= 0.65f + 0.35f * facing;
+        break;
+    }
+    if (solid.stripes) {
+      if (solid.shape == SolidShape::kCone) {
+        const double f = (p.z() - solid.z0) / (solid.z1 - solid.z0);
+        if (f > 0.45 && f < 0.7) albedo = Colour(235, 235, 235);
+      } else if (p.z() < 1.0 && !hit.top) {
+        const bool dark = static_cast<int>(std::floor((p.x() + p.y() + p.z()) / 0.2)) % 2 == 0;
+        albedo = dark ? Colour(35, 35, 35) : Colour(30, 190, 230);
+      }
+    }
+    cv::Vec3f& out = radiance.at<cv::Vec3f>(static_cast<int>(i) / t.width, static_cast<int>(i) % t.width);
+    for (int k = 0; k < 3; ++k) out[k] = albedo[k] * lit * tint[k];
+    if (solid_mask != nullptr) solid_mask->data[i] = 255;
+  }
+
+  // Auto exposure: each camera meters its own image (every 7th pixel), so
+  // the four differ where they see different things (visible seams).
+  double sum = 0.0;
+  int count = 0;
+  const cv::Vec3f* px = radiance.ptr<cv::Vec3f>(0);
+  for (size_t i = 0; i < n; i += 7) {
+    if (t.kind.data[i] == kNone || (!t.needed.empty() && t.needed.data[i] == 0)) continue;
+    sum += Luma(px[i]);
+    ++count;
+  }
+  const float metered = count > 0 ? static_cast<float>(sum / count) : kAutoExposureTarget;
+  const float auto_gain = std::clamp(kAutoExposureTarget / std::max(1.0f, metered), 0.3f, 4.0f);
+  cv::Mat out8;
+  ApplyLook(look, t, auto_gain, full, &radiance, &out8);
+  return out8;
+}
+
+// The camera: exposure, white balance, vignetting, defocus, motion blur,
+// glare, a dirty lens, noise, and compression.
+void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& table, float auto_gain,
+                                    bool full, cv::Mat* radiance, cv::Mat* out8) const {
+  cv::Mat& img = *radiance;
+  cv::RNG rng(Mix(look.seed, 0xca));
+  for (int s = 0; s < look.dirt_spots; ++s) {
+    const int radius = static_cast<int>(rng.uniform(20.0, 70.0));
+    const cv::Point centre(rng.uniform(0, img.cols), rng.uniform(0, img.rows));
+    const cv::Rect roi = cv::Rect(centre.x - radius, centre.y - radius, 2 * radius, 2 * radius) &
+                         cv::Rect(0, 0, img.cols, img.rows);
+    if (roi.area() <= 0) continue;
+    cv::Mat blurred;
+    cv::GaussianBlur(img(roi), blurred, cv::Size(), radius / 3.0);
+    const float strength = static_cast<float>(rng.uniform(0.4, 0.9));
+    for (int r = 0; r < roi.height; ++r) {
+      for (int c = 0; c < roi.width; ++c) {
+        const float dx = static_cast<float>(roi.x + c - centre.x), dy = static_cast<float>(roi.y + r - centre.y);
+        const float a = strength * std::exp(-(dx * dx + dy * dy) / (0.35f * radius * radius));
+        cv::Vec3f& p = img.at<cv::Vec3f>(roi.y + r, roi.x + c);
+        const cv::Vec3f b = blurred.at<cv::Vec3f>(r, c);
+        const cv::Vec3f dirt = b * 0.6f + cv::Vec3f(40, 55, 65);
+        p = p * (1 - a) + dirt * a;
+      }
+    }
+  }
+  if (look.glare > 0) {
+    const cv::Point2f centre(static_cast<float>(rng.uniform(0.2, 0.8) * img.cols),
+                             static_cast<float>(rng.uniform(0.0, 0.3) * img.rows));
+    const float radius = static_cast<float>(0.35 * img.cols);
+    for (int r = 0; r < img.rows; ++r) {
+      cv::Vec3f* row = img.ptr<cv::Vec3f>(r);
+      for (int c = 0; c < img.cols; ++c) {
+        const float dx = c - centre.x, dy = r - centre.y;
+        const float add = static_cast<float>(look.glare) * (220.0f * std::exp(-(dx * dx + dy * dy) / (radius * radius)) + 25.0f);
+        row[c] += cv::Vec3f(add * 0.9f, add * 0.97f, add);
+      }
+    }
+  }
+  // Exposure, white balance and vignetting into 8 bits; the optics' blur
+  // (on 8 bits: four times cheaper than on radiance); then sensor noise.
+  const float gain[3] = {static_cast<float>(auto_gain * look.exposure * look.white_balance[0]),
+                         static_cast<float>(auto_gain * look.exposure * look.white_balance[1]),
+                         static_cast<float>(auto_gain * look.exposure * look.white_balance[2])};
+  const float vig = static_cast<float>(look.vignetting);
+  const int ox0 = rng.uniform(0, kNoiseBankSize), oy0 = rng.uniform(0, kNoiseBankSize);
+  const int ox1 = rng.uniform(0, kNoiseBankSize), ox2 = rng.uniform(0, kNoiseBankSize);
+  const float sigma = static_cast<float>(look.noise_sigma);
+  const bool masked = !full && !table.needed.empty();
+  const bool blurred = look.defocus_px > 0.3 || look.motion_blur_px >= 1.0;
+  // Without blur, one pass does all; with it, the noise comes after.
+  const auto pass = [&](bool light, bool noise) {
+    for (int r = 0; r < img.rows; ++r) {
+      const cv::Vec3f* in = img.ptr<cv::Vec3f>(r);
+      const float* vrow = table.vignette.ptr<float>(r);
+      cv::Vec3b* o = out8->ptr<cv::Vec3b>(r);
+      const std::uint8_t* kind = table.kind.ptr<std::uint8_t>(r);
+      const std::uint8_t* need = masked ? table.needed.ptr<std::uint8_t>(r) : nullptr;
+      const float* n0 = noise_bank.ptr<float>((r + oy0) % kNoiseBankSize);
+      int i0 = ox0, i1 = ox1, i2 = ox2;
+      for (int c = 0; c < img.cols; ++c) {
+        if (++i0 == kNoiseBankSize) i0 = 0;
+        if (++i1 == kNoiseBankSize) i1 = 0;
+        if (++i2 == kNoiseBankSize) i2 = 0;
+        if (kind[c] == kNone || (need != nullptr && need[c] == 0)) {
+          o[c] = cv::Vec3b(0, 0, 0);
+          continue;
+        }
+        float v[3];
+        if (light) {
+          const float fall = 1.0f - vig * vrow[c];
+          for (int k = 0; k < 3; ++k) v[k] = in[c][k] * gain[k] * fall;
+        } else {
+          for (int k = 0; k < 3; ++k) v[k] = o[c][k];
+        }
+        if (noise) {
+          const float lum = sigma * n0[i0];
+          v[0] += lum + 0.5f * sigma * n0[i1];
+          v[1] += lum;
+          v[2] += lum + 0.5f * sigma * n0[i2];
+        }
+        for (int k = 0; k < 3; ++k) o[c][k] = cv::saturate_cast<std::uint8_t>(v[k]);
+      }
+    }
+  };
+  *out8 = cv::Mat(img.size(), CV_8UC3);
+  pass(true, !blurred);
+  if (look.defocus_px > 0.3) cv::GaussianBlur(*out8, *out8, cv::Size(), look.defocus_px);
+  if (look.motion_blur_px >= 1.0) {
+    const int len = static_cast<int>(std::ceil(look.motion_blur_px)) | 1;
+    cv::Mat kernel(len, len, CV_32F, cv::Scalar(0));
+    const cv::Point2f c(len / 2.0f, len / 2.0f);
+    const cv::Point2f d(static_cast<float>(std::cos(look.motion_angle_rad) * len / 2.0),
+                        static_cast<float>(std::sin(look.motion_angle_rad) * len / 2.0));
+    cv::line(kernel, c - d, c + d, cv::Scalar(1.0), 1, cv::LINE_AA);
+    kernel /= std::max(1e-6, cv::sum(kernel)[0]);
+    cv::filter2D(*out8, *out8, -1, kernel);
+  }
+  if (blurred) pass(false, true);
+  if (look.jpeg_quality < 95) {
+    std::vector<std::uint8_t> bytes;
+    cv::imencode(".jpg", *out8, bytes, {cv::IMWRITE_JPEG_QUALITY, look.jpeg_quality});
+    *out8 = cv::imdecode(bytes, cv::IMREAD_COLOR);
+  }
+}
+
+SceneRenderer::SceneRenderer(const camera::CameraRig& rig, const SceneRendererOptions& options)
+    : impl_(std::make_unique<Impl>(rig, options)) {}
+SceneRenderer::~SceneRenderer() = default;
+SceneRenderer::SceneRenderer(SceneRenderer&&) noexcept = default;
+SceneRenderer& SceneRenderer::operator=(SceneRenderer&&) noexcept = default;
+
+const camera::TopViewFusion& SceneRenderer::fusion(int calibration) const {
+  const size_t k = static_cast<size_t>(std::clamp(calibration, 0, static_cast<int>(impl_->fusions.size()) - 1));
+  return *impl_->fusions[k];
+}
+
+const SceneRendererOptions& SceneRenderer::options() const { return impl_->options; }
+
+RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const RenderRequest& request) const {
+  const Impl& m = *impl_;
+  const SceneRendererOptions& o = m.options;
+  if (scene.cameras.size() < m.fisheyes.size()) {
+    throw std::invalid_argument("scene renderer: the scene has " + std::to_string(scene.cameras.size()) +
+                                " camera looks for " + std::to_string(m.fisheyes.size()) + " cameras");
+  }
+  const LightMap light(scene.light);
+  // The floor: near at full resolution, halved, and far.
+  cv::Mat atlas(m.atlas.size, CV_8UC3, cv::Scalar::all(0));
+  Canvas near(o.near_min_x_m, o.near_half_width_m, o.near_max_x_m - o.near_min_x_m, 2 * o.near_half_width_m,
+              o.near_resolution_m);
+  cv::Mat slot_paint;
+  PaintFloor(scene, light, {}, fonts, &near, request.slot_paint ? &slot_paint : nullptr);
+  Canvas far(-o.far_half_extent_m, o.far_half_extent_m, 2 * o.far_half_extent_m, 2 * o.far_half_extent_m,
+             o.far_resolution_m);
+  FloorPainterOptions far_options;
+  far_options.draw_text = false;
+  cv::Mat far_slot_paint;
+  PaintFloor(scene, light, far_options, nullptr, &far, request.slot_paint ? &far_slot_paint : nullptr);
+  // Where they overlap the far floor is the near one, shrunk: no seam.
+  const cv::Rect near_in_far = m.NearInFar();
+  if (near_in_far.area() > 0) {
+    cv::resize(near.bgr, far.bgr(near_in_far), near_in_far.size(), 0, 0, cv::INTER_AREA);
+  }
+  near.bgr.copyTo(atlas(m.atlas.near));
+  cv::Mat half;
+  cv::pyrDown(near.bgr, half, m.atlas.mid.size());
+  half.copyTo(atlas(m.atlas.mid));
+  far.bgr.copyTo(atlas(m.atlas.far));
+
+  Random ego_rng = Random::Derive(scene.seed, 0xe90);
+  const float ego_level = static_cast<float>(ego_rng.Uniform(20, 200));
+  const Colour ego_colour(ego_level, ego_level, ego_level * static_cast<float>(ego_rng.Uniform(0.9, 1.1)));
+
+  RenderedScene out;
+  std::vector<cv::Mat> solid_masks(m.fisheyes.size());
+  for (size_t c = 0; c < m.fisheyes.size(); ++c) {
+    out.fisheyes.push_back(m.RenderCamera(m.fisheyes[c], scene, scene.cameras[c], atlas, light, ego_colour,
+                                          request.fisheyes, request.solids ? &solid_masks[c] : nullptr));
+  }
+  const camera::TopViewFusion& fusion = this->fusion(scene.fusion_calibration);
+  cv::Mat top = fusion.Fuse(out.fisheyes);
+  // The unit's own processing: sharpening and saturation.
+  if (scene.top_view_sharpen > 0) {
+    cv::Mat blurred;
+    cv::GaussianBlur(top, blurred, cv::Size(), 1.2);
+    cv::addWeighted(top, 1.0 + scene.top_view_sharpen, blurred, -scene.top_view_sharpen, 0.0, top);
+  }
+  if (std::abs(scene.saturation - 1.0) > 1e-3) {
+    const int sat = static_cast<int>(std::lround(scene.saturation * 256));
+    for (int r = 0; r < top.rows; ++r) {
+      cv::Vec3b* row = top.ptr<cv::Vec3b>(r);
+      for (int c = 0; c < top.cols; ++c) {
+        const int y = (29 * row[c][0] + 150 * row[c][1] + 77 * row[c][2]) >> 8;
+        for (int k = 0; k < 3; ++k) row[c][k] = cv::saturate_cast<std::uint8_t>(y + (((row[c][k] - y) * sat) >> 8));
+      }
+    }
+  }
+  out.top_view = top;
+  if (request.front && m.front) {
+    out.front = m.RenderCamera(*m.front, scene, scene.front_camera, atlas, light, ego_colour, true, nullptr);
+  }
+  const auto fuse_grey = [&](const cv::Mat& atlas8, const std::vector<cv::Mat>* hide) {
+    std::vector<cv::Mat> views;
+    for (size_t c = 0; c < m.fisheyes.size(); ++c) {
+      cv::Mat v;
+      cv::remap(atlas8, v, m.fisheyes[c].map_xy, m.fisheyes[c].map_frac, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+      cv::Mat on_ground = m.fisheyes[c].kind == kGround;
+      v.setTo(0, ~on_ground);
+      if (hide != nullptr && !(*hide)[c].empty()) v.setTo(0, (*hide)[c]);
+      views.push_back(v);
+    }
+    return fusion.Fuse(views);
+  };
+  if (request.slot_paint) {
+    cv::Mat a8(m.atlas.size, CV_8UC1, cv::Scalar(0));
+    slot_paint.copyTo(a8(m.atlas.near));
+    cv::Mat h8;
+    cv::pyrDown(slot_paint, h8, m.atlas.mid.size());
+    h8.copyTo(a8(m.atlas.mid));
+    far_slot_paint.copyTo(a8(m.atlas.far));
+    out.slot_paint = fuse_grey(a8, request.solids ? &solid_masks : nullptr);
+  }
+  if (request.solids) {
+    std::vector<cv::Mat> masks = solid_masks;
+    out.solids = fusion.Fuse(masks);
+  }
+  if (request.dots) {
+    // A 2 cm dot on every marking point, at every level of the floor.
+    cv::Mat a8(m.atlas.size, CV_8UC1, cv::Scalar(0));
+    const auto draw = [&](const Canvas& canvas, const cv::Rect& where) {
+      cv::Mat level = a8(where);
+      for (const MarkingPoint& mark : scene.marks) {
+        const Eigen::Vector2d px = canvas.PixelOf(mark.p_vehicle);
+        const int radius = std::max(4, static_cast<int>(0.02 / canvas.resolution_m * 16));
+        cv::circle(level, cv::Point(static_cast<int>(std::lround(px.x() * 16)), static_cast<int>(std::lround(px.y() * 16))),
+                   radius, cv::Scalar(255), -1, cv::LINE_AA, 4);
+      }
+    };
+    draw(near, m.atlas.near);
+    Canvas mid_level = near;
+    mid_level.resolution_m = 2 * near.resolution_m;
+    draw(mid_level, m.atlas.mid);
+    draw(far, m.atlas.far);
+    out.dots = fuse_grey(a8, nullptr);
+  }
+  return out;
+}
+
+std::optional<Eigen::Vector2d> SceneRenderer::FusedPixelOf(const Scene& scene, const Eigen::Vector2d& p_vehicle) const {
+  const Impl& m = *impl_;
+  const size_t k = static_cast<size_t>(std::clamp(scene.fusion_calibration, 0, static_cast<int>(m.fusions.size()) - 1));
+  const camera::TopViewFusion& fusion = *m.fusions[k];
+  const camera::CameraRig& fusion_rig = m.fusion_rigs[k];
+  const Eigen::Vector3d P(p_vehicle.x(), p_vehicle.y(), 0.0);
+  // Where camera c shows P in the fusion: the true camera sees P at a pixel;
+  // the fusion, believing its own extrinsics, puts that pixel's ground
+  // point at this top-view pixel.
+  const auto through = [&](int c) -> std::optional<Eigen::Vector2d> {
+    const camera::CameraConfig& truth = m.fisheye_configs[static_cast<size_t>(c)];
+    const camera::CameraModel model(truth.intrinsics);
+    const auto pixel = model.Project(truth.T_vehicle_camera.inverse() * P);
+    const camera::CameraConfig* assumed = fusion_rig.Find(truth.name);
+    if (!pixel || assumed == nullptr) return std::nullopt;
+    const auto ray = model.Unproject(*pixel);
+    if (!ray) return std::nullopt;
+    const Eigen::Vector3d d = assumed->T_vehicle_camera.linear() * *ray;
+    const Eigen::Vector3d o = assumed->T_vehicle_camera.translation();
+    if (d.z() >= -1e-9) return std::nullopt;
+    return fusion.VehicleToPixel((o + d * (o.z() / -d.z())).head<2>());
+  };
+  const auto round = [](const Eigen::Vector2d& q) {
+    return std::pair<int, int>(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())));
+  };
+  // The camera the fusion uses there depends on where "there" is: iterate.
+  Eigen::Vector2d q = fusion.VehicleToPixel(p_vehicle);
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    const auto [u, v] = round(q);
+    const int c = fusion.PrimaryCamera(u, v);
+    if (c < 0) return std::nullopt;
+    const auto next = through(c);
+    if (!next) return std::nullopt;
+    const bool settled = (*next - q).norm() < 1e-3;
+    q = *next;
+    if (settled) break;
+  }
+  // In a seam the fused value is a blend of two cameras: so is the point.
+  const auto [u, v] = round(q);
+  const int second = fusion.SecondaryCamera(u, v);
+  const double w = fusion.PrimaryWeight(u, v);
+  if (second >= 0 && w < 1.0) {
+    const auto q2 = through(second);
+    if (q2) q = w * q + (1.0 - w) * *q2;
+  }
+  return q;
+}
+
+}  // namespace parkslam::scene

@@ -1,0 +1,99 @@
+#include "parkslam/scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+namespace parkslam::scene {
+namespace {
+
+TEST(SceneTest, SameSeedSameScene) {
+  const Scene a = SampleScene(42), b = SampleScene(42), c = SampleScene(43);
+  ASSERT_EQ(a.marks.size(), b.marks.size());
+  for (size_t i = 0; i < a.marks.size(); ++i) EXPECT_EQ(a.marks[i].p_vehicle, b.marks[i].p_vehicle);
+  EXPECT_EQ(a.strokes.size(), b.strokes.size());
+  EXPECT_EQ(a.solids.size(), b.solids.size());
+  EXPECT_FALSE(a.marks.size() == c.marks.size() && a.strokes.size() == c.strokes.size() &&
+               a.solids.size() == c.solids.size() && a.floor.material == c.floor.material &&
+               a.marks.front().p_vehicle == c.marks.front().p_vehicle);
+}
+
+// Over many seeds the sampler covers what the issue lists.
+TEST(SceneTest, ScenesVaryOverWhatRealLotsShow) {
+  std::set<int> materials, kinds, decals;
+  int outdoor = 0, yellow = 0, white = 0, stencil = 0, letters = 0, l_marks = 0, t_marks = 0,
+      cars = 0, perturbed = 0, night = 0;
+  for (std::uint64_t seed = 0; seed < 400; ++seed) {
+    const Scene s = SampleScene(seed);
+    materials.insert(static_cast<int>(s.floor.material));
+    outdoor += s.light.outdoor;
+    night += s.light.night;
+    perturbed += s.fusion_calibration > 0;
+    for (const Slot& slot : s.slots) kinds.insert(static_cast<int>(slot.kind));
+    for (const Decal& d : s.decals) decals.insert(static_cast<int>(d.kind));
+    for (const Stroke& st : s.strokes) {
+      yellow += st.paint == PaintKind::kYellow;
+      white += st.paint == PaintKind::kWhite;
+    }
+    for (const FloorText& t : s.texts) {
+      stencil += t.stencil;
+      for (char ch : t.text) letters += std::isalpha(static_cast<unsigned char>(ch)) != 0;
+    }
+    for (const MarkingPoint& m : s.marks) (m.is_t ? t_marks : l_marks)++;
+    for (const Solid& solid : s.solids) cars += solid.material == SolidMaterial::kGlass;
+  }
+  EXPECT_EQ(materials.size(), 5u);
+  EXPECT_EQ(kinds.size(), 3u);
+  EXPECT_GE(decals.size(), 12u);
+  EXPECT_GT(outdoor, 100);
+  EXPECT_LT(outdoor, 300);
+  EXPECT_GT(night, 5);
+  EXPECT_GT(perturbed, 100);
+  EXPECT_GT(yellow, 100);
+  EXPECT_GT(white, yellow);
+  EXPECT_GT(stencil, 50);
+  EXPECT_GT(letters, 100);
+  EXPECT_GT(l_marks, 50);
+  EXPECT_GT(t_marks, 5 * l_marks);
+  EXPECT_GT(cars, 300);
+}
+
+TEST(SceneTest, SlotsJoinNeighbouringMarksAndLieToTheLeftOfTheirEntrance) {
+  for (std::uint64_t seed = 0; seed < 50; ++seed) {
+    const Scene s = SampleScene(seed);
+    for (const Slot& slot : s.slots) {
+      const MarkingPoint& a = s.marks[static_cast<size_t>(slot.a)];
+      const MarkingPoint& b = s.marks[static_cast<size_t>(slot.b)];
+      const Eigen::Vector2d entrance = b.p_vehicle - a.p_vehicle;
+      EXPECT_GT(entrance.norm(), 2.0);
+      EXPECT_LT(entrance.norm(), 7.5);
+      // The slot's interior (along the separating lines) lies to the left.
+      const Eigen::Vector2d left(-entrance.y(), entrance.x());
+      EXPECT_GT(left.dot(a.direction), 0.0) << "seed " << seed;
+      EXPECT_NEAR(a.direction.norm(), 1.0, 1e-9);
+    }
+  }
+}
+
+TEST(SceneTest, SolidsKeepOffTheCar) {
+  for (std::uint64_t seed = 0; seed < 200; ++seed) {
+    for (const Solid& solid : SampleScene(seed).solids) {
+      if (solid.shape != SolidShape::kBox || solid.half_x > 5) continue;
+      const bool inside = solid.center.x() > -1.0 && solid.center.x() < 3.7 && std::abs(solid.center.y()) < 0.925;
+      EXPECT_FALSE(inside) << "seed " << seed;
+    }
+  }
+}
+
+TEST(SceneTest, RejectsInvalidOptions) {
+  SceneSamplerOptions options;
+  options.outdoor_probability = 1.5;
+  EXPECT_THROW(SampleScene(1, options), std::invalid_argument);
+  std::string error;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("outdoor_probability"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace parkslam::scene
