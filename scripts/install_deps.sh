@@ -6,7 +6,9 @@ set -euo pipefail
 packages=(
   build-essential cmake
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
-  libceres-dev libopencv-dev libapriltag-dev
+  libceres-dev libopencv-dev libopencv-contrib-dev libapriltag-dev
+  fonts-dejavu-core fonts-dejavu-extra fonts-liberation fonts-freefont-ttf fonts-urw-base35
+  fonts-noto-core fonts-open-sans fonts-cantarell fonts-roboto-unhinted
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect; do
+for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect make-training-set; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -131,6 +131,20 @@ expect nonzero "wheel_speed.csv:5" -- "$PARKSLAM" odometry "$tmp/corrupt" --out 
 cp -r "$tmp/d" "$tmp/overflow"
 sed -i '0,/"sigma_m":[^,]*/s//"sigma_m":1e999/' "$tmp/overflow/observations/slots.jsonl"
 expect nonzero 'slots.jsonl:[0-9]+: slots\[[0-9]+\]\.sigma_m: invalid JSON' -- "$PARKSLAM" odometry "$tmp/overflow" --out "$tmp/o4.tum"
+
+# Randomized training views: labelled in the ps2.0 form that eval-detect reads,
+# deterministic by seed, and a folder with files in it is not overwritten.
+expect 0 "3 top views" -- "$PARKSLAM" make-training-set --out "$tmp/ts" --count 3 --seed 5 --threads 1
+[ -f "$tmp/ts/000002.jpg" ] && [ -f "$tmp/ts/000002.json" ] && [ -f "$tmp/ts/manifest.json" ] && pass ||
+  fail "make-training-set did not write its images, labels and manifest"
+expect 0 "3 images" -- "$PARKSLAM" eval-detect --ps2 "$tmp/ts"
+expect 0 "3 top views" -- "$PARKSLAM" make-training-set --out "$tmp/ts2" --count 3 --seed 5 --threads 2
+cmp -s "$tmp/ts/000001.jpg" "$tmp/ts2/000001.jpg" && cmp -s "$tmp/ts/000001.json" "$tmp/ts2/000001.json" && pass ||
+  fail "make-training-set is not deterministic by seed across thread counts"
+expect nonzero "not empty" -- "$PARKSLAM" make-training-set --out "$tmp/ts" --count 1
+expect nonzero "--kind" -- "$PARKSLAM" make-training-set --out "$tmp/ts3" --count 1 --kind faces
+expect 0 "ID crops" -- "$PARKSLAM" make-training-set --out "$tmp/ids" --count 6 --seed 3 --kind ids
+head -1 "$tmp/ids/ids/labels.csv" | grep -q "^file,text$" && pass || fail "ids/labels.csv lacks its header"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

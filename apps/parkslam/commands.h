@@ -28,6 +28,7 @@ void AddTopviewCommand(CLI::App& app);
 void AddTagsCommand(CLI::App& app);
 void AddDetectCommand(CLI::App& app);
 void AddEvalDetectCommand(CLI::App& app);
+void AddMakeTrainingSetCommand(CLI::App& app);
 
 // Options shared by `simulate` and `demo` that pick and tune the scenario.
 struct ScenarioOptions {

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   parkslam::app::AddTagsCommand(app);
   parkslam::app::AddDetectCommand(app);
   parkslam::app::AddEvalDetectCommand(app);
+  parkslam::app::AddMakeTrainingSetCommand(app);
   parkslam::app::AddDemoCommand(app);
   try {
     app.parse(argc, argv);
