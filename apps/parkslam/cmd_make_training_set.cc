@@ -20,8 +20,8 @@
 #include "image_files.h"
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/io/atomic_file.h"
+#include "parkslam/common/seed_mix.h"
 #include "parkslam/io/ps2_labels.h"
-#include "parkslam/render/seed_mix.h"
 #include "parkslam/scene/font_book.h"
 #include "parkslam/scene/labels.h"
 #include "parkslam/scene/scene.h"
@@ -122,7 +122,7 @@ void Run(const Options& o) {
     request.fisheyes = o.fisheyes;
     try {
       for (int i = next++; i < o.count; i = next++) {
-        const scene::Scene s = scene::SampleScene(render::MixSeed(o.seed, static_cast<std::uint64_t>(i)));
+        const scene::Scene s = scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)));
         const scene::RenderedScene r = renderer.Render(s, &book, request);
         const scene::TopViewLabels labels = scene::LabelTopView(renderer, s, r);
         const std::string name = Name(i);
@@ -185,7 +185,7 @@ void Run(const Options& o) {
   manifest["kind"] = o.kind;
   manifest["seed"] = o.seed;
   manifest["count"] = o.count;
-  manifest["scene_seed"] = "MixSeed(seed, index) of render/seed_mix.h";
+  manifest["scene_seed"] = "MixSeed(seed, index) of common/seed_mix.h";
   manifest["marking_points"] = marks;
   manifest["slots"] = slots;
   manifest["id_crops"] = id_count;

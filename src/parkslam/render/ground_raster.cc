@@ -10,7 +10,7 @@
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
 #include "parkslam/render/digit_font.h"
-#include "parkslam/render/seed_mix.h"
+#include "parkslam/common/seed_mix.h"
 
 namespace parkslam::render {
 namespace {

@@ -14,7 +14,7 @@
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
 #include "parkslam/render/light_field.h"
-#include "parkslam/render/seed_mix.h"
+#include "parkslam/common/seed_mix.h"
 #include "parkslam/render/sensor_noise.h"
 #include "parkslam/render/tag_texture.h"
 

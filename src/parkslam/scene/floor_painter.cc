@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/seed_mix.h"
 #include "parkslam/common/random.h"
 
 namespace parkslam::scene {
@@ -18,15 +19,9 @@ constexpr int kGrainBankSize = 1024;
 constexpr int kShift = 4;                   // sub-pixel bits of the polygon filler
 constexpr float kSubPixel = 1 << kShift;
 
-std::uint64_t Mix(std::uint64_t seed, std::uint64_t tag) {
-  std::uint64_t z = seed + 0x9e3779b97f4a7c15ull * (tag + 1);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 
 float Hash01(std::uint64_t seed, std::int64_t a, std::int64_t b) {
-  const std::uint64_t h = Mix(seed, static_cast<std::uint64_t>(a) * 0x1f1f1f1full +
+  const std::uint64_t h = MixSeed(seed, static_cast<std::uint64_t>(a) * 0x1f1f1f1full +
                                         static_cast<std::uint64_t>(b));
   return static_cast<float>(h >> 40) * (1.0f / 16777216.0f);
 }
@@ -128,7 +123,7 @@ class Painter {
   Painter(const Scene& scene, const LightMap& light, const FloorPainterOptions& options,
           FontBook* fonts, Canvas* canvas)
       : scene_(scene), light_(light), options_(options), fonts_(fonts), c_(*canvas),
-        rng_(Mix(scene.seed, 0xf100)) {
+        rng_(MixSeed(scene.seed, 0xf100)) {
     img_ = cv::Mat(canvas->bgr.size(), CV_32FC3);
   }
 
@@ -227,7 +222,7 @@ class Painter {
     const cv::Mat& chroma_r = smooth[2];
     const bool pattern = f.material == FloorMaterial::kBricks || f.material == FloorMaterial::kTiles;
     const double cy = std::cos(f.pattern_yaw_rad), sy = std::sin(f.pattern_yaw_rad);
-    const std::uint64_t pseed = Mix(scene_.seed, 0xb41c);
+    const std::uint64_t pseed = MixSeed(scene_.seed, 0xb41c);
     const double unit = f.unit_m;
     const double joint_m = f.material == FloorMaterial::kBricks ? 0.012 : 0.008;
     const float scale_base = 1.0f / 128.0f;
@@ -324,7 +319,7 @@ class Painter {
     cv::ellipse(mask, cv::RotatedRect(centre, cv::Size2f(static_cast<float>(Px(d.length_m)), static_cast<float>(Px(d.width_m))),
                                       static_cast<float>(-RadToDeg(d.yaw_rad))),
                 cv::Scalar(255), -1, cv::LINE_AA);
-    cv::RNG local(Mix(d.seed, 7));
+    cv::RNG local(MixSeed(d.seed, 7));
     const cv::Mat noise = SmoothNoise(roi.size(), std::max(2.0, Px(std::max(d.width_m, 0.2) / 3)), local);
     cv::Mat m32;
     mask.convertTo(m32, CV_32F, 1.0 / 255);
@@ -371,7 +366,7 @@ class Painter {
         break;
       }
       case DecalKind::kLeaves: {
-        cv::RNG local(Mix(d.seed, 3));
+        cv::RNG local(MixSeed(d.seed, 3));
         const int n = static_cast<int>(40 * d.length_m * d.width_m);
         for (int i = 0; i < n; ++i) {
           const Eigen::Vector2d p = d.center + Eigen::Vector2d(local.uniform(-1.0, 1.0) * d.length_m / 2,
@@ -403,7 +398,7 @@ class Painter {
         break;
       }
       case DecalKind::kCrack: {
-        cv::RNG local(Mix(d.seed, 5));
+        cv::RNG local(MixSeed(d.seed, 5));
         Eigen::Vector2d p = d.center;
         double heading = d.yaw_rad;
         std::vector<cv::Point> pts{Fixed(c_.PixelOf(p) - Eigen::Vector2d(roi.x, roi.y))};
@@ -654,7 +649,7 @@ class Painter {
         cast(s.center, s.yaw_rad, s.half_x, s.half_y, s.z1, s.shape != SolidShape::kBox);
       }
       cast(Eigen::Vector2d(1.35, 0), 0.0, 2.35, 0.92, 1.5, false);  // the car itself
-      cv::RNG local(Mix(l.seed, 0x7ee));
+      cv::RNG local(MixSeed(l.seed, 0x7ee));
       for (int t = 0; t < l.trees; ++t) {
         const Eigen::Vector2d c(local.uniform(-4.0, 7.0), local.uniform(-6.0, 6.0));
         const double radius = local.uniform(1.5, 3.5);
@@ -709,7 +704,7 @@ Canvas::Canvas(double min_x, double max_y, double width_m, double height_m, doub
 LightMap::LightMap(const Lighting& l) {
   const int n = static_cast<int>(2 * kLightHalfExtentM / kLightGridM);
   grid_ = cv::Mat(n, n, CV_32F);
-  cv::RNG rng(Mix(l.seed, 0x11e));
+  cv::RNG rng(MixSeed(l.seed, 0x11e));
   const cv::Mat patch = SmoothNoise(grid_.size(), 3.0 / kLightGridM, rng);
   // Night: a few lamps at random grid places.
   std::vector<bool> lit;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/seed_mix.h"
 #include "parkslam/common/random.h"
 #include "parkslam/scene/floor_painter.h"
 
@@ -26,12 +27,6 @@ constexpr double kSpecularHalfExtentM = 10.0;
 
 enum PixelKind : std::uint8_t { kNone, kGround, kUp, kEgo };
 
-std::uint64_t Mix(std::uint64_t seed, std::uint64_t tag) {
-  std::uint64_t z = seed + 0x9e3779b97f4a7c15ull * (tag + 1);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 
 // The floor at three resolutions side by side, so that one remap per camera
 // samples each pixel's footprint.
@@ -242,7 +237,7 @@ SceneRenderer::Impl::Impl(const camera::CameraRig& r, const SceneRendererOptions
   for (int k = 1; k <= options.perturbed_calibrations; ++k) {
     fusion_rigs.push_back(camera::PerturbExtrinsics(rig, options.calibration_rotation_sigma_rad,
                                                     options.calibration_translation_sigma_m,
-                                                    Mix(options.calibration_seed, static_cast<std::uint64_t>(k))));
+                                                    MixSeed(options.calibration_seed, static_cast<std::uint64_t>(k))));
   }
   for (const camera::CameraRig& fr : fusion_rigs) {
     fusions.push_back(std::make_unique<camera::TopViewFusion>(fr, options.fisheye_names, options.top_view));
@@ -669,7 +664,7 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
 void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& table, float auto_gain,
                                     bool full, cv::Mat* radiance, cv::Mat* out8) const {
   cv::Mat& img = *radiance;
-  cv::RNG rng(Mix(look.seed, 0xca));
+  cv::RNG rng(MixSeed(look.seed, 0xca));
   for (int s = 0; s < look.dirt_spots; ++s) {
     const int radius = static_cast<int>(rng.uniform(20.0, 70.0));
     const cv::Point centre(rng.uniform(0, img.cols), rng.uniform(0, img.rows));
