@@ -40,11 +40,13 @@ struct SceneRendererOptions {
     o.blend_angle_rad = 0.0;
     return o;
   }();
-  // The floor: finest near the car, coarse far away.
+  // The floor: finest over the top view's square (and 0.2 m round it),
+  // coarse out to where the fisheyes see it at all. The near floor's edges
+  // lie on far pixels' edges, so that the far floor can hold it shrunk.
   double near_resolution_m = 0.02;
-  double near_min_x_m = -5.6, near_max_x_m = 8.4, near_half_width_m = 7.0;
+  double near_min_x_m = -3.8, near_max_x_m = 6.6, near_half_width_m = 5.2;
   double far_resolution_m = 0.1;
-  double far_half_extent_m = 20.0;
+  double far_half_extent_m = 16.0;
   // Fusion with a stale calibration: this many perturbed copies of the rig
   // (Scene::fusion_calibration picks one), each camera turned and shifted
   // by these standard deviations.
