@@ -82,6 +82,32 @@ std::string ErrorReading(const std::string& content) {
   return message;
 }
 
+TEST(Ps2LabelsTest, WrittenLabelsReadBackToTheSamePointsAndSlots) {
+  Ps2Labels labels;
+  labels.marking_points.push_back({Eigen::Vector2d(10.25, 300.5), 0.3, true});
+  labels.marking_points.push_back({Eigen::Vector2d(250.0, 0.0), -2.0, false});
+  labels.slots.push_back({1, 0, 2, 60.0});
+  const nlohmann::json json = Ps2LabelsToJson(labels);
+  // 1-based in the file, as ps2.0's own labels.
+  EXPECT_DOUBLE_EQ(json["marks"][0][0].get<double>(), 10.75);
+  EXPECT_EQ(json["marks"][1][4].get<int>(), 1);
+  EXPECT_EQ(json["slots"][0][0].get<int>(), 2);
+  const Ps2Labels back = Ps2LabelsFromJson(json, "written");
+  ASSERT_EQ(back.marking_points.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR((back.marking_points[i].px - labels.marking_points[i].px).norm(), 0.0, 1e-9);
+    EXPECT_NEAR(AngleDiff(back.marking_points[i].direction_rad, labels.marking_points[i].direction_rad), 0.0, 1e-9);
+    EXPECT_EQ(back.marking_points[i].is_t, labels.marking_points[i].is_t);
+  }
+  ASSERT_EQ(back.slots.size(), 1u);
+  EXPECT_EQ(back.slots[0].a, 1);
+  EXPECT_EQ(back.slots[0].b, 0);
+  // No marks, no slots: still lists.
+  const nlohmann::json empty = Ps2LabelsToJson({});
+  EXPECT_TRUE(empty["marks"].is_array());
+  EXPECT_TRUE(Ps2LabelsFromJson(empty, "empty").marking_points.empty());
+}
+
 TEST(Ps2LabelsTest, RejectsWhatIsNotALabelObject) {
   EXPECT_THAT(ErrorReading(R"({"marks": [)"), HasSubstr("invalid JSON"));
   // Python's json.dump writes NaN as a bare word, which is not JSON.
