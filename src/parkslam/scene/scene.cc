@@ -104,8 +104,8 @@ RowStyle SampleRowStyle(Random& rng, const SceneSamplerOptions& options, bool ou
   RowStyle s;
   const int kind = Choose(rng, {0.6, 0.2, 0.2});
   s.kind = static_cast<SlotKind>(kind);
-  s.line_width_m = std::clamp(0.08 + std::abs(rng.Gaussian(0.06)), 0.08, 0.25);
-  s.paint = rng.Bernoulli(0.7) ? PaintKind::kWhite : PaintKind::kYellow;
+  s.line_width_m = std::clamp(0.08 + std::abs(rng.Gaussian(0.04)), 0.08, 0.25);
+  s.paint = rng.Bernoulli(0.75) ? PaintKind::kWhite : PaintKind::kYellow;
   s.opacity = rng.Bernoulli(0.15) ? rng.Uniform(0.4, 0.7) : rng.Uniform(0.7, 1.0);
   s.wear = rng.Bernoulli(0.35) ? rng.Uniform(0.0, 0.5) : rng.Uniform(0.0, 0.1);
   s.entrance = Choose(rng, {0.5, 0.4, 0.1});
@@ -113,10 +113,10 @@ RowStyle SampleRowStyle(Random& rng, const SceneSamplerOptions& options, bool ou
   s.back_line = rng.Bernoulli(0.5);
   s.ids = rng.Bernoulli(0.65);
   s.id_placement = Choose(rng, {0.45, 0.2, 0.2, 0.15});
-  s.id_height_m = rng.Uniform(0.25, 0.7);
+  s.id_height_m = rng.Uniform(0.25, 0.55);
   s.id_setback_m = rng.Uniform(0.1, 0.6);
   s.font = static_cast<int>(rng.Index(1000));
-  s.bold = rng.Bernoulli(0.7);
+  s.bold = rng.Bernoulli(0.4);
   s.stencil = rng.Bernoulli(0.2);
   s.stretch = rng.Bernoulli(0.4) ? rng.Uniform(0.6, 0.9) : rng.Uniform(0.9, 1.3);
   s.id_paint = rng.Bernoulli(0.6) ? s.paint : Pick(rng, std::vector<PaintKind>{PaintKind::kWhite, PaintKind::kYellow, PaintKind::kYellow});
@@ -438,13 +438,15 @@ void SampleFloor(Random& rng, bool outdoor, Scene* scene) {
   switch (f.material) {
     case FloorMaterial::kConcrete:
       f.base = Tinted(rng, rng.Uniform(95, 185), 0.06);
+      // Sealed or polished concrete mirrors the lamps too, less sharply.
+      f.gloss = rng.Bernoulli(0.5) ? rng.Uniform(0.1, 0.6) : 0.0;
       break;
     case FloorMaterial::kEpoxy: {
       static const std::vector<Colour> kEpoxy = {{150, 150, 150}, {120, 140, 110}, {150, 140, 120},
                                                  {170, 170, 165}, {110, 120, 100}, {130, 120, 110},
                                                  {180, 180, 175}};
       f.base = Pick(rng, kEpoxy) * static_cast<float>(rng.Uniform(0.8, 1.15));
-      f.gloss = rng.Uniform(0.3, 1.0);
+      f.gloss = rng.Uniform(0.2, 0.8);
       f.texture = rng.Uniform(0.2, 0.6);
       break;
     }
@@ -608,8 +610,12 @@ void SampleCameras(Random& rng, const SceneSamplerOptions& options, bool outdoor
   const double defocus = rng.Bernoulli(0.35) ? rng.Uniform(0.4, 1.6) : 0.0;
   const int dirty = rng.Bernoulli(0.15) ? static_cast<int>(rng.Index(static_cast<std::uint64_t>(options.fisheye_cameras))) : -1;
   const int glare = outdoor && rng.Bernoulli(0.35) ? static_cast<int>(rng.Index(static_cast<std::uint64_t>(options.fisheye_cameras))) : -1;
+  // Many surround-view units have coarse sensors: what they see far off
+  // smears into radial streaks once fused.
+  const double sensor_scale = rng.Bernoulli(0.6) ? rng.Uniform(0.55, 0.95) : 1.0;
   for (int c = 0; c < options.fisheye_cameras; ++c) {
     CameraLook look;
+    look.sensor_scale = sensor_scale;
     look.exposure = std::exp(rng.Gaussian(seam));
     const double wb = seam * 0.4;
     look.white_balance = Colour(static_cast<float>(std::exp(rng.Gaussian(wb))), 1.0f,

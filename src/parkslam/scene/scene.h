@@ -158,6 +158,7 @@ struct CameraLook {
   double motion_blur_px = 0.0;
   double motion_angle_rad = 0.0;
   double defocus_px = 0.0;    // Gaussian sigma
+  double sensor_scale = 1.0;  // < 1: a coarser sensor (the image resampled down and up)
   int dirt_spots = 0;         // a dirty lens
   double glare = 0.0;         // the sun or a lamp shining into the lens
   int jpeg_quality = 95;      // 100: no compression

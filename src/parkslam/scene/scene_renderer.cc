@@ -18,9 +18,10 @@ namespace {
 constexpr int kAtlasGap = 4;
 constexpr int kNoiseBankSize = 509;  // prime: offsets never line up with image rows
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr double kMaxFootprintNearM = 0.035;   // finer footprints sample the 1.75 cm floor
-constexpr double kMaxFootprintMidM = 0.07;     // then the 3.5 cm level, then the far floor
-constexpr double kSpecularCellM = 0.08;
+// Footprints finer than this sample the 2 cm floor, coarser ones the 4 cm
+// level; beyond the top view's square, the 10 cm floor.
+constexpr double kMaxFootprintNearM = 0.035;
+constexpr double kSpecularCellM = 0.1;
 constexpr double kMaxOffAxisRad = 1.66;  // 95 degrees: a 190-degree lens
 constexpr float kAutoExposureTarget = 115.0f;  // mean grey level the cameras meter for
 constexpr double kSpecularHalfExtentM = 10.0;
@@ -44,6 +45,7 @@ struct CameraTable {
   cv::Mat vignette;          // CV_32F, squared off-axis angle over its maximum
   cv::Mat ego_shade;         // CV_32F, where kind is kEgo
   cv::Mat needed;            // CV_8U, 255 where the top view samples (with a margin for blur)
+  cv::Mat metered;           // CV_8U, 255 where the top view samples: what auto exposure meters
   cv::Range needed_rows = cv::Range::all();  // the rows that hold any of them
   std::vector<Eigen::Vector3f> rays;  // unit, vehicle frame
   std::vector<float> ground_t;        // along the ray to the floor; inf where none
@@ -51,6 +53,8 @@ struct CameraTable {
   std::vector<Eigen::Vector2f> ground_xy;
   std::vector<int> by_azimuth;        // pixel indices sorted by the azimuth of their ray
   std::vector<float> azimuth_sorted;  // radians in (-pi, pi]
+  std::vector<float> reach_sorted;    // in that order: horizontal reach before the floor (-1: the car's body)
+  std::vector<std::uint8_t> needed_sorted;  // in that order: needed for the top view
 };
 
 struct SolidHit {
@@ -175,6 +179,7 @@ struct SceneRenderer::Impl {
   SceneRendererOptions options;
   camera::CameraRig rig;
   std::vector<camera::CameraConfig> fisheye_configs;
+  std::vector<camera::CameraModel> fisheye_models;
   std::vector<std::unique_ptr<camera::TopViewFusion>> fusions;  // 0: exact
   std::vector<camera::CameraRig> fusion_rigs;
   std::vector<CameraTable> fisheyes;
@@ -224,6 +229,7 @@ SceneRenderer::Impl::Impl(const camera::CameraRig& r, const SceneRendererOptions
     const camera::CameraConfig* c = rig.Find(name);
     if (c == nullptr) throw std::invalid_argument("scene renderer: the rig has no camera '" + name + "'");
     fisheye_configs.push_back(*c);
+    fisheye_models.emplace_back(c->intrinsics);
     fisheyes.push_back(BuildTable(*c));
   }
   if (!options.front_camera.empty()) {
@@ -267,6 +273,7 @@ void SceneRenderer::Impl::MarkNeeded() {
         t.needed.at<std::uint8_t>(static_cast<int>(px->y()), static_cast<int>(px->x())) = 255;
       }
     }
+    t.metered = t.needed.clone();
     cv::dilate(t.needed, t.needed, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(25, 25)));
     int first = t.height, last = 0;
     for (int v = 0; v < t.height; ++v) {
@@ -276,6 +283,7 @@ void SceneRenderer::Impl::MarkNeeded() {
       }
     }
     t.needed_rows = first < last ? cv::Range(first, last) : cv::Range(0, 0);
+    for (size_t k = 0; k < t.by_azimuth.size(); ++k) t.needed_sorted[k] = t.needed.data[t.by_azimuth[k]];
   }
 }
 
@@ -315,10 +323,19 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
     }
   }
   const double cz = t.c_vehicle.z();
-  // The car's own body, as in the system's renderer.
-  const double ego_lo[3] = {-1.0, -0.925, 0.25}, ego_hi[3] = {3.7, 0.925, 1.45};
-  bool camera_in_body = true;
-  for (int k = 0; k < 3; ++k) camera_in_body &= t.c_vehicle[k] > ego_lo[k] && t.c_vehicle[k] < ego_hi[k];
+  // The car's own body: a lower body over its whole length and a cabin
+  // (a camera on the body's surface sees the body behind it, not along it).
+  std::vector<Solid> body(2);
+  body[0].center = Eigen::Vector2d(1.35, 0.0);
+  body[0].half_x = 2.35;
+  body[0].half_y = 0.925;
+  body[0].z0 = 0.25;
+  body[0].z1 = 0.9;
+  body[1].center = Eigen::Vector2d(1.4, 0.0);
+  body[1].half_x = 1.25;
+  body[1].half_y = 0.8;
+  body[1].z0 = 0.9;
+  body[1].z1 = 1.45;
   const double near_res = options.near_resolution_m;
   for (int v = 0; v < t.height; ++v) {
     for (int u = 0; u < t.width; ++u) {
@@ -346,7 +363,7 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
         const bool in_far = fx > 1 && fy > 1 && fx < atlas.far.width - 2 && fy < atlas.far.height - 2;
         if (in_near && footprint < kMaxFootprintNearM) {
           atlas_px = cv::Point2f(static_cast<float>(atlas.near.x + nx), static_cast<float>(atlas.near.y + ny));
-        } else if (in_near && footprint < kMaxFootprintMidM) {
+        } else if (in_near) {
           atlas_px = cv::Point2f(static_cast<float>(atlas.mid.x + (nx + 0.5) / 2 - 0.5),
                                  static_cast<float>(atlas.mid.y + (ny + 0.5) / 2 - 0.5));
         } else if (in_far) {
@@ -359,26 +376,13 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
           t.ground_xy[i] = g.cast<float>();
         }
       }
-      if (!camera_in_body) {
-        double enter = -1e30, leave = 1e30;
-        int axis = -1;
-        for (int k = 0; k < 3; ++k) {
-          if (std::abs(d[k]) < 1e-12) {
-            if (t.c_vehicle[k] < ego_lo[k] || t.c_vehicle[k] > ego_hi[k]) leave = -1;
-            continue;
-          }
-          double t0 = (ego_lo[k] - t.c_vehicle[k]) / d[k], t1 = (ego_hi[k] - t.c_vehicle[k]) / d[k];
-          if (t0 > t1) std::swap(t0, t1);
-          if (t0 > enter) {
-            enter = t0;
-            axis = k;
-          }
-          leave = std::min(leave, t1);
-        }
-        if (axis >= 0 && enter >= -1e-9 && enter < leave && enter < t.ground_t[i]) {
-          kind = kEgo;
-          t.ego_shade.at<float>(v, u) = static_cast<float>(0.55 + 0.45 * std::abs(d[axis]));
-        }
+      SolidHit hit;
+      hit.t = t.ground_t[i];
+      bool on_body = false;
+      for (const Solid& part : body) on_body |= Intersect(part, 1.0, 0.0, t.c_vehicle, t.rays[i], &hit);
+      if (on_body) {
+        kind = kEgo;
+        t.ego_shade.at<float>(v, u) = 0.55f + 0.45f * std::abs(hit.normal.dot(t.rays[i]));
       }
       t.kind.at<std::uint8_t>(v, u) = kind;
     }
@@ -394,7 +398,10 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
   for (const auto& [a, i] : az) {
     t.azimuth_sorted.push_back(a);
     t.by_azimuth.push_back(i);
+    const size_t k = static_cast<size_t>(i);
+    t.reach_sorted.push_back(t.kind.data[k] == kEgo ? -1.0f : t.ground_t[k] * t.horizontal[k]);
   }
+  t.needed_sorted.assign(t.by_azimuth.size(), 255);
   return t;
 }
 
@@ -405,7 +412,7 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
   const std::uint8_t* need = full || t.needed.empty() ? nullptr : t.needed.data;
   cv::Mat ground;
   const cv::Range rows = need != nullptr ? t.needed_rows : cv::Range(0, t.height);
-  ground = cv::Mat(t.height, t.width, CV_8UC3, cv::Scalar::all(0));
+  ground = cv::Mat(t.height, t.width, CV_8UC3);  // read only within rows
   if (rows.size() > 0) {
     cv::Mat band = ground.rowRange(rows);
     cv::remap(atlas_bgr, band, t.map_xy.rowRange(rows), t.map_frac.rowRange(rows), cv::INTER_LINEAR,
@@ -424,7 +431,7 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
     const double cz = t.c_vehicle.z(), h = l.lamp_height_m;
     const Eigen::Vector2d c = t.c_vehicle.head<2>();
     const double s = l.lamp_spacing_m;
-    constexpr double kReachM = 12.0;  // lamps farther mirror beyond the top view
+    constexpr double kReachM = 9.0;  // lamps farther mirror beyond the top view
     for (double gx = std::floor((c.x() - kReachM - l.lamp_offset.x()) / s); gx <= (c.x() + kReachM - l.lamp_offset.x()) / s; gx += 1) {
       for (double gy = std::floor((c.y() - kReachM - l.lamp_offset.y()) / s); gy <= (c.y() + kReachM - l.lamp_offset.y()) / s; gy += 1) {
         const Eigen::Vector2d lamp = l.lamp_offset + Eigen::Vector2d(gx, gy) * s;
@@ -432,7 +439,7 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         const Eigen::Vector2d away = (r - c).norm() > 1e-3 ? Eigen::Vector2d((r - c).normalized()) : Eigen::Vector2d::UnitX();
         const double dist = (r - c).norm();
         const double along = std::min(1.5, 0.25 + 0.35 * dist), across = std::min(0.3, 0.08 + 0.04 * dist);
-        const double strength = 140.0 * scene.floor.gloss * light.At(lamp.x(), lamp.y());
+        const double strength = 100.0 * scene.floor.gloss * light.At(lamp.x(), lamp.y());
         const int cx = static_cast<int>((r.x() - c.x() + kSpecularHalfExtentM) / kSpecularCellM);
         const int cy = static_cast<int>((kSpecularHalfExtentM - (r.y() - c.y())) / kSpecularCellM);
         const int rad = static_cast<int>(std::ceil(3 * along / kSpecularCellM));
@@ -450,7 +457,10 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
     }
   }
 
-  cv::Mat radiance(t.height, t.width, CV_32FC3, cv::Scalar::all(0));
+  // Every pixel within rows is written below; only the others need zeros.
+  cv::Mat radiance(t.height, t.width, CV_32FC3);
+  radiance.rowRange(0, rows.start).setTo(cv::Scalar::all(0));
+  radiance.rowRange(rows.end, t.height).setTo(cv::Scalar::all(0));
   const double ceiling = options.ceiling_height_m;
   const Eigen::Vector3f sun(static_cast<float>(std::cos(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
                             static_cast<float>(std::sin(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
@@ -561,10 +571,15 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
     const auto scan = [&](float a0, float a1) {
       const auto first = std::lower_bound(t.azimuth_sorted.begin(), t.azimuth_sorted.end(), a0);
       const auto last = std::upper_bound(t.azimuth_sorted.begin(), t.azimuth_sorted.end(), a1);
-      for (auto it = first; it != last; ++it) {
-        const size_t i = static_cast<size_t>(t.by_azimuth[static_cast<size_t>(it - t.azimuth_sorted.begin())]);
-        if (t.kind.data[i] == kEgo || depth[i] * t.horizontal[i] < near_xy) continue;
-        if (need != nullptr && need[i] == 0) continue;
+      const size_t k0 = static_cast<size_t>(first - t.azimuth_sorted.begin());
+      const size_t k1 = static_cast<size_t>(last - t.azimuth_sorted.begin());
+      for (size_t k = k0; k < k1; ++k) {
+        // Rays that meet the floor (or the car) before the solid's nearest
+        // point cannot meet it: read in azimuth order, contiguous.
+        if (t.reach_sorted[k] < near_xy) continue;
+        if (need != nullptr && t.needed_sorted[k] == 0) continue;
+        const size_t i = static_cast<size_t>(t.by_azimuth[k]);
+        if (depth[i] * t.horizontal[i] < near_xy) continue;
         SolidHit hit;
         hit.t = depth[i];
         if (Intersect(solid, cos_yaw, sin_yaw, t.c_vehicle, t.rays[i], &hit)) {
@@ -648,7 +663,7 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
   int count = 0;
   const cv::Vec3f* px = radiance.ptr<cv::Vec3f>(0);
   for (size_t i = 0; i < n; i += 7) {
-    if (t.kind.data[i] == kNone || (!t.needed.empty() && t.needed.data[i] == 0)) continue;
+    if (t.kind.data[i] == kNone || (!t.metered.empty() && t.metered.data[i] == 0)) continue;
     sum += Luma(px[i]);
     ++count;
   }
@@ -708,7 +723,7 @@ void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& t
   const int ox1 = rng.uniform(0, kNoiseBankSize), ox2 = rng.uniform(0, kNoiseBankSize);
   const float sigma = static_cast<float>(look.noise_sigma);
   const bool masked = !full && !table.needed.empty();
-  const bool blurred = look.defocus_px > 0.3 || look.motion_blur_px >= 1.0;
+  const bool blurred = look.defocus_px > 0.3 || look.motion_blur_px >= 1.0 || look.sensor_scale < 0.98;
   // Without blur, one pass does all; with it, the noise comes after.
   const auto pass = [&](bool light, bool noise) {
     for (int r = 0; r < img.rows; ++r) {
@@ -747,6 +762,11 @@ void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& t
   *out8 = cv::Mat(img.size(), CV_8UC3);
   pass(true, !blurred);
   if (look.defocus_px > 0.3) cv::GaussianBlur(*out8, *out8, cv::Size(), look.defocus_px);
+  if (look.sensor_scale < 0.98) {
+    cv::Mat coarse;
+    cv::resize(*out8, coarse, cv::Size(), look.sensor_scale, look.sensor_scale, cv::INTER_AREA);
+    cv::resize(coarse, *out8, out8->size(), 0, 0, cv::INTER_LINEAR);
+  }
   if (look.motion_blur_px >= 1.0) {
     const int len = static_cast<int>(std::ceil(look.motion_blur_px)) | 1;
     cv::Mat kernel(len, len, CV_32F, cv::Scalar(0));
@@ -899,7 +919,7 @@ std::optional<Eigen::Vector2d> SceneRenderer::FusedPixelOf(const Scene& scene, c
   // point at this top-view pixel.
   const auto through = [&](int c) -> std::optional<Eigen::Vector2d> {
     const camera::CameraConfig& truth = m.fisheye_configs[static_cast<size_t>(c)];
-    const camera::CameraModel model(truth.intrinsics);
+    const camera::CameraModel& model = m.fisheye_models[static_cast<size_t>(c)];
     const auto pixel = model.Project(truth.T_vehicle_camera.inverse() * P);
     const camera::CameraConfig* assumed = fusion_rig.Find(truth.name);
     if (!pixel || assumed == nullptr) return std::nullopt;
@@ -914,17 +934,21 @@ std::optional<Eigen::Vector2d> SceneRenderer::FusedPixelOf(const Scene& scene, c
     return std::pair<int, int>(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())));
   };
   // The camera the fusion uses there depends on where "there" is: iterate.
+  // Near a seam with a stale calibration the two cameras may each put the
+  // point in the other's part of the image: then it does not show at all.
   Eigen::Vector2d q = fusion.VehicleToPixel(p_vehicle);
-  for (int iteration = 0; iteration < 3; ++iteration) {
+  bool consistent = false;
+  for (int iteration = 0; iteration < 4 && !consistent; ++iteration) {
     const auto [u, v] = round(q);
     const int c = fusion.PrimaryCamera(u, v);
     if (c < 0) return std::nullopt;
     const auto next = through(c);
     if (!next) return std::nullopt;
-    const bool settled = (*next - q).norm() < 1e-3;
     q = *next;
-    if (settled) break;
+    const auto [u2, v2] = round(q);
+    consistent = fusion.PrimaryCamera(u2, v2) == c;
   }
+  if (!consistent) return std::nullopt;
   // In a seam the fused value is a blend of two cameras: so is the point.
   const auto [u, v] = round(q);
   const int second = fusion.SecondaryCamera(u, v);

@@ -45,7 +45,7 @@ struct SceneRendererOptions {
   // lie on far pixels' edges, so that the far floor can hold it shrunk.
   double near_resolution_m = 0.02;
   double near_min_x_m = -3.8, near_max_x_m = 6.6, near_half_width_m = 5.2;
-  double far_resolution_m = 0.1;
+  double far_resolution_m = 0.2;
   double far_half_extent_m = 16.0;
   // Fusion with a stale calibration: this many perturbed copies of the rig
   // (Scene::fusion_calibration picks one), each camera turned and shifted
