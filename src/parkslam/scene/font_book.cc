@@ -12,7 +12,7 @@ namespace parkslam::scene {
 namespace {
 
 // Faces that look like floor paint: plain sans-serif, condensed and mono
-// families, by file-name prefix.
+// families (and one bold serif), by file-name prefix.
 constexpr std::array<const char*, 20> kFamilies = {
     "DejaVuSans",      "LiberationSans", "LiberationMono",   "FreeSans",   "FreeMono",
     "NimbusSans",      "NimbusMonoPS",   "URWGothic",        "NotoSans-",  "NotoSansMono-",

@@ -183,12 +183,14 @@ void AddCar(Random& rng, const Eigen::Vector2d& center, double yaw, Scene* scene
     for (int sy = -1; sy <= 1; sy += 2) {
       Solid tyre;
       tyre.shape = SolidShape::kBox;
-      tyre.center = center + ax * (sx * (length / 2 - 0.8)) + ay * (sy * (width / 2 - 0.15));
+      // Wheels stand a little proud of the body's sides, so that the
+      // fisheyes see their sidewalls and rims below the body.
+      tyre.center = center + ax * (sx * (length / 2 - 0.85)) + ay * (sy * (width / 2 - 0.09));
       tyre.yaw_rad = yaw;
-      tyre.half_x = 0.32;
+      tyre.half_x = 0.31;
       tyre.half_y = 0.11;
       tyre.z0 = 0.0;
-      tyre.z1 = 0.3;
+      tyre.z1 = 0.62;
       tyre.colour = Grey(30);
       tyre.material = SolidMaterial::kTyre;
       tyre.casts_shadow = false;
@@ -498,9 +500,9 @@ void SampleDecals(Random& rng, bool outdoor, Scene* scene) {
     }
   };
   add(DecalKind::kPatch, rng.Bernoulli(0.3) ? 1 + static_cast<int>(rng.Index(3)) : 0, 1.0, 4.0, 0.8, 3.0, 7);
-  add(DecalKind::kDirt, static_cast<int>(rng.Index(4)), 1.0, 4.0, 0.5, 2.0, 7);
+  add(DecalKind::kDirt, static_cast<int>(rng.Index(6)), 1.0, 4.0, 0.5, 2.0, 7);
   add(DecalKind::kOilStain, static_cast<int>(rng.Index(7)), 0.2, 1.0, 0.2, 0.8, 6);
-  add(DecalKind::kTyreMark, static_cast<int>(rng.Index(5)), 1.5, 5.0, 0.15, 0.25, 6);
+  add(DecalKind::kTyreMark, static_cast<int>(rng.Index(7)), 1.5, 5.0, 0.15, 0.25, 6);
   add(DecalKind::kCrack, static_cast<int>(rng.Index(outdoor ? 5 : 3)), 0.5, 3.0, 0.01, 0.03, 7);
   add(DecalKind::kPuddle, rng.Bernoulli(0.15) ? 1 + static_cast<int>(rng.Index(2)) : 0, 0.5, 2.5, 0.4, 1.5, 6);
   add(DecalKind::kManhole, rng.Bernoulli(0.35) ? 1 + static_cast<int>(rng.Index(2)) : 0, 0.6, 0.9, 0.6, 0.9, 5);
@@ -509,6 +511,18 @@ void SampleDecals(Random& rng, bool outdoor, Scene* scene) {
   add(DecalKind::kZebra, rng.Bernoulli(0.08) ? 1 : 0, 3.0, 5.0, 2.0, 4.0, 4);
   add(DecalKind::kSpeedBump, rng.Bernoulli(0.06) ? 1 : 0, 4.0, 8.0, 0.4, 0.6, 4);
   if (outdoor) add(DecalKind::kLeaves, static_cast<int>(rng.Index(4)), 1.0, 3.0, 0.5, 2.0, 6);
+  // Lines of older layouts, burnt off or painted over: faint, anywhere.
+  const int old_lines = rng.Bernoulli(0.35) ? 1 + static_cast<int>(rng.Index(4)) : 0;
+  for (int i = 0; i < old_lines; ++i) {
+    Stroke line;
+    line.a = random_point(6.0);
+    line.b = line.a + Dir(rng.Uniform(-kPi, kPi)) * rng.Uniform(1.0, 6.0);
+    line.width_m = rng.Uniform(0.08, 0.2);
+    line.paint = rng.Bernoulli(0.7) ? PaintKind::kWhite : PaintKind::kYellow;
+    line.opacity = rng.Uniform(0.08, 0.3);
+    line.wear = rng.Uniform(0.2, 0.6);
+    scene->strokes.insert(scene->strokes.begin(), line);  // under today's lines
+  }
 }
 
 void SampleFloorTexts(Random& rng, Scene* scene) {

@@ -434,23 +434,28 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
     constexpr double kReachM = 9.0;  // lamps farther mirror beyond the top view
     for (double gx = std::floor((c.x() - kReachM - l.lamp_offset.x()) / s); gx <= (c.x() + kReachM - l.lamp_offset.x()) / s; gx += 1) {
       for (double gy = std::floor((c.y() - kReachM - l.lamp_offset.y()) / s); gy <= (c.y() + kReachM - l.lamp_offset.y()) / s; gy += 1) {
-        const Eigen::Vector2d lamp = l.lamp_offset + Eigen::Vector2d(gx, gy) * s;
-        const Eigen::Vector2d r = c + (lamp - c) * (cz / (cz + h));
-        const Eigen::Vector2d away = (r - c).norm() > 1e-3 ? Eigen::Vector2d((r - c).normalized()) : Eigen::Vector2d::UnitX();
-        const double dist = (r - c).norm();
-        const double along = std::min(1.5, 0.25 + 0.35 * dist), across = std::min(0.3, 0.08 + 0.04 * dist);
-        const double strength = 100.0 * scene.floor.gloss * light.At(lamp.x(), lamp.y());
-        const int cx = static_cast<int>((r.x() - c.x() + kSpecularHalfExtentM) / kSpecularCellM);
-        const int cy = static_cast<int>((kSpecularHalfExtentM - (r.y() - c.y())) / kSpecularCellM);
-        const int rad = static_cast<int>(std::ceil(3 * along / kSpecularCellM));
-        for (int y = std::max(0, cy - rad); y < std::min(spec_n, cy + rad); ++y) {
-          for (int x = std::max(0, cx - rad); x < std::min(spec_n, cx + rad); ++x) {
-            const Eigen::Vector2d p(c.x() - kSpecularHalfExtentM + (x + 0.5) * kSpecularCellM,
-                                    c.y() + kSpecularHalfExtentM - (y + 0.5) * kSpecularCellM);
-            const Eigen::Vector2d dp = p - r;
-            const double a = dp.dot(away) / along, b = (dp.x() * away.y() - dp.y() * away.x()) / across;
-            const double q = a * a + b * b;
-            if (q < 16.0) specular.at<float>(y, x) += static_cast<float>(strength * std::exp(-0.5 * q));
+        const Eigen::Vector2d lamp_centre = l.lamp_offset + Eigen::Vector2d(gx, gy) * s;
+        const double strength = 35.0 * scene.floor.gloss * light.At(lamp_centre.x(), lamp_centre.y());
+        // A tube 1.2 m along x: its reflection, three blobs along it, each
+        // stretched towards the camera by the grazing view.
+        for (const double along_tube : {-0.45, 0.0, 0.45}) {
+          const Eigen::Vector2d lamp = lamp_centre + Eigen::Vector2d(along_tube, 0.0);
+          const Eigen::Vector2d r = c + (lamp - c) * (cz / (cz + h));
+          const double dist = (r - c).norm();
+          const Eigen::Vector2d away = dist > 1e-3 ? Eigen::Vector2d((r - c) / dist) : Eigen::Vector2d::UnitX();
+          const double along = std::min(1.5, 0.25 + 0.35 * dist), across = std::min(0.3, 0.08 + 0.04 * dist);
+          const int cx = static_cast<int>((r.x() - c.x() + kSpecularHalfExtentM) / kSpecularCellM);
+          const int cy = static_cast<int>((kSpecularHalfExtentM - (r.y() - c.y())) / kSpecularCellM);
+          const int rad = static_cast<int>(std::ceil(3 * along / kSpecularCellM));
+          for (int y = std::max(0, cy - rad); y < std::min(spec_n, cy + rad); ++y) {
+            for (int x = std::max(0, cx - rad); x < std::min(spec_n, cx + rad); ++x) {
+              const Eigen::Vector2d p(c.x() - kSpecularHalfExtentM + (x + 0.5) * kSpecularCellM,
+                                      c.y() + kSpecularHalfExtentM - (y + 0.5) * kSpecularCellM);
+              const Eigen::Vector2d dp = p - r;
+              const double a = dp.dot(away) / along, b = (dp.x() * away.y() - dp.y() * away.x()) / across;
+              const double q = a * a + b * b;
+              if (q < 16.0) specular.at<float>(y, x) += static_cast<float>(strength * std::exp(-0.5 * q));
+            }
           }
         }
       }
@@ -619,6 +624,8 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         // A car body: a sill in shadow, a highlight along the shoulder,
         // lamps at the corners of its ends, a sheen at grazing angles.
         albedo *= 0.6f + 0.4f * facing + (hit.top ? 0.15f : 0.0f);
+        // Sides darken downwards (they face the floor's dark, not the sky).
+        if (!hit.top) albedo *= 0.75f + 0.35f * static_cast<float>((p.z() - solid.z0) / (solid.z1 - solid.z0));
         const double cy = std::cos(solid.yaw_rad), sy = std::sin(solid.yaw_rad);
         const double lx = cy * (p.x() - solid.center.x()) + sy * (p.y() - solid.center.y());
         const double ly = -sy * (p.x() - solid.center.x()) + cy * (p.y() - solid.center.y());
@@ -634,10 +641,22 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         break;
       }
       case SolidMaterial::kGlass:
-        if (!hit.top) albedo = Colour(45, 42, 40) * (1.0f + 1.2f * (1.0f - facing));
+        // Glass mirrors the bright sky or ceiling above at grazing angles.
+        if (!hit.top) {
+          const float up = static_cast<float>((p.z() - solid.z0) / (solid.z1 - solid.z0));
+          albedo = Colour(45, 42, 40) * (1.0f + 1.2f * (1.0f - facing)) + Colour(30, 30, 28) * up;
+        }
         break;
-      case SolidMaterial::kTyre:
+      case SolidMaterial::kTyre: {
+        // A rim on each sidewall.
+        const double cy = std::cos(solid.yaw_rad), sy = std::sin(solid.yaw_rad);
+        const double lx = cy * (p.x() - solid.center.x()) + sy * (p.y() - solid.center.y());
+        const bool sidewall = std::abs(hit.normal.x() * -sy + hit.normal.y() * cy) > 0.9f;
+        const double r = std::hypot(lx, p.z() - (solid.z0 + solid.z1) / 2);
+        if (sidewall && r < 0.19) albedo = r < 0.05 ? Colour(90, 90, 95) : Colour(165, 168, 172);
+        albedo *= 0.7f + 0.3f * facing;
         break;
+      }
       case SolidMaterial::kMatt:
       case SolidMaterial::kSkin:
         albedo *= 0.65f + 0.35f * facing;
