@@ -125,8 +125,11 @@ std::vector<TagPlace> CandidateTagPlaces(const WorldConfig& c, const World& worl
     const double length_m = (wall.b_map - wall.a_map).norm();
     const Eigen::Vector2d dir = (wall.b_map - wall.a_map) / length_m;
     const double yaw = std::atan2(wall.normal_map.y(), wall.normal_map.x());
+    // A tag and its white margin (a quarter of the black square each side,
+    // plus room for the wall that meets this one) stay within the wall.
+    const double keep_m = std::min(c.tag_size_m * 0.75 + 0.1, length_m / 2);
     for (double s = c.tag_spacing_m / 2; s < length_m; s += c.tag_spacing_m) {
-      places.push_back({wall.a_map + s * dir, yaw, false, w});
+      places.push_back({wall.a_map + std::clamp(s, keep_m, length_m - keep_m) * dir, yaw, false, w});
     }
   }
   for (size_t p = 0; p < world.pillars.size(); ++p) {
