@@ -525,6 +525,33 @@ void SampleDecals(Random& rng, bool outdoor, Scene* scene) {
   }
 }
 
+// Lines along the aisle: a double centre line, or a dashed one.
+void SampleAisleLines(Random& rng, double row_yaw, Scene* scene) {
+  if (!rng.Bernoulli(0.25)) return;
+  const Eigen::Vector2d u = Dir(row_yaw), n = Rot90(u);
+  const Eigen::Vector2d centre = Eigen::Vector2d(kViewCenterX, 0.0) + n * rng.Uniform(-1.2, 1.2);
+  Stroke line;
+  line.width_m = rng.Uniform(0.08, 0.15);
+  line.paint = rng.Bernoulli(0.6) ? PaintKind::kYellow : PaintKind::kWhite;
+  line.opacity = rng.Uniform(0.5, 1.0);
+  line.wear = rng.Uniform(0.0, 0.4);
+  if (rng.Bernoulli(0.5)) {
+    const double gap = rng.Uniform(0.1, 0.2) + line.width_m;
+    for (const double side : {-0.5, 0.5}) {
+      line.a = centre + n * (side * gap) - u * 12.0;
+      line.b = centre + n * (side * gap) + u * 12.0;
+      scene->strokes.push_back(line);
+    }
+  } else {
+    const double dash = rng.Uniform(1.0, 3.0), period = dash + rng.Uniform(1.0, 3.0);
+    for (double t = -12.0 + rng.Uniform(0.0, period); t < 12.0; t += period) {
+      line.a = centre + u * t;
+      line.b = centre + u * (t + dash);
+      scene->strokes.push_back(line);
+    }
+  }
+}
+
 void SampleFloorTexts(Random& rng, Scene* scene) {
   static const std::vector<std::string> kWords = {"EXIT", "SLOW", "P", "B2", "STOP", "IN", "OUT",
                                                   "5", "10", "VIP", "EV", "NO PARKING", "F1"};
@@ -717,6 +744,7 @@ Scene SampleScene(std::uint64_t seed, const SceneSamplerOptions& options) {
   SampleDecals(decals, outdoor, &scene);
   Random text_rng = Random::Derive(seed, kTextTag);
   SampleFloorTexts(text_rng, &scene);
+  if (!turning) SampleAisleLines(text_rng, yaw, &scene);
   Random solids = Random::Derive(seed, kSolidsTag);
   SampleMovers(solids, options, &scene);
   SampleLight(light_rng, outdoor, &scene);

@@ -23,7 +23,7 @@ TEST(SceneTest, SameSeedSameScene) {
 TEST(SceneTest, ScenesVaryOverWhatRealLotsShow) {
   std::set<int> materials, kinds, decals;
   int outdoor = 0, yellow = 0, white = 0, stencil = 0, letters = 0, l_marks = 0, t_marks = 0,
-      cars = 0, perturbed = 0, night = 0;
+      cars = 0, perturbed = 0, night = 0, other_lines = 0;
   for (std::uint64_t seed = 0; seed < 400; ++seed) {
     const Scene s = SampleScene(seed);
     materials.insert(static_cast<int>(s.floor.material));
@@ -35,6 +35,7 @@ TEST(SceneTest, ScenesVaryOverWhatRealLotsShow) {
     for (const Stroke& st : s.strokes) {
       yellow += st.paint == PaintKind::kYellow;
       white += st.paint == PaintKind::kWhite;
+      other_lines += !st.slot_line;  // aisle lines (double, dashed), older layouts
     }
     for (const FloorText& t : s.texts) {
       stencil += t.stencil;
@@ -57,6 +58,7 @@ TEST(SceneTest, ScenesVaryOverWhatRealLotsShow) {
   EXPECT_GT(l_marks, 50);
   EXPECT_GT(t_marks, 5 * l_marks);
   EXPECT_GT(cars, 300);
+  EXPECT_GT(other_lines, 400);
 }
 
 TEST(SceneTest, SlotsJoinNeighbouringMarksAndLieToTheLeftOfTheirEntrance) {
