@@ -36,6 +36,19 @@ struct AtlasLayout {
   cv::Size size;
 };
 
+// Pixels sorted by the azimuth of their ray, with what the solids' scan
+// reads first, contiguous in that order.
+struct AzimuthIndex {
+  std::vector<float> azimuth;  // radians in (-pi, pi]
+  std::vector<int> pixel;
+  std::vector<float> reach;    // horizontal reach before the floor (-1: the car's body)
+  void Add(float a, int i, float r) {
+    azimuth.push_back(a);
+    pixel.push_back(i);
+    reach.push_back(r);
+  }
+};
+
 struct CameraTable {
   std::string name;
   int width = 0, height = 0;
@@ -51,10 +64,8 @@ struct CameraTable {
   std::vector<float> ground_t;        // along the ray to the floor; inf where none
   std::vector<float> horizontal;      // horizontal length of the unit ray
   std::vector<Eigen::Vector2f> ground_xy;
-  std::vector<int> by_azimuth;        // pixel indices sorted by the azimuth of their ray
-  std::vector<float> azimuth_sorted;  // radians in (-pi, pi]
-  std::vector<float> reach_sorted;    // in that order: horizontal reach before the floor (-1: the car's body)
-  std::vector<std::uint8_t> needed_sorted;  // in that order: needed for the top view
+  AzimuthIndex all_pixels;     // every valid pixel
+  AzimuthIndex needed_pixels;  // those the top view needs
 };
 
 struct SolidHit {
@@ -283,7 +294,11 @@ void SceneRenderer::Impl::MarkNeeded() {
       }
     }
     t.needed_rows = first < last ? cv::Range(first, last) : cv::Range(0, 0);
-    for (size_t k = 0; k < t.by_azimuth.size(); ++k) t.needed_sorted[k] = t.needed.data[t.by_azimuth[k]];
+    t.needed_pixels = {};
+    const AzimuthIndex& all = t.all_pixels;
+    for (size_t k = 0; k < all.pixel.size(); ++k) {
+      if (t.needed.data[all.pixel[k]] != 0) t.needed_pixels.Add(all.azimuth[k], all.pixel[k], all.reach[k]);
+    }
   }
 }
 
@@ -396,12 +411,9 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
   }
   std::sort(az.begin(), az.end());
   for (const auto& [a, i] : az) {
-    t.azimuth_sorted.push_back(a);
-    t.by_azimuth.push_back(i);
     const size_t k = static_cast<size_t>(i);
-    t.reach_sorted.push_back(t.kind.data[k] == kEgo ? -1.0f : t.ground_t[k] * t.horizontal[k]);
+    t.all_pixels.Add(a, i, t.kind.data[k] == kEgo ? -1.0f : t.ground_t[k] * t.horizontal[k]);
   }
-  t.needed_sorted.assign(t.by_azimuth.size(), 255);
   return t;
 }
 
@@ -574,16 +586,16 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
     float lo = static_cast<float>(centre + spread_lo - 0.01), hi = static_cast<float>(centre + spread_hi + 0.01);
     const float near_xy = static_cast<float>(nearest);
     const auto scan = [&](float a0, float a1) {
-      const auto first = std::lower_bound(t.azimuth_sorted.begin(), t.azimuth_sorted.end(), a0);
-      const auto last = std::upper_bound(t.azimuth_sorted.begin(), t.azimuth_sorted.end(), a1);
-      const size_t k0 = static_cast<size_t>(first - t.azimuth_sorted.begin());
-      const size_t k1 = static_cast<size_t>(last - t.azimuth_sorted.begin());
+      const AzimuthIndex& index = need != nullptr ? t.needed_pixels : t.all_pixels;
+      const auto first = std::lower_bound(index.azimuth.begin(), index.azimuth.end(), a0);
+      const auto last = std::upper_bound(index.azimuth.begin(), index.azimuth.end(), a1);
+      const size_t k0 = static_cast<size_t>(first - index.azimuth.begin());
+      const size_t k1 = static_cast<size_t>(last - index.azimuth.begin());
       for (size_t k = k0; k < k1; ++k) {
         // Rays that meet the floor (or the car) before the solid's nearest
         // point cannot meet it: read in azimuth order, contiguous.
-        if (t.reach_sorted[k] < near_xy) continue;
-        if (need != nullptr && t.needed_sorted[k] == 0) continue;
-        const size_t i = static_cast<size_t>(t.by_azimuth[k]);
+        if (index.reach[k] < near_xy) continue;
+        const size_t i = static_cast<size_t>(index.pixel[k]);
         if (depth[i] * t.horizontal[i] < near_xy) continue;
         SolidHit hit;
         hit.t = depth[i];
