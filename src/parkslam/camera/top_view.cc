@@ -17,6 +17,9 @@ bool TopViewOptions::IsValid(std::string* error) const {
   if (size_px < 16 || size_px > 4096) return fail("size_px must be in [16, 4096]");
   if (!(extent_m > 0.5 && extent_m < 100.0)) return fail("extent_m must be in (0.5, 100)");
   if (!(blend_angle_rad >= 0.0)) return fail("blend_angle_rad must be non-negative");
+  for (const double p : camera_priority_rad) {
+    if (!(std::abs(p) <= 1.5)) return fail("camera_priority_rad must be in [-1.5, 1.5]");
+  }
   if (!(footprint_length_m > 0 && footprint_width_m > 0 && footprint_rear_overhang_m >= 0))
     return fail("footprint dimensions must be positive");
   return true;
@@ -40,6 +43,9 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
   std::string error;
   if (!options_.IsValid(&error)) throw std::invalid_argument("top view: " + error);
   if (names_.empty()) throw std::invalid_argument("top view: no camera given");
+  if (!options_.camera_priority_rad.empty() && options_.camera_priority_rad.size() != names_.size()) {
+    throw std::invalid_argument("top view: camera_priority_rad needs one value per camera");
+  }
   std::vector<const CameraConfig*> cameras;
   std::vector<CameraModel> models;
   std::vector<int> offsets;  // row offset of each camera in the stacked input
@@ -79,7 +85,7 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
         const auto pixel = models[c].Project(p_camera);
         if (!pixel) continue;
         const double angle = std::acos(std::clamp(p_camera.normalized().z(), -1.0, 1.0));
-        const double w = -angle;
+        const double w = -angle + (options_.camera_priority_rad.empty() ? 0.0 : options_.camera_priority_rad[c]);
         const cv::Point2f stacked(static_cast<float>(pixel->x()),
                                   static_cast<float>(pixel->y() + offsets[c]));
         if (!has_best || w > best_w) {

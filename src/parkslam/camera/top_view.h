@@ -28,6 +28,10 @@ struct TopViewOptions {
   // point; within this angle of the best camera's weight the second one is
   // blended in (a feathered seam).
   double blend_angle_rad = 0.3;
+  // Optional, one per camera in camera_names' order: added to a camera's
+  // weight, so that it wins over a wider area (empty: all zero). Real units
+  // draw their seams in their own places; this moves ours.
+  std::vector<double> camera_priority_rad;
   bool mask_footprint = true;
   double footprint_length_m = 4.7;
   double footprint_width_m = 1.85;

@@ -28,7 +28,7 @@ double HiddenShare(const cv::Mat& solids, const Eigen::Vector2d& px) {
 TopViewLabels LabelTopView(const SceneRenderer& renderer, const Scene& scene,
                            const RenderedScene& rendered, const LabelOptions& options) {
   TopViewLabels labels;
-  const camera::TopViewFusion& fusion = renderer.fusion(scene.fusion_calibration);
+  const camera::TopViewFusion& fusion = renderer.FusionOf(scene);
   const int size = fusion.options().size_px;
   const double px_per_m = size / fusion.options().extent_m;
   std::vector<int> label_of(scene.marks.size(), -1);

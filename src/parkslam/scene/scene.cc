@@ -679,6 +679,7 @@ void SampleCameras(Random& rng, const SceneSamplerOptions& options, bool outdoor
                                   : 1 + static_cast<int>(rng.Index(static_cast<std::uint64_t>(
                                             std::max(1, options.perturbed_calibrations))));
   if (options.perturbed_calibrations == 0) scene->fusion_calibration = 0;
+  scene->fusion_seams = static_cast<int>(rng.Index(static_cast<std::uint64_t>(std::max(1, options.seam_layouts))));
   scene->top_view_jpeg_quality = static_cast<int>(rng.Uniform(55, 95));
   scene->top_view_sharpen = rng.Bernoulli(0.3) ? rng.Uniform(0.2, 0.8) : 0.0;
   scene->saturation = rng.Uniform(0.55, 1.15);
@@ -695,6 +696,7 @@ bool SceneSamplerOptions::IsValid(std::string* error) const {
   if (perturbed_calibrations < 0 || perturbed_calibrations > 64) {
     return fail("perturbed_calibrations must be in [0, 64]");
   }
+  if (seam_layouts < 1 || seam_layouts > 16) return fail("seam_layouts must be in [1, 16]");
   if (!(outdoor_probability >= 0 && outdoor_probability <= 1)) return fail("outdoor_probability must be in [0, 1]");
   if (!(parked_car_probability_max >= 0 && parked_car_probability_max <= 1)) {
     return fail("parked_car_probability_max must be in [0, 1]");

@@ -178,6 +178,7 @@ struct Scene {
   std::vector<CameraLook> cameras;  // in the order of the rig's fusion cameras
   CameraLook front_camera;          // the monocular front camera
   int fusion_calibration = 0;       // 0: exact; k > 0: the k-th perturbed calibration
+  int fusion_seams = 0;             // which of the renderer's seam layouts the unit draws
   int top_view_jpeg_quality = 90;   // the fused view as saved
   double top_view_sharpen = 0.0;    // unsharp mask some surround-view units apply
   double saturation = 1.0;          // colour saturation of the whole unit
@@ -186,6 +187,7 @@ struct Scene {
 struct SceneSamplerOptions {
   int fisheye_cameras = 4;
   int perturbed_calibrations = 8;  // fusion_calibration is drawn from 0..this
+  int seam_layouts = 3;            // fusion_seams is drawn from 0..this - 1
   double outdoor_probability = 0.4;
   double parked_car_probability_max = 0.8;  // per slot, drawn per row up to this
   // Ego vehicle, for keeping the lot's solids off the car.

@@ -183,6 +183,10 @@ bool SceneRendererOptions::IsValid(std::string* error) const {
   if (!(ceiling_height_m > 1.5)) return fail("ceiling_height_m must exceed 1.5");
   std::string top_error;
   if (!top_view.IsValid(&top_error)) return fail("top_view is invalid");
+  if (seam_layouts.empty()) return fail("seam_layouts is empty");
+  for (const std::vector<double>& layout : seam_layouts) {
+    if (layout.size() != fisheye_names.size()) return fail("every seam layout needs one priority per fisheye");
+  }
   return true;
 }
 
@@ -191,7 +195,8 @@ struct SceneRenderer::Impl {
   camera::CameraRig rig;
   std::vector<camera::CameraConfig> fisheye_configs;
   std::vector<camera::CameraModel> fisheye_models;
-  std::vector<std::unique_ptr<camera::TopViewFusion>> fusions;  // 0: exact
+  // Calibration k, seam layout l: fusions[k * layouts + l]; k = 0 exact.
+  std::vector<std::unique_ptr<camera::TopViewFusion>> fusions;
   std::vector<camera::CameraRig> fusion_rigs;
   std::vector<CameraTable> fisheyes;
   std::optional<CameraTable> front;
@@ -257,7 +262,11 @@ SceneRenderer::Impl::Impl(const camera::CameraRig& r, const SceneRendererOptions
                                                     MixSeed(options.calibration_seed, static_cast<std::uint64_t>(k))));
   }
   for (const camera::CameraRig& fr : fusion_rigs) {
-    fusions.push_back(std::make_unique<camera::TopViewFusion>(fr, options.fisheye_names, options.top_view));
+    for (const std::vector<double>& layout : options.seam_layouts) {
+      camera::TopViewOptions view = options.top_view;
+      view.camera_priority_rad = layout;
+      fusions.push_back(std::make_unique<camera::TopViewFusion>(fr, options.fisheye_names, view));
+    }
   }
   MarkNeeded();
   noise_bank = cv::Mat(kNoiseBankSize, kNoiseBankSize, CV_32F);
@@ -268,20 +277,25 @@ SceneRenderer::Impl::Impl(const camera::CameraRig& r, const SceneRendererOptions
 // The fisheye pixels that the exact fusion samples, widened by the largest
 // blur and calibration error, so that a scene renders only those.
 void SceneRenderer::Impl::MarkNeeded() {
-  const camera::TopViewFusion& fusion = *fusions.front();
   const int size = options.top_view.size_px;
   for (size_t c = 0; c < fisheyes.size(); ++c) {
     CameraTable& t = fisheyes[c];
     t.needed = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(0));
     const camera::CameraModel model(fisheye_configs[c].intrinsics);
     const Eigen::Isometry3d T_camera_vehicle = fisheye_configs[c].T_vehicle_camera.inverse();
-    for (int v = 0; v < size; ++v) {
-      for (int u = 0; u < size; ++u) {
-        if (fusion.PrimaryCamera(u, v) < 0) continue;
-        const Eigen::Vector2d g = fusion.PixelToVehicle(Eigen::Vector2d(u, v));
-        const auto px = model.Project(T_camera_vehicle * Eigen::Vector3d(g.x(), g.y(), 0.0));
-        if (!px) continue;
-        t.needed.at<std::uint8_t>(static_cast<int>(px->y()), static_cast<int>(px->x())) = 255;
+    // Every seam layout of the exact calibration (the perturbed ones are
+    // within the margin).
+    for (size_t l = 0; l < options.seam_layouts.size(); ++l) {
+      const camera::TopViewFusion& fusion = *fusions[l];
+      for (int v = 0; v < size; ++v) {
+        for (int u = 0; u < size; ++u) {
+          const int camera = static_cast<int>(c);
+          if (fusion.PrimaryCamera(u, v) != camera && fusion.SecondaryCamera(u, v) != camera) continue;
+          const Eigen::Vector2d g = fusion.PixelToVehicle(Eigen::Vector2d(u, v));
+          const auto px = model.Project(T_camera_vehicle * Eigen::Vector3d(g.x(), g.y(), 0.0));
+          if (!px) continue;
+          t.needed.at<std::uint8_t>(static_cast<int>(px->y()), static_cast<int>(px->x())) = 255;
+        }
       }
     }
     t.metered = t.needed.clone();
@@ -822,9 +836,12 @@ SceneRenderer::~SceneRenderer() = default;
 SceneRenderer::SceneRenderer(SceneRenderer&&) noexcept = default;
 SceneRenderer& SceneRenderer::operator=(SceneRenderer&&) noexcept = default;
 
-const camera::TopViewFusion& SceneRenderer::fusion(int calibration) const {
-  const size_t k = static_cast<size_t>(std::clamp(calibration, 0, static_cast<int>(impl_->fusions.size()) - 1));
-  return *impl_->fusions[k];
+const camera::TopViewFusion& SceneRenderer::FusionOf(const Scene& scene) const {
+  const int layouts = static_cast<int>(impl_->options.seam_layouts.size());
+  const int calibrations = static_cast<int>(impl_->fusion_rigs.size());
+  const int k = std::clamp(scene.fusion_calibration, 0, calibrations - 1);
+  const int l = std::clamp(scene.fusion_seams, 0, layouts - 1);
+  return *impl_->fusions[static_cast<size_t>(k * layouts + l)];
 }
 
 const SceneRendererOptions& SceneRenderer::options() const { return impl_->options; }
@@ -870,7 +887,7 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
     out.fisheyes.push_back(m.RenderCamera(m.fisheyes[c], scene, scene.cameras[c], atlas, light, ego_colour,
                                           request.fisheyes, request.solids ? &solid_masks[c] : nullptr));
   }
-  const camera::TopViewFusion& fusion = this->fusion(scene.fusion_calibration);
+  const camera::TopViewFusion& fusion = FusionOf(scene);
   cv::Mat top = fusion.Fuse(out.fisheyes);
   // The unit's own processing: sharpening and saturation.
   if (scene.top_view_sharpen > 0) {
@@ -941,9 +958,9 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
 
 std::optional<Eigen::Vector2d> SceneRenderer::FusedPixelOf(const Scene& scene, const Eigen::Vector2d& p_vehicle) const {
   const Impl& m = *impl_;
-  const size_t k = static_cast<size_t>(std::clamp(scene.fusion_calibration, 0, static_cast<int>(m.fusions.size()) - 1));
-  const camera::TopViewFusion& fusion = *m.fusions[k];
-  const camera::CameraRig& fusion_rig = m.fusion_rigs[k];
+  const camera::TopViewFusion& fusion = FusionOf(scene);
+  const camera::CameraRig& fusion_rig =
+      m.fusion_rigs[static_cast<size_t>(std::clamp(scene.fusion_calibration, 0, static_cast<int>(m.fusion_rigs.size()) - 1))];
   const Eigen::Vector3d P(p_vehicle.x(), p_vehicle.y(), 0.0);
   // Where camera c shows P in the fusion: the true camera sees P at a pixel;
   // the fusion, believing its own extrinsics, puts that pixel's ground

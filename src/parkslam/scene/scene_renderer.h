@@ -51,6 +51,11 @@ struct SceneRendererOptions {
   // (Scene::fusion_calibration picks one), each camera turned and shifted
   // by these standard deviations.
   int perturbed_calibrations = 8;
+  // Seam layouts (Scene::fusion_seams picks one): each camera's priority in
+  // the fusion (camera::TopViewOptions::camera_priority_rad), in
+  // fisheye_names' order. Real units let the side cameras cover more or
+  // less of the corners.
+  std::vector<std::vector<double>> seam_layouts = {{0, 0, 0, 0}, {0, 0, 0.25, 0.25}, {0, 0, 0.5, 0.5}};
   double calibration_rotation_sigma_rad = 0.006;
   double calibration_translation_sigma_m = 0.015;
   std::uint64_t calibration_seed = 20261123;
@@ -95,7 +100,8 @@ class SceneRenderer {
   // calibration. Empty where no camera sees it.
   std::optional<Eigen::Vector2d> FusedPixelOf(const Scene& scene, const Eigen::Vector2d& p_vehicle) const;
 
-  const camera::TopViewFusion& fusion(int calibration) const;
+  // The fusion that a scene's unit uses: its calibration and seam layout.
+  const camera::TopViewFusion& FusionOf(const Scene& scene) const;
   const SceneRendererOptions& options() const;
 
  private:
