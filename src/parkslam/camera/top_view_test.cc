@@ -80,6 +80,32 @@ TEST(TopViewTest, GroundPointsLandAtTheirPredictedPixels) {
   EXPECT_LT(worst, 1.0);
 }
 
+// A camera's priority widens the part of the view it is primary for; the
+// default (none) is the plain closest-to-the-axis rule.
+TEST(TopViewTest, CameraPriorityMovesTheSeams) {
+  const auto count_left = [](const TopViewFusion& fusion) {
+    int n = 0;
+    for (int v = 0; v < 600; v += 3) {
+      for (int u = 0; u < 600; u += 3) n += fusion.PrimaryCamera(u, v) == 2;  // "left"
+    }
+    return n;
+  };
+  TopViewOptions plain;
+  plain.blend_angle_rad = 0.0;
+  TopViewOptions wide = plain;
+  wide.camera_priority_rad = {0.0, 0.0, 0.5, 0.5};
+  const int before = count_left(TopViewFusion(DefaultRig(), kFisheyes, plain));
+  const int after = count_left(TopViewFusion(DefaultRig(), kFisheyes, wide));
+  EXPECT_GT(after, before * 5 / 4);
+  // Primary alone (no blend): every seen pixel has no second camera.
+  EXPECT_EQ(TopViewFusion(DefaultRig(), kFisheyes, plain).SecondaryCamera(20, 20), -1);
+  TopViewOptions wrong = plain;
+  wrong.camera_priority_rad = {0.1, 0.2};
+  EXPECT_THROW(TopViewFusion(DefaultRig(), kFisheyes, wrong), std::invalid_argument);
+  wrong.camera_priority_rad = {0.0, 0.0, 2.0, 0.0};
+  EXPECT_THROW(TopViewFusion(DefaultRig(), kFisheyes, wrong), std::invalid_argument);
+}
+
 TEST(TopViewTest, PerturbedExtrinsicsShiftTheGround) {
   const CameraRig rig = DefaultRig();
   const CameraRig off = PerturbExtrinsics(rig, 0.02, 0.02, 7);
