@@ -352,19 +352,26 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
     }
   }
   const double cz = t.c_vehicle.z();
-  // The car's own body: a lower body over its whole length and a cabin
-  // (a camera on the body's surface sees the body behind it, not along it).
-  std::vector<Solid> body(2);
+  // The car's own body: bumpers and sills a little beyond the footprint
+  // the fusion masks (below the cameras, so that they hide the floor next
+  // to the car, as a real car's do), the body, and a cabin. A camera on a
+  // part's surface sees that part behind it, not along it.
+  std::vector<Solid> body(3);
   body[0].center = Eigen::Vector2d(1.35, 0.0);
-  body[0].half_x = 2.35;
-  body[0].half_y = 0.925;
+  body[0].half_x = 2.35 + 0.04;
+  body[0].half_y = 0.925 + 0.04;
   body[0].z0 = 0.25;
-  body[0].z1 = 0.9;
-  body[1].center = Eigen::Vector2d(1.4, 0.0);
-  body[1].half_x = 1.25;
-  body[1].half_y = 0.8;
-  body[1].z0 = 0.9;
-  body[1].z1 = 1.45;
+  body[0].z1 = 0.45;
+  body[1].center = Eigen::Vector2d(1.35, 0.0);
+  body[1].half_x = 2.35;
+  body[1].half_y = 0.925;
+  body[1].z0 = 0.45;
+  body[1].z1 = 0.9;
+  body[2].center = Eigen::Vector2d(1.4, 0.0);
+  body[2].half_x = 1.25;
+  body[2].half_y = 0.8;
+  body[2].z0 = 0.9;
+  body[2].z1 = 1.45;
   const double near_res = options.near_resolution_m;
   for (int v = 0; v < t.height; ++v) {
     for (int u = 0; u < t.width; ++u) {
