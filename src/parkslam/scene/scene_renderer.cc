@@ -163,6 +163,19 @@ bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o, c
 
 float Luma(const cv::Vec3f& p) { return 0.114f * p[0] + 0.587f * p[1] + 0.299f * p[2]; }
 
+// What stands against the sky outdoors, by azimuth: a wavy tree line
+// (positive elevation, radians) or, in some directions, a building's flat
+// roof line (negative: a building). Only whole fisheye images show it.
+float SkylineElevation(std::uint64_t seed, float azimuth) {
+  const float a = static_cast<float>(MixSeed(seed, 1) % 628) / 100.0f;
+  const float b = static_cast<float>(MixSeed(seed, 2) % 628) / 100.0f;
+  const int sector = static_cast<int>(std::floor((azimuth + static_cast<float>(kPi)) / (2 * static_cast<float>(kPi)) * 12.0f));
+  const std::uint64_t h = MixSeed(seed, 100 + static_cast<std::uint64_t>(sector));
+  if (h % 4 == 0) return -(0.2f + static_cast<float>(h % 1000) / 4000.0f);
+  return 0.1f + 0.05f * std::sin(3.0f * azimuth + a) + 0.03f * std::sin(11.0f * azimuth + b) +
+         0.015f * std::sin(29.0f * azimuth);
+}
+
 }  // namespace
 
 bool SceneRendererOptions::IsValid(std::string* error) const {
@@ -533,7 +546,19 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
           const Eigen::Vector3f& d = t.rays[i];
           if (l.outdoor) {
             const float up = std::max(0.0f, d.z());
-            p = cv::Vec3f(250 - 30 * up, 235 - 40 * up, 225 - 60 * up) * static_cast<float>(l.gain);
+            const float azimuth = std::atan2(d.y(), d.x());
+            const float skyline = SkylineElevation(l.seed, azimuth);
+            if (std::asin(std::clamp(d.z(), -1.0f, 1.0f)) < std::abs(skyline)) {
+              // Trees (skyline > 0) or a building (< 0) against the sky.
+              const std::uint64_t leaf = MixSeed(static_cast<std::uint64_t>(std::lround(azimuth * 150.0f)) * 1000 +
+                                                     static_cast<std::uint64_t>(std::lround(up * 150.0f)), l.seed);
+              const float foliage = 0.6f + 0.8f * static_cast<float>(leaf % 1000) / 1000.0f;
+              p = skyline > 0 ? cv::Vec3f(45, 85, 60) * foliage
+                              : cv::Vec3f(150, 155, 160) * (std::sin(60.0f * up) > 0.6f ? 0.6f : 1.0f);
+              p *= static_cast<float>(l.gain);
+            } else {
+              p = cv::Vec3f(250 - 30 * up, 235 - 40 * up, 225 - 60 * up) * static_cast<float>(l.gain);
+            }
           } else if (d.z() > 0.02f) {
             const float s = static_cast<float>((ceiling - t.c_vehicle.z()) / d.z());
             const float x = static_cast<float>(t.c_vehicle.x()) + s * d.x();
