@@ -161,6 +161,17 @@ bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o, c
   return true;
 }
 
+// A solid's own horizontal frame: x along its yaw.
+struct SolidFrame {
+  double cos_yaw = 1.0, sin_yaw = 0.0;
+  explicit SolidFrame(const Solid& s) : cos_yaw(std::cos(s.yaw_rad)), sin_yaw(std::sin(s.yaw_rad)) {}
+  // Coordinates of the map point p relative to the solid's centre, in its frame.
+  Eigen::Vector2d Local(const Solid& s, const Eigen::Vector2d& p) const {
+    const Eigen::Vector2d d = p - s.center;
+    return {cos_yaw * d.x() + sin_yaw * d.y(), -sin_yaw * d.x() + cos_yaw * d.y()};
+  }
+};
+
 float Luma(const cv::Vec3f& p) { return 0.114f * p[0] + 0.587f * p[1] + 0.299f * p[2]; }
 
 // What stands against the sky outdoors, by azimuth: a wavy tree line
@@ -225,6 +236,16 @@ struct SceneRenderer::Impl {
   void ApplyLook(const CameraLook& look, const CameraTable& table, float gain, bool full,
                  cv::Mat* radiance, cv::Mat* out8) const;
   void MarkNeeded();
+  // The floor's three levels side by side: near, near halved, far.
+  cv::Mat Stack(const cv::Mat& near, const cv::Mat& far) const {
+    cv::Mat stacked(atlas.size, near.type(), cv::Scalar::all(0));
+    near.copyTo(stacked(atlas.near));
+    cv::Mat half;
+    cv::pyrDown(near, half, atlas.mid.size());
+    half.copyTo(stacked(atlas.mid));
+    far.copyTo(stacked(atlas.far));
+    return stacked;
+  }
   // The near floor's place in the far one, when its edges fall on far
   // pixels' edges (the defaults do); empty otherwise.
   cv::Rect NearInFar() const {
@@ -591,14 +612,18 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
   std::vector<float> depth(t.ground_t);
   std::vector<std::int16_t> which(n, -1);
   const Eigen::Vector2d c2 = t.c_vehicle.head<2>();
+  std::vector<SolidFrame> frames;
+  frames.reserve(scene.solids.size());
+  for (const Solid& solid : scene.solids) frames.emplace_back(solid);
   for (size_t s = 0; s < scene.solids.size(); ++s) {
     const Solid& solid = scene.solids[s];
+    const SolidFrame& frame = frames[s];
     // The solid's footprint corners (or its circle's bounding square) seen
     // from the camera: the wedge of azimuths, and the nearest horizontal
     // distance, inside which no ray meets it.
     std::vector<Eigen::Vector2d> corners;
     if (solid.shape == SolidShape::kBox) {
-      const Eigen::Vector2d ax(std::cos(solid.yaw_rad), std::sin(solid.yaw_rad)), ay(-ax.y(), ax.x());
+      const Eigen::Vector2d ax(frame.cos_yaw, frame.sin_yaw), ay(-ax.y(), ax.x());
       for (int sx = -1; sx <= 1; sx += 2) {
         for (int sy = -1; sy <= 1; sy += 2) corners.push_back(solid.center + ax * (sx * solid.half_x) + ay * (sy * solid.half_y));
       }
@@ -607,7 +632,6 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         for (int sy = -1; sy <= 1; sy += 2) corners.push_back(solid.center + Eigen::Vector2d(sx, sy) * solid.half_x);
       }
     }
-    const double cos_yaw = std::cos(solid.yaw_rad), sin_yaw = std::sin(solid.yaw_rad);
     const Eigen::Vector2d to = solid.center - c2;
     const double centre = std::atan2(to.y(), to.x());
     double spread_lo = 0.0, spread_hi = 0.0, nearest = 1e9;
@@ -623,9 +647,10 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
       nearest = std::min(nearest, (a + u * ab).norm());
     }
     // Inside the footprint, or a wedge of half a turn or more: every azimuth.
-    if (spread_hi - spread_lo > 0.95 * kPi || (solid.shape == SolidShape::kBox &&
-        std::abs((c2 - solid.center).dot(Eigen::Vector2d(std::cos(solid.yaw_rad), std::sin(solid.yaw_rad)))) < solid.half_x &&
-        std::abs((c2 - solid.center).dot(Eigen::Vector2d(-std::sin(solid.yaw_rad), std::cos(solid.yaw_rad)))) < solid.half_y)) {
+    const Eigen::Vector2d camera_local = frame.Local(solid, c2);
+    if (spread_hi - spread_lo > 0.95 * kPi ||
+        (solid.shape == SolidShape::kBox && std::abs(camera_local.x()) < solid.half_x &&
+         std::abs(camera_local.y()) < solid.half_y)) {
       all = true;
       nearest = 0.0;
     }
@@ -645,7 +670,7 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         if (depth[i] * t.horizontal[i] < near_xy) continue;
         SolidHit hit;
         hit.t = depth[i];
-        if (Intersect(solid, cos_yaw, sin_yaw, t.c_vehicle, t.rays[i], &hit)) {
+        if (Intersect(solid, frame.cos_yaw, frame.sin_yaw, t.c_vehicle, t.rays[i], &hit)) {
           depth[i] = hit.t;
           which[i] = static_cast<std::int16_t>(s);
         }
@@ -670,9 +695,11 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
   for (size_t i = 0; i < n; ++i) {
     if (which[i] < 0) continue;
     const Solid& solid = scene.solids[static_cast<size_t>(which[i])];
+    const SolidFrame& frame = frames[static_cast<size_t>(which[i])];
     SolidHit hit;
-    Intersect(solid, std::cos(solid.yaw_rad), std::sin(solid.yaw_rad), t.c_vehicle, t.rays[i], &hit);
+    Intersect(solid, frame.cos_yaw, frame.sin_yaw, t.c_vehicle, t.rays[i], &hit);
     const Eigen::Vector3f p = t.c_vehicle.cast<float>() + t.rays[i] * hit.t;
+    const Eigen::Vector2d local = frame.Local(solid, p.head<2>().cast<double>());
     const float facing = std::abs(hit.normal.dot(t.rays[i]));
     float lit = light.At(p.x(), p.y());
     if (l.outdoor) lit *= 0.55f + 0.6f * std::max(0.0f, hit.normal.dot(sun));
@@ -684,9 +711,7 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         albedo *= 0.6f + 0.4f * facing + (hit.top ? 0.15f : 0.0f);
         // Sides darken downwards (they face the floor's dark, not the sky).
         if (!hit.top) albedo *= 0.75f + 0.35f * static_cast<float>((p.z() - solid.z0) / (solid.z1 - solid.z0));
-        const double cy = std::cos(solid.yaw_rad), sy = std::sin(solid.yaw_rad);
-        const double lx = cy * (p.x() - solid.center.x()) + sy * (p.y() - solid.center.y());
-        const double ly = -sy * (p.x() - solid.center.x()) + cy * (p.y() - solid.center.y());
+        const double lx = local.x(), ly = local.y();
         if (!hit.top) {
           if (p.z() < solid.z0 + 0.15) albedo *= 0.55f;
           if (p.z() > solid.z1 - 0.07) albedo *= 1.25f;
@@ -707,10 +732,8 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         break;
       case SolidMaterial::kTyre: {
         // A rim on each sidewall.
-        const double cy = std::cos(solid.yaw_rad), sy = std::sin(solid.yaw_rad);
-        const double lx = cy * (p.x() - solid.center.x()) + sy * (p.y() - solid.center.y());
-        const bool sidewall = std::abs(hit.normal.x() * -sy + hit.normal.y() * cy) > 0.9f;
-        const double r = std::hypot(lx, p.z() - (solid.z0 + solid.z1) / 2);
+        const bool sidewall = std::abs(hit.normal.x() * -frame.sin_yaw + hit.normal.y() * frame.cos_yaw) > 0.9;
+        const double r = std::hypot(local.x(), p.z() - (solid.z0 + solid.z1) / 2);
         if (sidewall && r < 0.19) albedo = r < 0.05 ? Colour(90, 90, 95) : Colour(165, 168, 172);
         albedo *= 0.7f + 0.3f * facing;
         break;
@@ -887,7 +910,6 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
   }
   const LightMap light(scene.light);
   // The floor: near at full resolution, halved, and far.
-  cv::Mat atlas(m.atlas.size, CV_8UC3, cv::Scalar::all(0));
   Canvas near(o.near_min_x_m, o.near_half_width_m, o.near_max_x_m - o.near_min_x_m, 2 * o.near_half_width_m,
               o.near_resolution_m);
   cv::Mat slot_paint;
@@ -903,11 +925,7 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
   if (near_in_far.area() > 0) {
     cv::resize(near.bgr, far.bgr(near_in_far), near_in_far.size(), 0, 0, cv::INTER_AREA);
   }
-  near.bgr.copyTo(atlas(m.atlas.near));
-  cv::Mat half;
-  cv::pyrDown(near.bgr, half, m.atlas.mid.size());
-  half.copyTo(atlas(m.atlas.mid));
-  far.bgr.copyTo(atlas(m.atlas.far));
+  const cv::Mat atlas = m.Stack(near.bgr, far.bgr);
 
   Random ego_rng = Random::Derive(scene.seed, 0xe90);
   const float ego_level = static_cast<float>(ego_rng.Uniform(20, 200));
@@ -954,13 +972,7 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
     return fusion.Fuse(views);
   };
   if (request.slot_paint) {
-    cv::Mat a8(m.atlas.size, CV_8UC1, cv::Scalar(0));
-    slot_paint.copyTo(a8(m.atlas.near));
-    cv::Mat h8;
-    cv::pyrDown(slot_paint, h8, m.atlas.mid.size());
-    h8.copyTo(a8(m.atlas.mid));
-    far_slot_paint.copyTo(a8(m.atlas.far));
-    out.slot_paint = fuse_grey(a8, request.solids ? &solid_masks : nullptr);
+    out.slot_paint = fuse_grey(m.Stack(slot_paint, far_slot_paint), request.solids ? &solid_masks : nullptr);
   }
   if (request.solids) {
     std::vector<cv::Mat> masks = solid_masks;
