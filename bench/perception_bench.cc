@@ -1,7 +1,8 @@
 // Perception per camera frame set, stage by stage, on one core (goal: the
-// four stages together at most 20 ms). The frame is rendered once in the
-// default lot, in aisle 1 between two rows of slots, with tags in view of
-// the front camera.
+// four stages together at most 20 ms), with the classical and the learned
+// slot detector and ID reader (docs/learned_perception.md). The frame is
+// rendered once in the default lot, in aisle 1 between two rows of slots,
+// with tags in view of the front camera.
 
 #include <benchmark/benchmark.h>
 
@@ -19,6 +20,9 @@ namespace {
 struct Fixture {
   camera::CameraRig rig = camera::DefaultRig();
   pipeline::PerceptionFrontEnd front_end{rig};
+  pipeline::PerceptionFrontEnd learned_front_end{rig, LearnedOptions()};
+  perception::LearnedSlotDetector learned_detector{learned_front_end.options().learned_slots};
+  perception::LearnedSlotIdReader learned_reader{learned_front_end.options().learned_ids};
   perception::SlotDetector detector{front_end.options().slots};
   perception::SlotIdReader reader{front_end.options().ids};
   perception::TagDetector tags{front_end.options().tags};
@@ -26,6 +30,12 @@ struct Fixture {
   std::vector<cv::Mat> fisheyes;
   cv::Mat front_mono, top_view;
   perception::SlotDetection detection;
+
+  static pipeline::PerceptionOptions LearnedOptions() {
+    pipeline::PerceptionOptions o;
+    o.detector = pipeline::DetectorKind::kLearned;
+    return o;
+  }
 
   Fixture() {
     const sim::ScenarioConfig scenario = sim::DefaultScenario();
@@ -80,6 +90,38 @@ void BM_PerceptionReadIds(benchmark::State& state) {
 }
 BENCHMARK(BM_PerceptionReadIds)->Unit(benchmark::kMillisecond);
 
+// The marking-point network alone (resize and inference), then the learned
+// detector as the front end runs it (with the classical check it is set to).
+void BM_PerceptionMarkingPointNetwork(benchmark::State& state) {
+  const Fixture& f = Get();
+  for (auto _ : state) benchmark::DoNotOptimize(f.learned_detector.Cells(f.top_view).data);
+  state.counters["input_px"] = f.learned_detector.options().input_size_px;
+}
+BENCHMARK(BM_PerceptionMarkingPointNetwork)->Unit(benchmark::kMillisecond);
+
+void BM_PerceptionDetectSlotsLearned(benchmark::State& state) {
+  const Fixture& f = Get();
+  for (auto _ : state) {
+    const perception::SlotDetection d =
+        f.learned_detector.Detect(f.top_view, f.front_end.FootprintMask());
+    benchmark::DoNotOptimize(d.slots.size());
+  }
+}
+BENCHMARK(BM_PerceptionDetectSlotsLearned)->Unit(benchmark::kMillisecond);
+
+void BM_PerceptionReadIdsLearned(benchmark::State& state) {
+  const Fixture& f = Get();
+  for (auto _ : state) {
+    for (const perception::DetectedSlot& s : f.detection.slots) {
+      benchmark::DoNotOptimize(
+          f.learned_reader.Read(f.top_view, {s.corners_px[0], s.corners_px[1], s.depth_dir_px})
+              .digits.size());
+    }
+  }
+  state.counters["slots"] = static_cast<double>(f.detection.slots.size());
+}
+BENCHMARK(BM_PerceptionReadIdsLearned)->Unit(benchmark::kMillisecond);
+
 // The whole 1280x720 image, for comparison with the band the front end
 // searches.
 void BM_PerceptionDetectTagsFullImage(benchmark::State& state) {
@@ -102,6 +144,20 @@ void BM_PerceptionFrame(benchmark::State& state) {
   state.counters["tags_ms"] = tags_ms;
 }
 BENCHMARK(BM_PerceptionFrame)->Unit(benchmark::kMillisecond);
+
+void BM_PerceptionFrameLearned(benchmark::State& state) {
+  const Fixture& f = Get();
+  double tags_ms = 0.0, slots_ms = 0.0;
+  for (auto _ : state) {
+    const pipeline::PerceptionOutput out = f.learned_front_end.Process(f.frame);
+    tags_ms = out.timing.tags_ms;
+    slots_ms = out.timing.slots_ms;
+    benchmark::DoNotOptimize(out.slots.slots.size());
+  }
+  state.counters["tags_ms"] = tags_ms;
+  state.counters["slots_ms"] = slots_ms;
+}
+BENCHMARK(BM_PerceptionFrameLearned)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace parkslam

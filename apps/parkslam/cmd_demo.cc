@@ -34,6 +34,7 @@ void AddDemoCommand(CLI::App& app) {
     double follow_speed_kmh = 10.0;
     double live_images_hz = 5.0;
     bool observations = false;
+    std::string detector = "classical";
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -62,10 +63,13 @@ void AddDemoCommand(CLI::App& app) {
   cmd->add_flag("--observations", options->observations,
                 "Skip the cameras: run on the simulator's observation-level slot and tag "
                 "detections instead of pixels (fast)");
+  AddDetectorOption(cmd, &options->detector);
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
     const std::filesystem::path out = options->out;
     const double image_rate_hz = options->observations ? 0.0 : options->live_images_hz;
+    pipeline::PerceptionOptions perception;
+    perception.detector = pipeline::ParseDetectorKind(options->detector);
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     nlohmann::json metrics;
     const int steps = 7 + (options->consistency_runs > 0) + (options->follow_runs > 0) - 1;
@@ -94,7 +98,7 @@ void AddDemoCommand(CLI::App& app) {
                : "semantic mapping (slots, IDs, tags; Max-Mixture back-end)");
     t0 = std::chrono::steady_clock::now();
     const mapping::Mapper mapper = BuildMap(dataset, mapping::MapperOptions{},
-                                            dr.initial_pose, true, image_rate_hz);
+                                            dr.initial_pose, true, image_rate_hz, {}, perception);
     metrics["mapping_s"] = SecondsSince(t0);
     const SemanticMap map = mapper.Map();
     const Trajectory mapped_trajectory = mapper.KeyframeTrajectory();
@@ -114,6 +118,7 @@ void AddDemoCommand(CLI::App& app) {
     const eval::MapMetrics map_m = eval::EvaluateMap(map, *dataset.groundtruth_map, map_options);
     metrics["map"] = MapMetricsToJson(map_m);
     metrics["dataset"] = dataset.name;
+    metrics["detector"] = options->detector;
 
     header("localizing a second drive on the map (global start)");
     const io::Dataset second = SimulateDataset(scenario, options->seed + 500);
@@ -125,7 +130,7 @@ void AddDemoCommand(CLI::App& app) {
         pipeline::EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle));
     Trajectory localized;
     {
-      DatasetStream stream(second, image_rate_hz);
+      DatasetStream stream(second, image_rate_hz, {}, perception);
       SensorSource& source = stream.source();
       while (const auto event = source.Next()) {
         const auto estimate = localizer.Process(*event);
@@ -153,6 +158,7 @@ void AddDemoCommand(CLI::App& app) {
       follow_options.speed_kmh = options->follow_speed_kmh;
       follow_options.seed = options->seed + 2000;
       follow_options.live_image_rate_hz = image_rate_hz;
+      follow_options.perception = perception;
       Progress progress("  runs", options->follow_runs);
       follow = pipeline::FollowTrace(scenario, map, T_world_map.inverse(),
                                      dataset.groundtruth_trajectory, follow_options,

@@ -1,7 +1,9 @@
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -10,6 +12,7 @@
 #include "image_files.h"
 #include "parkslam/eval/detection_metrics.h"
 #include "parkslam/io/ps2_labels.h"
+#include "parkslam/perception/learned_slot_detector.h"
 #include "parkslam/perception/slot_detector.h"
 #include "parkslam/pipeline/perception_eval.h"
 #include "parkslam/pipeline/perception_front_end.h"
@@ -66,6 +69,8 @@ nlohmann::json ToJson(const Scores& s) {
                            {"ids", Median(s.ids_ms)}, {"tags", Median(s.tags_ms)},
                            {"frame", Median(s.frame_ms)}};
     j["time_ms_max_frame"] = Max(s.frame_ms);
+  } else if (!s.slots_ms.empty()) {
+    j["time_ms_median"] = {{"slots", Median(s.slots_ms)}};
   }
   return j;
 }
@@ -93,6 +98,8 @@ void Print(const Scores& s) {
                 "ms; total %.2f ms (max %.2f ms)\n",
                 Median(s.fusion_ms), Median(s.slots_ms), Median(s.ids_ms), Median(s.tags_ms),
                 Median(s.frame_ms), Max(s.frame_ms));
+  } else if (!s.slots_ms.empty()) {
+    std::printf("slot detection per image (median): %.2f ms\n", Median(s.slots_ms));
   }
 }
 
@@ -178,6 +185,9 @@ void AddEvalDetectCommand(CLI::App& app) {
     double rate_hz = 0.5;
     int max_frames = 0;
     bool json = false;
+    std::string detector = "classical";
+    std::string models;
+    std::string classical_check = "refine";
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -198,11 +208,47 @@ void AddEvalDetectCommand(CLI::App& app) {
                   "Write an overlay (truth green, detections red) of every image with an error, and for "
                   "simulated frames the top view itself (N_top.png)");
   cmd->add_flag("--json", options->json, "Print one JSON object");
+  cmd->add_option("--detector", options->detector,
+                  "Slot detector and ID reader: classical (lines and corners) or learned (the "
+                  "networks of models/)")
+      ->check(CLI::IsMember({"classical", "learned"}))
+      ->capture_default_str();
+  cmd->add_option("--models", options->models,
+                  "Folder holding marking_points.onnx and slot_ids.onnx for --detector learned "
+                  "(default: the committed ones)");
+  cmd->add_option("--classical-check", options->classical_check,
+                  "With --detector learned: what the classical detector does with the network's "
+                  "marking points: none, refine (takes the position and direction of a point it "
+                  "also found) or filter (refine, and drop the points it did not find)")
+      ->check(CLI::IsMember({"none", "refine", "filter"}))
+      ->capture_default_str();
   cmd->callback([options] {
     Scores scores;
     if (!options->out_dir.empty()) std::filesystem::create_directories(options->out_dir);
+    pipeline::PerceptionOptions perception_options;
+    perception_options.detector = pipeline::ParseDetectorKind(options->detector);
+    if (!options->models.empty()) {
+      perception_options.learned_slots.model_path = options->models + "/marking_points.onnx";
+      perception_options.learned_ids.model_path = options->models + "/slot_ids.onnx";
+    }
+    perception_options.learned_slots.classical =
+        options->classical_check == "filter"   ? perception::ClassicalCheck::kFilter
+        : options->classical_check == "refine" ? perception::ClassicalCheck::kRefine
+                                               : perception::ClassicalCheck::kNone;
     if (!options->ps2.empty()) {
-      const perception::SlotDetector detector;
+      // ps2.0 views: 600 px for 10 m, no footprint mask, no IDs to score.
+      std::unique_ptr<perception::SlotDetector> classical;
+      std::unique_ptr<perception::LearnedSlotDetector> learned;
+      if (perception_options.detector == pipeline::DetectorKind::kLearned) {
+        perception::LearnedSlotDetectorOptions o = perception_options.learned_slots;
+        if (o.model_path.empty()) o.model_path = pipeline::DefaultModelDir() + "/marking_points.onnx";
+        learned = std::make_unique<perception::LearnedSlotDetector>(o);
+      } else {
+        classical = std::make_unique<perception::SlotDetector>();
+      }
+      const auto detect = [&](const cv::Mat& image) {
+        return learned ? learned->Detect(image) : classical->Detect(image);
+      };
       const std::vector<std::string> names = io::ListPs2Images(options->ps2);
       if (names.empty()) throw std::runtime_error(options->ps2 + ": no labelled ps2.0 images");
       for (const std::string& name : names) {
@@ -210,7 +256,10 @@ void AddEvalDetectCommand(CLI::App& app) {
         const io::Ps2Labels labels =
             io::ReadPs2Labels(std::filesystem::path(image_path).replace_extension(".json").string());
         const cv::Mat image = ReadImage(image_path.string(), cv::IMREAD_COLOR);
-        const perception::SlotDetection detection = detector.Detect(image);
+        const auto start = std::chrono::steady_clock::now();
+        const perception::SlotDetection detection = detect(image);
+        scores.slots_ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
         std::vector<eval::LabelledMarkingPoint> points;
         for (const io::Ps2MarkingPoint& p : labels.marking_points) {
           points.push_back({p.px, p.direction_rad, p.is_t});
@@ -232,7 +281,7 @@ void AddEvalDetectCommand(CLI::App& app) {
       const sim::World& world = simulation.world;
       const camera::CameraRig rig = camera::DefaultRig();
       const render::Renderer renderer(world, rig, render::RenderOptions{}, options->seed);
-      const pipeline::PerceptionFrontEnd front_end(rig);
+      const pipeline::PerceptionFrontEnd front_end(rig, perception_options);
       const std::vector<std::string> cameras{"front", "rear", "left", "right", "front_mono"};
       const Trajectory truth = sim::GroundTruthTrajectory(simulation);
       const TimeNs period = FromSeconds(1.0 / options->rate_hz);

@@ -65,6 +65,7 @@ void AddFollowCommand(CLI::App& app) {
     std::uint64_t seed = 1;
     bool odometry_only = false, json = false;
     double live_images_hz = 0.0;
+    std::string detector = "classical";
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -93,6 +94,7 @@ void AddFollowCommand(CLI::App& app) {
                   "Run on pixels: render the cameras on the fly at this rate (Hz) from the true "
                   "pose, writing nothing, and localize on what the front end finds in them")
       ->check(CLI::Range(0.0, 30.0));
+  AddDetectorOption(cmd, &options->detector);
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
     const std::filesystem::path out = options->out;
@@ -123,6 +125,7 @@ void AddFollowCommand(CLI::App& app) {
     follow.seed = options->seed;
     follow.odometry_only = options->odometry_only;
     follow.live_image_rate_hz = options->live_images_hz;
+    follow.perception.detector = pipeline::ParseDetectorKind(options->detector);
     Progress progress("  runs", options->runs);
     const pipeline::TraceFollowingResult result = pipeline::FollowTrace(
         scenario, map, T_map_world, trace_world, follow,

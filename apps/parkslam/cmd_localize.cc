@@ -63,7 +63,8 @@ void AddLocalizeCommand(CLI::App& app) {
     localization::LocalizerState previous = localizer.state();
     const std::filesystem::path recorded =
         options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
-    DatasetStream stream(dataset, options->pixels.live_images_hz, recorded);
+    DatasetStream stream(dataset, options->pixels.live_images_hz, recorded,
+                         options->pixels.Perception());
     SensorSource& source = stream.source();
     const DriveSpan span = SpanOf(dataset.log);
     Progress progress("  localizing", span.TotalTenths());

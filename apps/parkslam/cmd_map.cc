@@ -67,7 +67,8 @@ void AddMapCommand(CLI::App& app) {
     const std::filesystem::path recorded =
         options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
     mapping::Mapper mapper =
-        BuildMap(dataset, mapper_options, init, true, options->pixels.live_images_hz, recorded);
+        BuildMap(dataset, mapper_options, init, true, options->pixels.live_images_hz, recorded,
+                 options->pixels.Perception());
     const double total_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     io::WriteMap(options->out, mapper.Map());

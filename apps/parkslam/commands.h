@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "parkslam/common/se2.h"
+#include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/sim/scenario_config.h"
 
 namespace parkslam::app {
@@ -45,7 +46,12 @@ sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options);
 struct PixelOptions {
   double live_images_hz = 0.0;
   bool images = false;
+  std::string detector = "classical";
+  // The front end's options for the chosen detector.
+  pipeline::PerceptionOptions Perception() const;
 };
+// --detector: which slot detector and ID reader a command on pixels runs.
+void AddDetectorOption(CLI::App* command, std::string* detector);
 void AddPixelOptions(CLI::App* command, PixelOptions* options);
 
 // Parses "x,y,yaw" (metres, metres, radians).

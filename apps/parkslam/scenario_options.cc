@@ -76,6 +76,23 @@ void AddPixelOptions(CLI::App* command, PixelOptions* options) {
                  "Run on the dataset's own images (DIR/images/, from simulate --images): the "
                  "slots, IDs and tags found in them replace the dataset's detections")
       ->excludes("--live-images");
+  AddDetectorOption(command, &options->detector);
+}
+
+void AddDetectorOption(CLI::App* command, std::string* detector) {
+  command
+      ->add_option("--detector", *detector,
+                   "On pixels: the slot detector and ID reader, classical (lines and corners, "
+                   "seven-segment digits) or learned (the networks of models/, "
+                   "docs/learned_perception.md)")
+      ->check(CLI::IsMember({"classical", "learned"}))
+      ->capture_default_str();
+}
+
+pipeline::PerceptionOptions PixelOptions::Perception() const {
+  pipeline::PerceptionOptions o;
+  o.detector = pipeline::ParseDetectorKind(detector);
+  return o;
 }
 
 }  // namespace parkslam::app

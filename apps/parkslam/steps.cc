@@ -69,7 +69,8 @@ struct DatasetStream::Live {
 };
 
 DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
-                             const std::filesystem::path& recorded_images_dir)
+                             const std::filesystem::path& recorded_images_dir,
+                             const pipeline::PerceptionOptions& perception)
     : log_(dataset.log) {
   if (!recorded_images_dir.empty()) {
     io::ReadImageIndex(recorded_images_dir);  // names what is missing before the rig does
@@ -78,7 +79,7 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
     live_->source = std::make_unique<io::ImageFolderSource>(
         log_, recorded_images_dir, rig,
         std::vector<std::string>{"front", "rear", "left", "right", "front_mono"});
-    live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(rig);
+    live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(rig, perception);
     live_->perception =
         std::make_unique<pipeline::PerceptionSource>(*live_->source, *live_->front_end);
     return;
@@ -97,7 +98,7 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
       std::vector<std::string>{"front", "rear", "left", "right", "front_mono"}, rate_hz);
   // On pixels: the frames replace the dataset's observation-level slots
   // and tags.
-  live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(camera::DefaultRig());
+  live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(camera::DefaultRig(), perception);
   live_->perception = std::make_unique<pipeline::PerceptionSource>(*live_->source, *live_->front_end);
 }
 
@@ -136,7 +137,8 @@ DriveSpan SpanOf(const SensorLog& log) {
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
                          std::optional<SE2> initial_pose, bool progress,
                          double live_image_rate_hz,
-                         const std::filesystem::path& recorded_images_dir) {
+                         const std::filesystem::path& recorded_images_dir,
+                         const pipeline::PerceptionOptions& perception) {
   mapping::Mapper mapper(options,
                          pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
                                                             dataset.scenario.vehicle),
@@ -144,7 +146,7 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
   const DriveSpan span = SpanOf(dataset.log);
   std::optional<Progress> bar;
   if (progress) bar.emplace("  mapping", span.TotalTenths());
-  DatasetStream stream(dataset, live_image_rate_hz, recorded_images_dir);
+  DatasetStream stream(dataset, live_image_rate_hz, recorded_images_dir, perception);
   SensorSource& source = stream.source();
   while (const auto event = source.Next()) {
     mapper.Process(*event);

@@ -13,6 +13,7 @@
 #include "parkslam/eval/trajectory_metrics.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/mapping/mapper.h"
+#include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/trace_following.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 
@@ -48,7 +49,8 @@ DriveSpan SpanOf(const SensorLog& log);
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
                          std::optional<SE2> initial_pose, bool progress,
                          double live_image_rate_hz = 0.0,
-                         const std::filesystem::path& recorded_images_dir = {});
+                         const std::filesystem::path& recorded_images_dir = {},
+                         const pipeline::PerceptionOptions& perception = {});
 
 // The stream of a dataset: on pixels with live camera frames when
 // live_image_rate_hz > 0, or with the dataset's recorded images when
@@ -57,7 +59,8 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
 class DatasetStream {
  public:
   DatasetStream(const io::Dataset& dataset, double live_image_rate_hz,
-                const std::filesystem::path& recorded_images_dir = {});
+                const std::filesystem::path& recorded_images_dir = {},
+                const pipeline::PerceptionOptions& perception = {});
   ~DatasetStream();
   SensorSource& source();
 

@@ -30,6 +30,18 @@ const camera::CameraConfig* FindCamera(const camera::CameraRig& rig, const std::
 
 }  // namespace
 
+const char* ToString(DetectorKind kind) {
+  return kind == DetectorKind::kLearned ? "learned" : "classical";
+}
+
+DetectorKind ParseDetectorKind(const std::string& text) {
+  if (text == "classical") return DetectorKind::kClassical;
+  if (text == "learned") return DetectorKind::kLearned;
+  throw std::invalid_argument("unknown detector '" + text + "' (expected classical or learned)");
+}
+
+std::string DefaultModelDir() { return PARKSLAM_MODEL_DIR; }
+
 PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
                                        const PerceptionOptions& options)
     : options_(options) {
@@ -71,8 +83,24 @@ PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
   const double pixels_per_m = options_.top_view.size_px / options_.top_view.extent_m;
   options_.slots.pixels_per_m = pixels_per_m;
   options_.ids.pixels_per_m = pixels_per_m;
-  slot_detector_ = std::make_unique<perception::SlotDetector>(options_.slots);
-  if (options_.read_ids) id_reader_ = std::make_unique<perception::SlotIdReader>(options_.ids);
+  options_.learned_slots.pairing.pixels_per_m = pixels_per_m;
+  options_.learned_slots.classical_options = options_.slots;
+  options_.learned_ids.pixels_per_m = pixels_per_m;
+  if (options_.detector == DetectorKind::kLearned) {
+    if (options_.learned_slots.model_path.empty()) {
+      options_.learned_slots.model_path = DefaultModelDir() + "/marking_points.onnx";
+    }
+    if (options_.learned_ids.model_path.empty()) {
+      options_.learned_ids.model_path = DefaultModelDir() + "/slot_ids.onnx";
+    }
+    learned_detector_ = std::make_unique<perception::LearnedSlotDetector>(options_.learned_slots);
+    if (options_.read_ids) {
+      learned_reader_ = std::make_unique<perception::LearnedSlotIdReader>(options_.learned_ids);
+    }
+  } else {
+    slot_detector_ = std::make_unique<perception::SlotDetector>(options_.slots);
+    if (options_.read_ids) id_reader_ = std::make_unique<perception::SlotIdReader>(options_.ids);
+  }
   tag_detector_ = std::make_unique<perception::TagDetector>(options_.tags);
 
   // The car's own footprint carries no ground: the detector ignores it.
@@ -115,16 +143,18 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame) const {
     out.top_view = fusion_->Fuse(fisheyes);
     out.timing.fusion_ms = MsSince(start);
     start = Clock::now();
-    out.detection = slot_detector_->Detect(out.top_view, footprint_mask_);
+    out.detection = learned_detector_ != nullptr
+                        ? learned_detector_->Detect(out.top_view, footprint_mask_)
+                        : slot_detector_->Detect(out.top_view, footprint_mask_);
     out.timing.slots_ms = MsSince(start);
     start = Clock::now();
     out.ids.resize(out.detection.slots.size());
-    if (id_reader_ != nullptr) {
-      for (size_t k = 0; k < out.detection.slots.size(); ++k) {
-        const perception::DetectedSlot& slot = out.detection.slots[k];
-        out.ids[k] = id_reader_->Read(out.top_view,
-                                      {slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px});
-      }
+    for (size_t k = 0; k < out.detection.slots.size(); ++k) {
+      const perception::DetectedSlot& slot = out.detection.slots[k];
+      const perception::EntranceInImage entrance{slot.corners_px[0], slot.corners_px[1],
+                                                 slot.depth_dir_px};
+      if (id_reader_ != nullptr) out.ids[k] = id_reader_->Read(out.top_view, entrance);
+      if (learned_reader_ != nullptr) out.ids[k] = learned_reader_->Read(out.top_view, entrance);
     }
     out.timing.ids_ms = MsSince(start);
     const Eigen::Vector2d view_centre_vehicle(options_.top_view.center_x_m, 0.0);

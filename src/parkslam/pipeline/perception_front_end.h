@@ -14,6 +14,8 @@
 
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/camera/top_view.h"
+#include "parkslam/perception/learned_slot_detector.h"
+#include "parkslam/perception/learned_slot_id_reader.h"
 #include "parkslam/perception/slot_detector.h"
 #include "parkslam/perception/slot_id_reader.h"
 #include "parkslam/perception/tag_detector.h"
@@ -21,14 +23,36 @@
 
 namespace parkslam::pipeline {
 
+// Which slot detector and ID reader the front end runs: the classical ones
+// (lines and corners, seven-segment digits) or the learned networks
+// (docs/learned_perception.md).
+enum class DetectorKind { kClassical, kLearned };
+const char* ToString(DetectorKind kind);
+// "classical" or "learned"; throws std::invalid_argument otherwise.
+DetectorKind ParseDetectorKind(const std::string& text);
+
+// The folder of the committed networks (models/ in the source tree).
+std::string DefaultModelDir();
+
 struct PerceptionOptions {
   // The rig's cameras: four fisheyes fused into the top view (in this
   // order: front, rear, left, right) and the front camera for tags.
   std::vector<std::string> fisheye_cameras{"front", "rear", "left", "right"};
   std::string tag_camera = "front_mono";
   camera::TopViewOptions top_view;
+  DetectorKind detector = DetectorKind::kClassical;
   perception::SlotDetectorOptions slots;
   perception::SlotIdReaderOptions ids;
+  // The learned detector and reader; an empty model_path takes the
+  // committed network from DefaultModelDir(). The network's marking points
+  // take the classical detector's position where it found them too (2 cm
+  // more accurate on rendered drives: docs/learned_perception.md).
+  perception::LearnedSlotDetectorOptions learned_slots = [] {
+    perception::LearnedSlotDetectorOptions o;
+    o.classical = perception::ClassicalCheck::kRefine;
+    return o;
+  }();
+  perception::LearnedSlotIdReaderOptions learned_ids;
   perception::TagDetectorOptions tags;
   bool read_ids = true;
   // Tags hang between these heights above the floor and are looked for
@@ -91,6 +115,8 @@ class PerceptionFrontEnd {
   std::unique_ptr<camera::TopViewFusion> fusion_;
   std::unique_ptr<perception::SlotDetector> slot_detector_;
   std::unique_ptr<perception::SlotIdReader> id_reader_;
+  std::unique_ptr<perception::LearnedSlotDetector> learned_detector_;
+  std::unique_ptr<perception::LearnedSlotIdReader> learned_reader_;
   std::unique_ptr<perception::TagDetector> tag_detector_;
   cv::Mat footprint_mask_;
 };

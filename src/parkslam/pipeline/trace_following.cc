@@ -107,7 +107,7 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
         sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed)));
     renderer = std::make_unique<render::Renderer>(*world, camera::DefaultRig(),
                                                   render::RenderOptions{}, options.seed);
-    front_end = std::make_unique<PerceptionFrontEnd>(camera::DefaultRig());
+    front_end = std::make_unique<PerceptionFrontEnd>(camera::DefaultRig(), options.perception);
   }
 
   TraceFollowingResult result;

@@ -1,0 +1,331 @@
+#!/usr/bin/python3
+"""Trains the marking-point network (models.MarkingPointNet) on top views
+written by `parkslam make-training-set` and exports it to ONNX for OpenCV's
+dnn module. See docs/learned_perception.md for the exact command, seed and
+time of the committed weights.
+
+Never train or tune on the real ps2.0 sample (../shared/data): it is test
+data.
+"""
+
+import argparse
+import glob
+import json
+import math
+import os
+import sys
+import time
+
+import cv2
+import numpy as np
+import torch
+import torch.nn.functional as F
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import common  # noqa: E402
+from reference_outputs import write_reference  # noqa: E402
+from models import MarkingPointNet, export_onnx  # noqa: E402
+
+FULL_PX = 600          # the top view's size (10 m at 60 px/m)
+LABEL_OFFSET_PX = 0.5  # ps2.0 labels are 1-based: 0-based = label - 0.5
+MATCH_PX = 10.0        # DMPR-PS rule: within 10 px of 600 ...
+MATCH_RAD = math.radians(30.0)  # ... and 30 degrees of direction
+NMS_PX = 20.0          # two detections closer than this are one point
+
+
+def read_marks(path):
+    """[(x, y, direction_rad, is_t)] in 0-based pixels of the 600 px view."""
+    with open(path) as f:
+        labels = json.load(f)
+    marks = labels.get("marks", [])
+    if marks and not isinstance(marks[0], list):
+        marks = [marks]
+    out = []
+    for m in marks:
+        if len(m) != 5:
+            raise ValueError(f"{path}: marks: expected [x, y, dx, dy, shape], got {m}")
+        x, y, dx, dy, shape = m
+        out.append((x - LABEL_OFFSET_PX, y - LABEL_OFFSET_PX, math.atan2(dy - y, dx - x),
+                    shape == 0))
+    return out
+
+
+def load_folder(folder, size, limit, cache_dir):
+    """Images resized to size x size (uint8 BGR) and their marks."""
+    names = sorted(os.path.splitext(os.path.basename(p))[0]
+                   for p in glob.glob(os.path.join(folder, "*.json")))
+    names = [n for n in names if os.path.exists(os.path.join(folder, n + ".jpg"))]
+    if not names:
+        common.fail(f"{folder}: no labelled top views (NNNNNN.jpg with NNNNNN.json)")
+    if limit > 0:
+        names = names[:limit]
+    marks = [read_marks(os.path.join(folder, n + ".json")) for n in names]
+    cache = None
+    if cache_dir:
+        os.makedirs(cache_dir, exist_ok=True)
+        key = f"{os.path.basename(os.path.normpath(folder))}_{len(names)}_{size}.npy"
+        cache = os.path.join(cache_dir, key)
+        if os.path.exists(cache):
+            images = np.load(cache, mmap_mode="r")
+            if images.shape[0] == len(names):
+                return np.ascontiguousarray(images), marks
+    images = np.empty((len(names), size, size, 3), np.uint8)
+    for i, n in enumerate(names):
+        path = os.path.join(folder, n + ".jpg")
+        image = cv2.imread(path, cv2.IMREAD_COLOR)
+        if image is None or image.shape[:2] != (FULL_PX, FULL_PX):
+            common.fail(f"{path}: not a {FULL_PX} x {FULL_PX} image")
+        images[i] = cv2.resize(image, (size, size), interpolation=cv2.INTER_AREA)
+        if (i + 1) % 2000 == 0:
+            common.log(f"  {folder}: {i + 1} of {len(names)} images read")
+    if cache:
+        common.save_atomically(cache, lambda tmp: np.save(open(tmp, "wb"), images))
+    return images, marks
+
+
+def augment(image, marks, rng, size):
+    """A random flip, small rotation, scale and shift, and photometric
+    changes; returns the image and the marks moved with it (in the scaled
+    image's continuous coordinates: pixel edges at 0 and size)."""
+    scale = size / FULL_PX
+    pts = [((x + 0.5) * scale, (y + 0.5) * scale, a, t) for x, y, a, t in marks]
+    angle = rng.uniform(-8, 8) if rng.random() < 0.5 else 0.0
+    zoom = rng.uniform(0.9, 1.1)
+    shift = rng.uniform(-0.08, 0.08, 2) * size
+    A = cv2.getRotationMatrix2D((size / 2, size / 2), angle, zoom)
+    A[:, 2] += shift
+    if rng.random() < 0.5:  # mirror left-right
+        A = np.array([[-1, 0, size], [0, 1, 0]], float) @ np.vstack([A, [0, 0, 1]])
+    if rng.random() < 0.5:  # mirror up-down
+        A = np.array([[1, 0, 0], [0, -1, size]], float) @ np.vstack([A, [0, 0, 1]])
+    # warpAffine maps pixel centres: shift by half a pixel either side.
+    C = A.copy()
+    C[:, 2] += A[:, :2] @ np.array([0.5, 0.5]) - 0.5
+    out = cv2.warpAffine(image, C, (size, size), flags=cv2.INTER_LINEAR,
+                         borderMode=cv2.BORDER_REPLICATE)
+    moved = []
+    for x, y, a, t in pts:
+        p = A[:, :2] @ np.array([x, y]) + A[:, 2]
+        d = A[:, :2] @ np.array([math.cos(a), math.sin(a)])
+        if 0 <= p[0] < size and 0 <= p[1] < size:
+            moved.append((p[0], p[1], math.atan2(d[1], d[0]), t))
+    # Photometric: exposure, gamma, white balance, contrast, greyscale,
+    # blur, noise, JPEG.
+    f = out.astype(np.float32) / 255.0
+    f = np.power(np.clip(f * rng.uniform(0.6, 1.4), 0, 1), rng.uniform(0.7, 1.4))
+    f *= rng.uniform(0.85, 1.15, 3).astype(np.float32)
+    mean = f.mean()
+    f = (f - mean) * rng.uniform(0.7, 1.3) + mean
+    if rng.random() < 0.1:
+        f[:] = f.mean(axis=2, keepdims=True)
+    if rng.random() < 0.3:
+        f = cv2.GaussianBlur(f, (0, 0), rng.uniform(0.4, 2.0))
+    elif rng.random() < 0.15:  # smear along one direction, as a fused view's periphery
+        k = np.zeros((7, 7), np.float32)
+        k[3, :] = 1.0 / 7.0
+        k = cv2.warpAffine(k, cv2.getRotationMatrix2D((3, 3), rng.uniform(0, 180), 1.0), (7, 7))
+        f = cv2.filter2D(f, -1, k / max(k.sum(), 1e-6))
+    if rng.random() < 0.5:
+        f += rng.normal(0, rng.uniform(0.005, 0.03), f.shape).astype(np.float32)
+    out = np.clip(f * 255.0, 0, 255).astype(np.uint8)
+    if rng.random() < 0.3:
+        ok, buf = cv2.imencode(".jpg", out, [cv2.IMWRITE_JPEG_QUALITY, int(rng.integers(30, 90))])
+        out = cv2.imdecode(buf, cv2.IMREAD_COLOR)
+    return out, moved
+
+
+def targets(batch_marks, size, grid):
+    """Per-cell targets: mask, offset (2), cos/sin (2), is_t."""
+    n = len(batch_marks)
+    mask = np.zeros((n, grid, grid), np.float32)
+    reg = np.zeros((n, 5, grid, grid), np.float32)
+    cell = size / grid
+    for b, marks in enumerate(batch_marks):
+        for x, y, a, t in marks:
+            cx, cy = min(int(x / cell), grid - 1), min(int(y / cell), grid - 1)
+            mask[b, cy, cx] = 1.0
+            reg[b, :, cy, cx] = (x / cell - cx, y / cell - cy, math.cos(a), math.sin(a), float(t))
+    return torch.from_numpy(mask), torch.from_numpy(reg)
+
+
+def loss_of(raw, mask, reg):
+    conf = F.binary_cross_entropy_with_logits(raw[:, 0], mask, pos_weight=torch.tensor(2.0))
+    positives = mask.sum().clamp(min=1.0)
+    m = mask.unsqueeze(1)
+    offset = ((torch.sigmoid(raw[:, 1:3]) - reg[:, 0:2]) ** 2 * m).sum() / positives
+    direction = ((torch.tanh(raw[:, 3:5]) - reg[:, 2:4]) ** 2 * m).sum() / positives
+    shape = (F.binary_cross_entropy_with_logits(raw[:, 5], reg[:, 4], reduction="none")
+             * mask).sum() / positives
+    return conf + 5.0 * offset + 2.0 * direction + 0.5 * shape
+
+
+def decode(cells, threshold):
+    """Marking points [(x, y, direction_rad, is_t, score)] in 0-based
+    pixels of the 600 px view from one output (6 x G x G), after NMS. The
+    C++ side (perception/learned_slot_detector.cc) does the same."""
+    grid = cells.shape[1]
+    ys, xs = np.nonzero(cells[0] >= threshold)
+    found = []
+    for cy, cx in zip(ys, xs):
+        c = cells[:, cy, cx]
+        x = (cx + c[1]) / grid * FULL_PX - 0.5
+        y = (cy + c[2]) / grid * FULL_PX - 0.5
+        found.append((x, y, math.atan2(c[4], c[3]), c[5] >= 0.5, float(c[0])))
+    found.sort(key=lambda p: -p[4])
+    kept = []
+    for p in found:
+        if all((p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 > NMS_PX ** 2 for q in kept):
+            kept.append(p)
+    return kept
+
+
+def match_counts(found, truth):
+    """(true positives, false positives, false negatives) by the DMPR-PS
+    rule, greedily by score."""
+    used = [False] * len(truth)
+    tp = 0
+    for x, y, a, _, _ in found:
+        for k, (tx, ty, ta, _) in enumerate(truth):
+            da = abs((a - ta + math.pi) % (2 * math.pi) - math.pi)
+            if not used[k] and (x - tx) ** 2 + (y - ty) ** 2 <= MATCH_PX ** 2 and da <= MATCH_RAD:
+                used[k] = True
+                tp += 1
+                break
+    return tp, len(found) - tp, len(truth) - tp
+
+
+def to_tensor(images):
+    return torch.from_numpy(np.ascontiguousarray(images)).permute(0, 3, 1, 2).float()
+
+
+def validate(model, images, marks, thresholds=(0.3, 0.4, 0.5, 0.6, 0.7)):
+    model.eval()
+    counts = {t: [0, 0, 0] for t in thresholds}
+    with torch.no_grad():
+        for start in range(0, len(images), 64):
+            out = model(to_tensor(images[start:start + 64])).numpy()
+            for k, cells in enumerate(out):
+                for t in thresholds:
+                    c = match_counts(decode(cells, t), marks[start + k])
+                    counts[t] = [a + b for a, b in zip(counts[t], c)]
+    scores = {}
+    for t, (tp, fp, fn) in counts.items():
+        p = tp / max(tp + fp, 1)
+        r = tp / max(tp + fn, 1)
+        scores[t] = {"precision": p, "recall": r, "f1": 2 * p * r / max(p + r, 1e-9)}
+    return scores
+
+
+def write_outputs(model, args, size, training_images, validation_images, stopper, best_scores,
+                  history, train_started):
+    """The network (ONNX), its reference outputs and OUT.json, the record
+    of how it was made."""
+    export_onnx(model, (1, 3, size, size), args.out, "cells")
+    write_reference(args.out, (1, 3, size, size))
+    common.write_json_atomically(args.out + ".json", {
+        "network": "MarkingPointNet", "input_size": size, "stride": MarkingPointNet.STRIDE,
+        "widths": list(args.widths),
+        "outputs": ["confidence", "offset_x", "offset_y", "cos", "sin", "t_shape"],
+        "command": " ".join(["scripts/learned/train_marking_points.py"] + sys.argv[1:]),
+        "seed": args.seed, "torch": torch.__version__, "threads": torch.get_num_threads(),
+        "training_images": training_images, "validation_images": validation_images,
+        "best_epoch": stopper.best_epoch, "validation": best_scores,
+        "training_minutes": round((time.time() - train_started) / 60, 1), "history": history,
+    })
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--train", nargs="+", required=True,
+                        help="folders written by `parkslam make-training-set`")
+    parser.add_argument("--val", required=True, help="held-apart folder (another seed)")
+    parser.add_argument("--out", required=True, help="the ONNX file to write (and OUT.json)")
+    parser.add_argument("--input-size", type=int, default=256, help="network input, pixels")
+    parser.add_argument("--widths", type=int, nargs=4, default=[24, 48, 96, 128],
+                        help="channels at strides 2, 4, 8 and 16")
+    parser.add_argument("--epochs", type=int, default=30)
+    parser.add_argument("--batch", type=int, default=32)
+    parser.add_argument("--lr", type=float, default=2e-3)
+    parser.add_argument("--patience", type=int, default=4,
+                        help="epochs without a better validation F1 before stopping")
+    parser.add_argument("--max-minutes", type=float, default=0,
+                        help="stop after this much training time (0: no limit)")
+    parser.add_argument("--max-images", type=int, default=0, help="per folder (0: all)")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--threads", type=int, default=0, help="torch threads (0: default)")
+    parser.add_argument("--cache", default="", help="folder for decoded, resized images")
+    args = parser.parse_args()
+    if args.input_size % MarkingPointNet.STRIDE != 0:
+        common.fail(f"--input-size: {args.input_size} is not a multiple of {MarkingPointNet.STRIDE}")
+
+    common.seed_everything(args.seed)
+    common.set_threads(args.threads)
+    size, grid = args.input_size, args.input_size // MarkingPointNet.STRIDE
+    started = time.time()
+    parts = [load_folder(f, size, args.max_images, args.cache) for f in args.train]
+    images = np.concatenate([p[0] for p in parts])
+    marks = [m for p in parts for m in p[1]]
+    val_images, val_marks = load_folder(args.val, size, args.max_images, args.cache)
+    common.log(f"{len(images)} training and {len(val_images)} validation images "
+               f"({time.time() - started:.0f} s to read)")
+
+    model = MarkingPointNet(tuple(args.widths))
+    optimizer = torch.optim.AdamW(model.parameters(), lr=args.lr, weight_decay=1e-4)
+    steps_per_epoch = max(1, len(images) // args.batch)
+    schedule = torch.optim.lr_scheduler.OneCycleLR(
+        optimizer, max_lr=args.lr, total_steps=args.epochs * steps_per_epoch, pct_start=0.1)
+    rng = np.random.default_rng(args.seed)
+    stopper = common.EarlyStopping(args.patience)
+    best_state, best_scores, history = None, None, []
+    train_started = time.time()
+    for epoch in range(args.epochs):
+        model.train()
+        order = rng.permutation(len(images))
+        total = 0.0
+        for step in range(steps_per_epoch):
+            idx = order[step * args.batch:(step + 1) * args.batch]
+            batch, batch_marks = [], []
+            for i in idx:
+                image, moved = augment(images[i], marks[i], rng, size)
+                batch.append(image)
+                batch_marks.append(moved)
+            mask, reg = targets(batch_marks, size, grid)
+            loss = loss_of(model.raw(to_tensor(np.stack(batch))), mask, reg)
+            optimizer.zero_grad()
+            loss.backward()
+            optimizer.step()
+            schedule.step()
+            total += loss.item()
+            if (step + 1) % 50 == 0:
+                common.log(f"  epoch {epoch + 1} step {step + 1}/{steps_per_epoch} "
+                           f"loss {total / (step + 1):.4f}")
+        scores = validate(model, val_images, val_marks)
+        threshold = max(scores, key=lambda t: scores[t]["f1"])
+        best = scores[threshold]
+        history.append({"epoch": epoch + 1, "loss": total / steps_per_epoch,
+                        "threshold": threshold, **best})
+        common.log(f"epoch {epoch + 1}: loss {total / steps_per_epoch:.4f}, validation at "
+                   f"{threshold}: precision {100 * best['precision']:.2f} %, recall "
+                   f"{100 * best['recall']:.2f} %")
+        if stopper.update(best["f1"], epoch + 1):
+            best_state = {k: v.clone() for k, v in model.state_dict().items()}
+            best_scores = {"threshold": threshold, **best}
+            write_outputs(model, args, size, len(images), len(val_images), stopper, best_scores,
+                          history, train_started)
+        minutes = (time.time() - train_started) / 60
+        if stopper.should_stop():
+            common.log(f"no better validation for {args.patience} epochs: stopping")
+            break
+        if args.max_minutes > 0 and minutes >= args.max_minutes:
+            common.log(f"{minutes:.1f} minutes of training: stopping")
+            break
+    model.load_state_dict(best_state)
+    write_outputs(model, args, size, len(images), len(val_images), stopper, best_scores, history,
+                  train_started)
+    common.log(f"wrote {args.out} (best epoch {stopper.best_epoch}: validation precision "
+               f"{100 * best_scores['precision']:.2f} %, recall {100 * best_scores['recall']:.2f} %)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,127 @@
+#include "parkslam/perception/learned_slot_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <opencv2/dnn.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "parkslam/common/angles.h"
+
+namespace parkslam::perception {
+namespace {
+
+constexpr int kStride = 16;   // the network's output stride
+constexpr int kOutputs = 6;   // confidence, offset x, offset y, cos, sin, T
+
+}  // namespace
+
+bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
+  const auto fail = [&](const std::string& what) {
+    if (error != nullptr) *error = what;
+    return false;
+  };
+  if (model_path.empty()) return fail("model_path is empty");
+  if (input_size_px < kStride || input_size_px % kStride != 0) {
+    return fail("input_size_px must be a positive multiple of 16");
+  }
+  if (!(min_confidence > 0.0 && min_confidence < 1.0)) return fail("min_confidence must lie in (0, 1)");
+  if (!(nms_radius_px >= 0.0)) return fail("nms_radius_px must not be negative");
+  if (!(classical_match_px > 0.0 && classical_match_rad > 0.0)) {
+    return fail("classical_match_px and classical_match_rad must be positive");
+  }
+  return pairing.IsValid(error);
+}
+
+LearnedSlotDetector::LearnedSlotDetector(const LearnedSlotDetectorOptions& options)
+    : options_(options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument("LearnedSlotDetectorOptions: " + error);
+  const int n = options.input_size_px, g = n / kStride;
+  if (options.classical != ClassicalCheck::kNone) {
+    SlotDetectorOptions classical = options.classical_options;
+    classical.pixels_per_m = options.pairing.pixels_per_m;
+    classical_ = std::make_unique<SlotDetector>(classical);
+  }
+  network_ = std::make_unique<OnnxNetwork>(options.model_path, std::vector<int>{1, 3, n, n},
+                                           std::vector<int>{1, kOutputs, g, g});
+}
+
+cv::Mat LearnedSlotDetector::Cells(const cv::Mat& top_view) const {
+  if (top_view.empty() || top_view.depth() != CV_8U ||
+      (top_view.channels() != 1 && top_view.channels() != 3)) {
+    throw std::invalid_argument("LearnedSlotDetector: expected an 8-bit grey or BGR top view");
+  }
+  cv::Mat bgr = top_view;
+  if (top_view.channels() == 1) cv::cvtColor(top_view, bgr, cv::COLOR_GRAY2BGR);
+  const int n = options_.input_size_px;
+  cv::Mat resized;
+  // INTER_AREA, as the training script resizes (scripts/learned/).
+  cv::resize(bgr, resized, cv::Size(n, n), 0, 0, cv::INTER_AREA);
+  const cv::Mat out = network_->Forward(cv::dnn::blobFromImage(resized));
+  const int g = n / kStride;
+  return out.reshape(1, {kOutputs, g, g});
+}
+
+SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask) const {
+  const cv::Mat cells = Cells(top_view);
+  const int g = cells.size[1];
+  // A cell's place (cx + offset) / g spans the image from edge to edge;
+  // 0-based pixel centres sit half a pixel in.
+  const double scale_x = static_cast<double>(top_view.cols) / g;
+  const double scale_y = static_cast<double>(top_view.rows) / g;
+  std::vector<MarkingPoint> found;
+  for (int cy = 0; cy < g; ++cy) {
+    for (int cx = 0; cx < g; ++cx) {
+      const auto at = [&](int k) { return static_cast<double>(cells.at<float>(k, cy, cx)); };
+      if (at(0) < options_.min_confidence) continue;
+      MarkingPoint p;
+      p.px = Eigen::Vector2d((cx + at(1)) * scale_x - 0.5, (cy + at(2)) * scale_y - 0.5);
+      p.direction_rad = std::atan2(at(4), at(3));
+      p.shape = at(5) >= 0.5 ? MarkingShape::kT : MarkingShape::kL;
+      p.score = at(0);
+      if (!mask.empty()) {
+        const int u = std::clamp(static_cast<int>(std::lround(p.px.x())), 0, mask.cols - 1);
+        const int v = std::clamp(static_cast<int>(std::lround(p.px.y())), 0, mask.rows - 1);
+        if (mask.at<unsigned char>(v, u) == 0) continue;
+      }
+      found.push_back(p);
+    }
+  }
+  std::sort(found.begin(), found.end(),
+            [](const MarkingPoint& a, const MarkingPoint& b) { return a.score > b.score; });
+  SlotDetection result;
+  const double r2 = options_.nms_radius_px * options_.nms_radius_px;
+  for (const MarkingPoint& p : found) {
+    const bool near_kept = std::any_of(
+        result.marking_points.begin(), result.marking_points.end(),
+        [&](const MarkingPoint& q) { return (p.px - q.px).squaredNorm() < r2; });
+    if (!near_kept) result.marking_points.push_back(p);
+  }
+  if (classical_ != nullptr) {
+    const std::vector<MarkingPoint> lines_points = classical_->Detect(top_view, mask).marking_points;
+    std::vector<MarkingPoint> checked;
+    for (MarkingPoint p : result.marking_points) {
+      const MarkingPoint* best = nullptr;
+      for (const MarkingPoint& q : lines_points) {
+        const double d = (q.px - p.px).norm();
+        if (d <= options_.classical_match_px &&
+            std::abs(AngleDiff(q.direction_rad, p.direction_rad)) <= options_.classical_match_rad &&
+            (best == nullptr || d < (best->px - p.px).norm())) {
+          best = &q;
+        }
+      }
+      if (best != nullptr) {
+        p.px = best->px;
+        p.direction_rad = best->direction_rad;
+      }
+      if (best != nullptr || options_.classical == ClassicalCheck::kRefine) checked.push_back(p);
+    }
+    result.marking_points = std::move(checked);
+  }
+  result.slots = PairMarkingPoints(result.marking_points, top_view.size(), options_.pairing);
+  return result;
+}
+
+}  // namespace parkslam::perception

@@ -1,0 +1,79 @@
+#ifndef PARKSLAM_PERCEPTION_LEARNED_SLOT_DETECTOR_H_
+#define PARKSLAM_PERCEPTION_LEARNED_SLOT_DETECTOR_H_
+
+// Learned parking-slot detection in the top view (paper III-A: "marking
+// points are detected by a CNN", as DMPR-PS does): a small fully
+// convolutional network (scripts/learned/models.py, MarkingPointNet) looks
+// at the top view resized to input_size_px and predicts, per cell of a grid
+// 16 times coarser, the confidence that a marking point lies in the cell,
+// its place in the cell, the direction of its separating line and its
+// shape (T or L). Cells above min_confidence become marking points, the
+// weaker of two within nms_radius_px is dropped, and slots are formed from
+// the points by the paper's rules (slot_pairing.h).
+//
+// Top-view pixels are 0-based, (0, 0) the centre of the top-left pixel,
+// x to the right and y down (camera/top_view.h).
+
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "parkslam/perception/onnx_network.h"
+#include "parkslam/perception/slot_detector.h"
+#include "parkslam/perception/slot_pairing.h"
+
+namespace parkslam::perception {
+
+// What the classical detector (slot_detector.h) does with the network's
+// marking points: nothing; kRefine: a point the classical detector also
+// found (within classical_match_px and classical_match_rad) takes its
+// position and direction, measured on the painted lines; kFilter: as
+// kRefine, and points it did not find are dropped.
+enum class ClassicalCheck { kNone, kRefine, kFilter };
+
+struct LearnedSlotDetectorOptions {
+  // The exported network (models/marking_points.onnx in the source tree).
+  std::string model_path;
+  // Its input: the top view is resized to this square (the network was
+  // trained at this size).
+  int input_size_px = 256;
+  double min_confidence = 0.5;
+  // Two marking points closer than this (top-view pixels) are one.
+  double nms_radius_px = 20.0;
+  SlotPairingOptions pairing;
+  ClassicalCheck classical = ClassicalCheck::kNone;
+  SlotDetectorOptions classical_options;
+  double classical_match_px = 10.0;
+  double classical_match_rad = 0.5235987755982988;  // 30 degrees
+
+  bool IsValid(std::string* error) const;
+};
+
+class LearnedSlotDetector {
+ public:
+  // Loads the network. Throws std::invalid_argument on invalid options and
+  // std::runtime_error naming the file when the weights are missing or
+  // unusable.
+  explicit LearnedSlotDetector(const LearnedSlotDetectorOptions& options);
+
+  // Detects marking points and slots in an 8-bit BGR (or grey) top view.
+  // Marking points on pixels where mask is zero (the car's footprint) are
+  // dropped; mask may be empty. SlotDetection::lines stays empty.
+  SlotDetection Detect(const cv::Mat& top_view, const cv::Mat& mask = cv::Mat()) const;
+
+  // The network's raw output for a top view: 6 x G x G floats (confidence,
+  // offset x, offset y, cos, sin, T probability per cell).
+  cv::Mat Cells(const cv::Mat& top_view) const;
+
+  const LearnedSlotDetectorOptions& options() const { return options_; }
+
+ private:
+  LearnedSlotDetectorOptions options_;
+  std::unique_ptr<OnnxNetwork> network_;
+  std::unique_ptr<SlotDetector> classical_;
+};
+
+}  // namespace parkslam::perception
+
+#endif  // PARKSLAM_PERCEPTION_LEARNED_SLOT_DETECTOR_H_

@@ -1,0 +1,90 @@
+#ifndef PARKSLAM_PERCEPTION_LEARNED_SLOT_ID_READER_H_
+#define PARKSLAM_PERCEPTION_LEARNED_SLOT_ID_READER_H_
+
+// Learned slot-ID reading (paper III-A: "the slot ID is recognized digit by
+// digit, with confidence"; the paper uses PVANet): the box where the ID is
+// painted is cut from the top view, upright for a reader, as a 96 x 32 crop
+// (as `parkslam make-training-set --kind ids` writes them), and a small
+// network (scripts/learned/models.py, SlotIdNet) gives, for each of four
+// character positions, probabilities over "no character" and the alphabet
+// (digits, capital letters, '-'). Characters are read from the left until
+// the first position whose best class is "no character"; each becomes a
+// DigitReading with its hypotheses, so that the mapper's digit-by-digit
+// hypotheses and partial IDs work as with the classical reader.
+//
+// Where the ID stands: Read() uses the default lot's convention (as the
+// classical reader: the ID's foot id_setback_m inside the entrance, centred
+// on it, upright for a reader in the aisle); ReadBox() reads any box.
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "parkslam/perception/onnx_network.h"
+#include "parkslam/perception/slot_id_reader.h"
+#include "parkslam/sensor/sensor_data.h"
+
+namespace parkslam::perception {
+
+// The characters a slot ID may hold, in the network's class order (class 0
+// is "no character").
+inline constexpr char kIdAlphabet[] = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ-";
+inline constexpr int kIdPositions = 4;
+
+struct LearnedSlotIdReaderOptions {
+  std::string model_path;  // models/slot_ids.onnx in the source tree
+  double pixels_per_m = 60.0;
+  double id_setback_m = 0.3;
+  double id_height_m = 0.6;
+  // Hypotheses below this probability are dropped from a character's
+  // reading; a character whose best class falls below
+  // min_digit_probability is unread.
+  double min_hypothesis_probability = 0.05;
+  double min_digit_probability = 0.5;
+
+  bool IsValid(std::string* error) const;
+};
+
+// Where painted text stands in the top view: its centre, the direction a
+// reader's "right" points along the text, and the characters' height,
+// top-view pixels.
+struct TextBox {
+  Eigen::Vector2d centre_px = Eigen::Vector2d::Zero();
+  Eigen::Vector2d right_dir = Eigen::Vector2d::UnitX();
+  double text_height_px = 36.0;
+};
+
+class LearnedSlotIdReader {
+ public:
+  // Loads the network. Throws std::invalid_argument on invalid options and
+  // std::runtime_error naming the file when the weights are missing or
+  // unusable.
+  explicit LearnedSlotIdReader(const LearnedSlotIdReaderOptions& options);
+
+  // Reads the ID of one slot of an 8-bit BGR (or grey) top view, where the
+  // default lot paints it. Empty when nothing is read, or when the box
+  // leaves the image or covers pixels no camera saw (0 in a grey view, pure
+  // black in a colour one).
+  SlotIdReading Read(const cv::Mat& top_view, const EntranceInImage& entrance) const;
+  // Reads the text in `box`.
+  SlotIdReading ReadBox(const cv::Mat& top_view, const TextBox& box) const;
+
+  // The network's input for `box`: the crop, 96 x 32 BGR, upright, its
+  // height 1.6 times the text's and its width at least three times that
+  // (scene/labels.cc cuts the training crops the same way).
+  static cv::Mat Crop(const cv::Mat& top_view_bgr, const TextBox& box);
+  // The network's output for a crop: kIdPositions x (1 + alphabet) floats.
+  cv::Mat Probabilities(const cv::Mat& crop) const;
+
+  const LearnedSlotIdReaderOptions& options() const { return options_; }
+
+ private:
+  LearnedSlotIdReaderOptions options_;
+  std::unique_ptr<OnnxNetwork> network_;
+};
+
+}  // namespace parkslam::perception
+
+#endif  // PARKSLAM_PERCEPTION_LEARNED_SLOT_ID_READER_H_

@@ -1,0 +1,192 @@
+// The learned detector's C++ side: the networks OpenCV runs give the
+// exported models' outputs, bad weights files fail clearly, slots are
+// paired from points by the paper's rules, and the ID crop is cut upright.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+
+#include "parkslam/perception/learned_slot_detector.h"
+#include "parkslam/perception/learned_slot_id_reader.h"
+#include "parkslam/perception/onnx_network.h"
+#include "parkslam/perception/slot_pairing.h"
+
+namespace parkslam::perception {
+namespace {
+
+using ::testing::HasSubstr;
+
+const std::string kModelDir = PARKSLAM_MODEL_DIR;
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The inputs of scripts/learned/reference_outputs.py, made by formula.
+cv::Mat Pattern(int index, int channels, int height, int width) {
+  const int shape[] = {1, channels, height, width};
+  cv::Mat blob(4, shape, CV_32F);
+  float* p = blob.ptr<float>();
+  for (int c = 0; c < channels; ++c) {
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        *p++ = index == 0 ? static_cast<float>((37 * x + 91 * y + 53 * c) % 256)
+                          : static_cast<float>(127.5 + 127.5 * std::sin(0.05 * x + 0.07 * y + c));
+      }
+    }
+  }
+  return blob;
+}
+
+// C++ inference through OpenCV's dnn module matches the exported model's
+// output, evaluated from the ONNX file by PyTorch's operators, within 1e-4.
+void ExpectMatchesReference(const std::string& name) {
+  const std::string model = kModelDir + "/" + name + ".onnx";
+  std::ifstream in(kModelDir + "/" + name + ".reference.json");
+  ASSERT_TRUE(in.good()) << "missing " << name << ".reference.json";
+  const nlohmann::json reference = nlohmann::json::parse(in);
+  const std::vector<int> input = reference["input_shape"].get<std::vector<int>>();
+  const std::vector<int> output = reference["outputs"][0]["shape"].get<std::vector<int>>();
+  const OnnxNetwork network(model, input, output);
+  for (const nlohmann::json& expected : reference["outputs"]) {
+    const cv::Mat out = network.Forward(Pattern(expected["pattern"], input[1], input[2], input[3]));
+    const std::vector<double> values = expected["values"].get<std::vector<double>>();
+    ASSERT_EQ(out.total(), values.size());
+    double worst = 0.0;
+    for (size_t k = 0; k < values.size(); ++k) {
+      worst = std::max(worst, std::abs(out.ptr<float>()[k] - values[k]));
+    }
+    EXPECT_LT(worst, 1e-4) << name << ", pattern " << expected["pattern"];
+  }
+}
+
+TEST(LearnedModelsTest, MarkingPointNetworkMatchesTheExportedModel) {
+  ExpectMatchesReference("marking_points");
+}
+
+TEST(LearnedModelsTest, SlotIdNetworkMatchesTheExportedModel) {
+  ExpectMatchesReference("slot_ids");
+}
+
+TEST(LearnedModelsTest, BadWeightsFilesAreNamed) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("parkslam_learned_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  LearnedSlotDetectorOptions options;
+  options.model_path = (dir / "absent.onnx").string();
+  EXPECT_THAT(ErrorOf([&] { LearnedSlotDetector detector(options); }),
+              HasSubstr("absent.onnx: no such weights file"));
+  // Corrupt: a truncated copy of the real file, and plain text.
+  const std::string real = kModelDir + "/marking_points.onnx";
+  std::string bytes;
+  {
+    std::ifstream in(real, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  ASSERT_GT(bytes.size(), 1000u);
+  std::ofstream(dir / "truncated.onnx", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  std::ofstream(dir / "text.onnx") << "not a network\n";
+  for (const char* name : {"truncated.onnx", "text.onnx"}) {
+    options.model_path = (dir / name).string();
+    EXPECT_THAT(ErrorOf([&] { LearnedSlotDetector detector(options); }),
+                HasSubstr(std::string(name) + ": not a network OpenCV's dnn module can read"));
+  }
+  // The ID reader's network where the marking-point network belongs.
+  options.model_path = kModelDir + "/slot_ids.onnx";
+  EXPECT_THAT(ErrorOf([&] { LearnedSlotDetector detector(options); }),
+              HasSubstr("slot_ids.onnx: the network"));
+  std::filesystem::remove_all(dir);
+}
+
+MarkingPoint Point(double x, double y, double direction_rad, double score = 0.9) {
+  MarkingPoint p;
+  p.px = {x, y};
+  p.direction_rad = direction_rad;
+  p.score = score;
+  return p;
+}
+
+// A row of three T points on the right of the car (image centre 299.5),
+// their separating lines running right (+x), 2.5 m apart at 60 px/m.
+TEST(SlotPairingTest, PairsNeighboursOfARowOnly) {
+  const std::vector<MarkingPoint> row{Point(400, 150, 0.0), Point(400, 300, 0.05),
+                                      Point(400, 450, -0.05)};
+  const std::vector<DetectedSlot> slots = PairMarkingPoints(row, {600, 600}, {});
+  ASSERT_EQ(slots.size(), 2u);  // not the 5 m pair across the middle point
+  for (const DetectedSlot& s : slots) {
+    // Corner order: from corner 0 to corner 1 the slot lies on the right on
+    // screen; corners 2 and 3 lie 5.3 m deeper.
+    EXPECT_LT((s.corners_px[1] - s.corners_px[0]).x() * s.depth_dir_px.y() -
+                  (s.corners_px[1] - s.corners_px[0]).y() * s.depth_dir_px.x(),
+              0.0);
+    EXPECT_NEAR((s.corners_px[2] - s.corners_px[1]).norm(), 5.3 * 60, 1e-6);
+    EXPECT_NEAR(s.depth_dir_px.x(), 1.0, 0.01);
+    EXPECT_NEAR(s.confidence, 0.9, 1e-9);
+  }
+}
+
+TEST(SlotPairingTest, RejectsDisagreeingOrImplausiblePairs) {
+  const SlotPairingOptions o;
+  // Directions 40 degrees apart.
+  EXPECT_TRUE(PairMarkingPoints({Point(400, 150, 0.0), Point(400, 300, 0.7)}, {600, 600}, o).empty());
+  // Separating lines along the entrance.
+  EXPECT_TRUE(PairMarkingPoints({Point(400, 150, M_PI / 2), Point(400, 300, M_PI / 2)}, {600, 600}, o)
+                  .empty());
+  // Too short (1 m) and too long (8 m).
+  EXPECT_TRUE(PairMarkingPoints({Point(400, 150, 0.0), Point(400, 210, 0.0)}, {600, 600}, o).empty());
+  EXPECT_TRUE(PairMarkingPoints({Point(550, -100, 0.0), Point(550, 380, 0.0)}, {600, 600}, o).empty());
+  // Opening away from the car (separating lines run left on the right).
+  EXPECT_TRUE(PairMarkingPoints({Point(400, 150, M_PI), Point(400, 300, M_PI)}, {600, 600}, o).empty());
+  // A parallel slot: 5 m long, 2.5 m deep.
+  const std::vector<DetectedSlot> parallel =
+      PairMarkingPoints({Point(400, 150, 0.0), Point(400, 450, 0.0)}, {600, 600}, o);
+  ASSERT_EQ(parallel.size(), 1u);
+  EXPECT_NEAR((parallel[0].corners_px[2] - parallel[0].corners_px[1]).norm(), 2.5 * 60, 1e-6);
+}
+
+TEST(LearnedSlotIdReaderTest, CropsTheBoxUpright) {
+  // A white bar across the top half of a box whose reader's "right" points
+  // down the image: upright in the crop, the bar lies on the crop's top.
+  cv::Mat view(600, 600, CV_8UC3, cv::Scalar(60, 60, 60));
+  TextBox box;
+  box.centre_px = {300, 300};
+  box.right_dir = {0, 1};
+  box.text_height_px = 20;  // the crop: 32 x 96 px
+  // The box's top is the reader's up: right (0, 1) turned anticlockwise on
+  // screen is (1, 0), so the top lies at larger x.
+  cv::rectangle(view, cv::Point(302, 260), cv::Point(315, 340), cv::Scalar(255, 255, 255), cv::FILLED);
+  const cv::Mat crop = LearnedSlotIdReader::Crop(view, box);
+  ASSERT_EQ(crop.size(), cv::Size(96, 32));
+  cv::Mat grey;
+  cv::cvtColor(crop, grey, cv::COLOR_BGR2GRAY);
+  EXPECT_GT(cv::mean(grey.rowRange(4, 12))[0], 200.0);
+  EXPECT_LT(cv::mean(grey.rowRange(20, 32))[0], 80.0);
+}
+
+TEST(LearnedSlotIdReaderTest, ReadsNothingOutsideTheView) {
+  LearnedSlotIdReaderOptions options;
+  options.model_path = kModelDir + "/slot_ids.onnx";
+  const LearnedSlotIdReader reader(options);
+  const cv::Mat view(600, 600, CV_8UC3, cv::Scalar(90, 90, 90));
+  TextBox box;
+  box.centre_px = {595, 300};
+  EXPECT_TRUE(reader.ReadBox(view, box).empty());
+  const cv::Mat unseen(600, 600, CV_8UC3, cv::Scalar(0, 0, 0));
+  box.centre_px = {300, 300};
+  EXPECT_TRUE(reader.ReadBox(unseen, box).empty());
+}
+
+}  // namespace
+}  // namespace parkslam::perception

@@ -1,0 +1,96 @@
+#include "parkslam/perception/slot_pairing.h"
+
+#include <cmath>
+
+#include "parkslam/common/angles.h"
+
+namespace parkslam::perception {
+namespace {
+
+double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// Distance from p to the segment a-b, and where along it (0 at a, 1 at b)
+// its foot lies.
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                         const Eigen::Vector2d& b, double* along) {
+  const Eigen::Vector2d ab = b - a;
+  *along = (p - a).dot(ab) / ab.squaredNorm();
+  return std::abs(Cross(ab.normalized(), p - a));
+}
+
+}  // namespace
+
+bool SlotPairingOptions::IsValid(std::string* error) const {
+  const auto fail = [&](const std::string& what) {
+    if (error != nullptr) *error = what;
+    return false;
+  };
+  if (!(pixels_per_m > 0.0)) return fail("pixels_per_m must be positive");
+  if (!(min_entrance_m > 0.0 && min_entrance_m < max_entrance_m)) {
+    return fail("need 0 < min_entrance_m < max_entrance_m");
+  }
+  if (!(standard_depth_m > 0.0 && parallel_depth_m > 0.0)) return fail("slot depths must be positive");
+  if (!(max_direction_difference_rad > 0.0 && max_direction_difference_rad < M_PI)) {
+    return fail("max_direction_difference_rad must lie in (0, pi)");
+  }
+  if (!(on_line_tolerance_m >= 0.0)) return fail("on_line_tolerance_m must not be negative");
+  if (!(min_junction_angle_rad >= 0.0 && min_junction_angle_rad < M_PI / 2)) {
+    return fail("min_junction_angle_rad must lie in [0, pi/2)");
+  }
+  return true;
+}
+
+std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& points,
+                                            const cv::Size& image_size,
+                                            const SlotPairingOptions& o) {
+  const double s = o.pixels_per_m;
+  const double min_sin = std::sin(o.min_junction_angle_rad);
+  const Eigen::Vector2d centre_px((image_size.width - 1) / 2.0, (image_size.height - 1) / 2.0);
+  std::vector<DetectedSlot> slots;
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t j = i + 1; j < points.size(); ++j) {
+      const MarkingPoint& a = points[i];
+      const MarkingPoint& b = points[j];
+      const Eigen::Vector2d e = b.px - a.px;
+      const double length_m = e.norm() / s;
+      if (length_m < o.min_entrance_m || length_m > o.max_entrance_m) continue;
+      if (std::abs(AngleDiff(a.direction_rad, b.direction_rad)) > o.max_direction_difference_rad) {
+        continue;
+      }
+      const Eigen::Vector2d da(std::cos(a.direction_rad), std::sin(a.direction_rad));
+      const Eigen::Vector2d db(std::cos(b.direction_rad), std::sin(b.direction_rad));
+      const Eigen::Vector2d depth_dir = (da + db).normalized();
+      // The separating lines leave the entrance line, not run along it.
+      if (std::abs(Cross(e.normalized(), depth_dir)) < min_sin) continue;
+      if (o.require_entrance_facing_vehicle && depth_dir.dot((a.px + b.px) / 2 - centre_px) < 0.0) {
+        continue;
+      }
+      bool third_point = false;
+      for (size_t k = 0; k < points.size() && !third_point; ++k) {
+        if (k == i || k == j) continue;
+        double along = 0.0;
+        const double d = DistanceToSegment(points[k].px, a.px, b.px, &along);
+        third_point = d < o.on_line_tolerance_m * s && along > 0.0 && along < 1.0;
+      }
+      if (third_point) continue;
+      // Corner order (sensor_data.h): walking from corner 0 to corner 1 the
+      // slot lies on the left in the vehicle frame, on the right on screen.
+      const bool i_first = Cross(e, depth_dir) < 0.0;
+      const size_t first = i_first ? i : j, second = i_first ? j : i;
+      const double depth_m =
+          length_m >= o.parallel_min_entrance_m ? o.parallel_depth_m : o.standard_depth_m;
+      DetectedSlot slot;
+      slot.corners_px[0] = points[first].px;
+      slot.corners_px[1] = points[second].px;
+      slot.corners_px[2] = points[second].px + depth_m * s * depth_dir;
+      slot.corners_px[3] = points[first].px + depth_m * s * depth_dir;
+      slot.depth_dir_px = depth_dir;
+      slot.marking_points = {static_cast<int>(first), static_cast<int>(second)};
+      slot.confidence = std::sqrt(a.score * b.score);
+      slots.push_back(slot);
+    }
+  }
+  return slots;
+}
+
+}  // namespace parkslam::perception

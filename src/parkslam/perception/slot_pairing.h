@@ -1,0 +1,56 @@
+#ifndef PARKSLAM_PERCEPTION_SLOT_PAIRING_H_
+#define PARKSLAM_PERCEPTION_SLOT_PAIRING_H_
+
+// Slots from marking points alone (paper III-A, as DMPR-PS pairs its
+// network's points): two marking points form an entrance line when they
+// lie a slot's width apart and their separating lines leave the line to
+// the same side, in the same direction; a candidate with a third marking
+// point on it is removed (the paper's "more than two marking points"
+// rule), and candidates of implausible length are discarded. The far
+// corners are guessed from the standard depth of a perpendicular or a
+// parallel slot.
+//
+// The classical detector (slot_detector.h) pairs its points with further
+// checks on the painted lines it found; the learned detector, which finds
+// no lines, uses these rules only.
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "parkslam/perception/slot_detector.h"
+
+namespace parkslam::perception {
+
+struct SlotPairingOptions {
+  double pixels_per_m = 60.0;  // 600 px for 10 m (ps2.0)
+  // Entrance lengths accepted as slots; longer than parallel_min_entrance_m
+  // is a parallel slot.
+  double min_entrance_m = 2.0;
+  double max_entrance_m = 7.5;
+  double parallel_min_entrance_m = 4.0;
+  double standard_depth_m = 5.3;
+  double parallel_depth_m = 2.5;
+  // The separating lines of a slot's two points agree within this.
+  double max_direction_difference_rad = 0.35;
+  // A third marking point within this of the entrance line lies on it.
+  double on_line_tolerance_m = 0.25;
+  // The separating lines leave the entrance at least at this angle (angled
+  // slots meet it at 45 degrees or more).
+  double min_junction_angle_rad = 0.6;
+  // Slots open towards the car, which stands at the image's centre.
+  bool require_entrance_facing_vehicle = true;
+
+  bool IsValid(std::string* error) const;
+};
+
+// Slots from `points` in an image of `image_size` (whose centre is the
+// car). DetectedSlot::marking_points index into `points`; its confidence is
+// the geometric mean of the two points' scores.
+std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& points,
+                                            const cv::Size& image_size,
+                                            const SlotPairingOptions& options);
+
+}  // namespace parkslam::perception
+
+#endif  // PARKSLAM_PERCEPTION_SLOT_PAIRING_H_
