@@ -188,6 +188,7 @@ void AddEvalDetectCommand(CLI::App& app) {
     std::string detector = "classical";
     std::string models;
     std::string classical_check = "refine";
+    int input_size = 256;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -222,6 +223,11 @@ void AddEvalDetectCommand(CLI::App& app) {
                   "also found) or filter (refine, and drop the points it did not find)")
       ->check(CLI::IsMember({"none", "refine", "filter"}))
       ->capture_default_str();
+  cmd->add_option("--input-size", options->input_size,
+                  "With --detector learned: the marking-point network's input, pixels (a multiple "
+                  "of 16; the network was trained at 256)")
+      ->check(CLI::Range(64, 1024))
+      ->capture_default_str();
   cmd->callback([options] {
     Scores scores;
     if (!options->out_dir.empty()) std::filesystem::create_directories(options->out_dir);
@@ -231,6 +237,7 @@ void AddEvalDetectCommand(CLI::App& app) {
       perception_options.learned_slots.model_path = options->models + "/marking_points.onnx";
       perception_options.learned_ids.model_path = options->models + "/slot_ids.onnx";
     }
+    perception_options.learned_slots.input_size_px = options->input_size;
     perception_options.learned_slots.classical =
         options->classical_check == "filter"   ? perception::ClassicalCheck::kFilter
         : options->classical_check == "refine" ? perception::ClassicalCheck::kRefine

@@ -33,7 +33,7 @@ class MarkingPointNet(nn.Module):
     OUTPUTS = 6
     STRIDE = 16
 
-    def __init__(self, widths=(16, 32, 64, 96)):
+    def __init__(self, widths=(16, 32, 64, 128)):
         super().__init__()
         w0, w1, w2, w3 = widths
         self.features = nn.Sequential(
@@ -70,7 +70,7 @@ class SlotIdNet(nn.Module):
     Output 1 x 4 x (1 + len(ID_ALPHABET)), softmax over the last axis.
     """
 
-    def __init__(self, widths=(16, 32, 64), hidden=128):
+    def __init__(self, widths=(24, 48, 96), hidden=192):
         super().__init__()
         w0, w1, w2 = widths
         self.features = nn.Sequential(

@@ -242,7 +242,7 @@ def main():
     parser.add_argument("--val", required=True, help="held-apart folder (another seed)")
     parser.add_argument("--out", required=True, help="the ONNX file to write (and OUT.json)")
     parser.add_argument("--input-size", type=int, default=256, help="network input, pixels")
-    parser.add_argument("--widths", type=int, nargs=4, default=[24, 48, 96, 128],
+    parser.add_argument("--widths", type=int, nargs=4, default=[16, 32, 64, 128],
                         help="channels at strides 2, 4, 8 and 16")
     parser.add_argument("--epochs", type=int, default=30)
     parser.add_argument("--batch", type=int, default=32)

@@ -11,7 +11,8 @@ namespace parkslam::perception {
 namespace {
 
 constexpr int kCropWidthPx = 96, kCropHeightPx = 32;
-constexpr int kClasses = 1 + static_cast<int>(sizeof(kIdAlphabet)) - 1;
+// "No character" and the alphabet (sizeof counts its terminating NUL).
+constexpr int kClasses = 1 + static_cast<int>(sizeof(kIdAlphabet) - 1);
 // The crop's height over the text's (scene/labels.cc).
 constexpr double kBoxOverTextHeight = 1.6;
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "parkslam/common/angles.h"
@@ -62,6 +63,33 @@ TEST(PerceptionFrontEndTest, SlotsInTheAisleLandOnTheTruth) {
   }
   EXPECT_GE(with_id, 2);
   EXPECT_GT(out.timing.total_ms(), 0.0);
+}
+
+// The learned front end (docs/learned_perception.md) in the same place: at
+// least four slots whose entrances lie on true ones within 6 cm in sum (the
+// classical refine puts the network's points on the painted lines). Its
+// slot precision along the drives is 88-90 %: here one slot of the frame
+// is false (it pairs corners of two different slots), and no more.
+TEST(PerceptionFrontEndTest, LearnedSlotsInTheAisleLandOnTheTruth) {
+  PerceptionOptions options;
+  options.detector = DetectorKind::kLearned;
+  const PerceptionFrontEnd learned(camera::DefaultRig(), options);
+  const SE2 T_map_vehicle(30.0, 9.1, 0.0);
+  const PerceptionOutput out =
+      learned.Process(RenderCameraFrame(Renderer(), T_map_vehicle, 0, kCameras));
+  ASSERT_GE(out.slots.slots.size(), 4u);
+  const SE2 T_vehicle_map = T_map_vehicle.inverse();
+  int on_truth = 0, false_slots = 0;
+  for (const SlotObservation& obs : out.slots.slots) {
+    double best = 1e9;
+    for (const sim::WorldSlot& slot : DefaultLot().world.slots) {
+      best = std::min(best, (T_vehicle_map * slot.corners_map[0] - obs.corners_vehicle[0]).norm() +
+                                (T_vehicle_map * slot.corners_map[1] - obs.corners_vehicle[1]).norm());
+    }
+    ++(best < 0.06 ? on_truth : false_slots);
+  }
+  EXPECT_GE(on_truth, 4);
+  EXPECT_LE(false_slots, 1);
 }
 
 // At the corridor's start the front camera sees tags: each lies where the
