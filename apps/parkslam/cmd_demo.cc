@@ -118,7 +118,7 @@ void AddDemoCommand(CLI::App& app) {
     const eval::MapMetrics map_m = eval::EvaluateMap(map, *dataset.groundtruth_map, map_options);
     metrics["map"] = MapMetricsToJson(map_m);
     metrics["dataset"] = dataset.name;
-    metrics["detector"] = options->detector;
+    metrics["detector"] = pipeline::ToString(perception.detector);
 
     header("localizing a second drive on the map (global start)");
     const io::Dataset second = SimulateDataset(scenario, options->seed + 500);
