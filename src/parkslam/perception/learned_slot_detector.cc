@@ -53,12 +53,12 @@ cv::Mat LearnedSlotDetector::Cells(const cv::Mat& top_view) const {
       (top_view.channels() != 1 && top_view.channels() != 3)) {
     throw std::invalid_argument("LearnedSlotDetector: expected an 8-bit grey or BGR top view");
   }
-  cv::Mat bgr = top_view;
-  if (top_view.channels() == 1) cv::cvtColor(top_view, bgr, cv::COLOR_GRAY2BGR);
   const int n = options_.input_size_px;
   cv::Mat resized;
-  // INTER_AREA, as the training script resizes (scripts/learned/).
-  cv::resize(bgr, resized, cv::Size(n, n), 0, 0, cv::INTER_AREA);
+  // INTER_AREA, as the training script resizes (scripts/learned/); a grey
+  // view becomes BGR after resizing, on a ninth of the pixels.
+  cv::resize(top_view, resized, cv::Size(n, n), 0, 0, cv::INTER_AREA);
+  if (resized.channels() == 1) cv::cvtColor(resized, resized, cv::COLOR_GRAY2BGR);
   const cv::Mat out = network_->Forward(cv::dnn::blobFromImage(resized));
   const int g = n / kStride;
   return out.reshape(1, {kOutputs, g, g});

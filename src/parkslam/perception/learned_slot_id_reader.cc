@@ -16,14 +16,26 @@ constexpr int kClasses = 1 + static_cast<int>(sizeof(kIdAlphabet) - 1);
 // The crop's height over the text's (scene/labels.cc).
 constexpr double kBoxOverTextHeight = 1.6;
 
-cv::Mat AsBgr(const cv::Mat& image) {
+void CheckImage(const cv::Mat& image) {
   if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
-    throw std::invalid_argument("LearnedSlotIdReader: expected an 8-bit grey or BGR top view");
+    throw std::invalid_argument("LearnedSlotIdReader: expected an 8-bit grey or BGR image");
   }
+}
+
+// The crop as the network takes it; a grey view is converted crop by crop,
+// not whole for every slot.
+cv::Mat AsBgr(const cv::Mat& image) {
+  CheckImage(image);
   if (image.channels() == 3) return image;
   cv::Mat bgr;
   cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
   return bgr;
+}
+
+// No camera saw the pixel: 0 in a grey view, pure black in a colour one.
+bool Unseen(const cv::Mat& image, int u, int v) {
+  return image.channels() == 1 ? image.at<unsigned char>(v, u) == 0
+                               : image.at<cv::Vec3b>(v, u) == cv::Vec3b(0, 0, 0);
 }
 
 }  // namespace
@@ -54,7 +66,7 @@ LearnedSlotIdReader::LearnedSlotIdReader(const LearnedSlotIdReaderOptions& optio
       std::vector<int>{1, kIdPositions, kClasses});
 }
 
-cv::Mat LearnedSlotIdReader::Crop(const cv::Mat& top_view_bgr, const TextBox& box) {
+cv::Mat LearnedSlotIdReader::Crop(const cv::Mat& top_view, const TextBox& box) {
   const Eigen::Vector2d right = box.right_dir.normalized();
   // On screen (y down) a reader's "up" is "right" turned a quarter
   // anticlockwise.
@@ -71,7 +83,7 @@ cv::Mat LearnedSlotIdReader::Crop(const cv::Mat& top_view_bgr, const TextBox& bo
   const cv::Point2f to[3] = {{0, 0}, {static_cast<float>(kCropWidthPx), 0},
                              {0, static_cast<float>(kCropHeightPx)}};
   cv::Mat crop;
-  cv::warpAffine(top_view_bgr, crop, cv::getAffineTransform(from, to),
+  cv::warpAffine(top_view, crop, cv::getAffineTransform(from, to),
                  cv::Size(kCropWidthPx, kCropHeightPx), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
   return crop;
 }
@@ -82,7 +94,7 @@ cv::Mat LearnedSlotIdReader::Probabilities(const cv::Mat& crop) const {
 }
 
 SlotIdReading LearnedSlotIdReader::ReadBox(const cv::Mat& top_view, const TextBox& box) const {
-  const cv::Mat bgr = AsBgr(top_view);
+  CheckImage(top_view);
   // The text's own box (without the crop's margins) must lie in view, on
   // pixels some camera saw.
   const Eigen::Vector2d right = box.right_dir.normalized(), up(right.y(), -right.x());
@@ -91,11 +103,11 @@ SlotIdReading LearnedSlotIdReader::ReadBox(const cv::Mat& top_view, const TextBo
     for (const double b : {-0.5, 0.5}) {
       const Eigen::Vector2d p = box.centre_px + a * w * right + b * h * up;
       const int u = static_cast<int>(std::lround(p.x())), v = static_cast<int>(std::lround(p.y()));
-      if (u < 0 || v < 0 || u >= bgr.cols || v >= bgr.rows) return {};
-      if (bgr.at<cv::Vec3b>(v, u) == cv::Vec3b(0, 0, 0)) return {};
+      if (u < 0 || v < 0 || u >= top_view.cols || v >= top_view.rows) return {};
+      if (Unseen(top_view, u, v)) return {};
     }
   }
-  const cv::Mat p = Probabilities(Crop(bgr, box));
+  const cv::Mat p = Probabilities(Crop(top_view, box));
   SlotIdReading reading;
   for (int k = 0; k < kIdPositions; ++k) {
     const float* row = p.ptr<float>(k);

@@ -71,11 +71,12 @@ class LearnedSlotIdReader {
   // Reads the text in `box`.
   SlotIdReading ReadBox(const cv::Mat& top_view, const TextBox& box) const;
 
-  // The network's input for `box`: the crop, 96 x 32 BGR, upright, its
-  // height 1.6 times the text's and its width at least three times that
-  // (scene/labels.cc cuts the training crops the same way).
-  static cv::Mat Crop(const cv::Mat& top_view_bgr, const TextBox& box);
-  // The network's output for a crop: kIdPositions x (1 + alphabet) floats.
+  // The network's input for `box`: the crop, 96 x 32, upright, its height
+  // 1.6 times the text's and its width three times that (scene/labels.cc
+  // cuts the training crops the same way); as many channels as the view.
+  static cv::Mat Crop(const cv::Mat& top_view, const TextBox& box);
+  // The network's output for a crop (grey or BGR): kIdPositions x
+  // (1 + alphabet) floats.
   cv::Mat Probabilities(const cv::Mat& crop) const;
 
   const LearnedSlotIdReaderOptions& options() const { return options_; }
