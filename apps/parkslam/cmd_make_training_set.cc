@@ -37,6 +37,7 @@ struct Options {
   std::uint64_t seed = 1;
   std::string kind = "top-view";
   int threads = 0;
+  double seven_segment_share = 0.0;
   bool fisheyes = false, front = false, overlays = false, force = false;
 };
 
@@ -122,7 +123,9 @@ void Run(const Options& o) {
     request.fisheyes = o.fisheyes;
     try {
       for (int i = next++; i < o.count; i = next++) {
-        const scene::Scene s = scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)));
+        scene::SceneSamplerOptions sampler;
+        sampler.seven_segment_share = o.seven_segment_share;
+        const scene::Scene s = scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)), sampler);
         const scene::RenderedScene r = renderer.Render(s, &book, request);
         const scene::TopViewLabels labels = scene::LabelTopView(renderer, s, r);
         const std::string name = Name(i);
@@ -214,6 +217,10 @@ void AddMakeTrainingSetCommand(CLI::App& app) {
   cmd->add_option("--kind", options->kind, "top-view or ids")->capture_default_str();
   cmd->add_option("--threads", options->threads, "Worker threads (0: one per core)")
       ->check(CLI::Range(0, 256))->capture_default_str();
+  cmd->add_option("--seven-segment-share", options->seven_segment_share,
+                  "Share of slot rows whose IDs are digits in the default lot's seven-segment face "
+                  "(0 leaves every scene as before)")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   cmd->add_flag("--fisheyes", options->fisheyes, "Also write the four fisheye images of each scene");
   cmd->add_flag("--front", options->front, "Also write the front camera's image");
   cmd->add_flag("--overlays", options->overlays, "Also write the labels drawn over each top view");

@@ -550,7 +550,8 @@ class Painter {
   void TextOn(const FloorText& t) {
     const double cap_px = Px(t.height_m);
     if (cap_px < 3.0) return;
-    cv::Mat glyphs = fonts_->Draw(t.text, t.font, cap_px);
+    cv::Mat glyphs = t.seven_segment ? FontBook::DrawSevenSegment(t.text, cap_px)
+                                     : fonts_->Draw(t.text, t.font, cap_px);
     if (t.bold) {
       const int k = std::max(1, static_cast<int>(std::lround(cap_px / 14)));
       cv::dilate(glyphs, glyphs, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * k + 1, 2 * k + 1)));

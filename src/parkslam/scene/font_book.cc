@@ -8,6 +8,8 @@
 #include <opencv2/imgproc.hpp>
 #include <system_error>
 
+#include "parkslam/render/digit_font.h"
+
 namespace parkslam::scene {
 namespace {
 
@@ -89,6 +91,26 @@ cv::Mat FontBook::Draw(const std::string& text, int font, double cap_height_px) 
   cv::Mat mask(cap + 2 * margin, size.width + 2 * margin, CV_8UC1, cv::Scalar(0));
   cv::putText(mask, text, cv::Point(margin, margin + cap), face, scale, cv::Scalar(255), thickness,
               cv::LINE_AA);
+  return mask;
+}
+
+cv::Mat FontBook::DrawSevenSegment(const std::string& text, double cap_height_px) {
+  const double h = std::max(4.0, cap_height_px);
+  const int margin = std::max(2, static_cast<int>(std::lround(h / 4)));
+  const int n = std::max(1, static_cast<int>(text.size()));
+  const double width = render::IdWidth(n, h);
+  cv::Mat mask(static_cast<int>(std::ceil(h)) + 2 * margin,
+               static_cast<int>(std::ceil(width)) + 2 * margin, CV_8UC1, cv::Scalar(0));
+  const double stroke = render::kDigitStroke * h;
+  const double advance = (render::kDigitWidth + render::kDigitGap) * h;
+  for (size_t k = 0; k < text.size(); ++k) {
+    // Glyph y is up from the digit's foot; image rows go down.
+    const double left = margin + advance * static_cast<double>(k);
+    const double foot = margin + h;
+    render::DrawSevenSegmentDigit(
+        text[k], h, stroke,
+        [&](double x, double y) -> Eigen::Vector2d { return {left + x, foot - y}; }, 255, &mask);
+  }
   return mask;
 }
 

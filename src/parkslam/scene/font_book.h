@@ -5,7 +5,9 @@
 // condensed and monospaced faces of Debian's font packages (DejaVu,
 // Liberation, FreeFont, URW's Nimbus, Noto, Open Sans, Roboto, Cantarell),
 // drawn by FreeType through OpenCV's freetype module, and OpenCV's own
-// stroke (Hershey) fonts, which are always there.
+// stroke (Hershey) fonts, which are always there; and the default lot's
+// seven-segment face, so that a reader trained on these scenes also reads
+// the simulator's own IDs.
 //
 // Not thread-safe: each thread keeps its own book.
 
@@ -45,6 +47,11 @@ class FontBook {
   // cap_height_px, upright, with a margin of a quarter of that height all
   // round. `font` is taken modulo size().
   cv::Mat Draw(const std::string& text, int font, double cap_height_px);
+
+  // The same in the default lot's seven-segment face (render/digit_font.h),
+  // digit height cap_height_px: the IDs the simulator paints. Characters
+  // other than digits leave a blank digit cell.
+  static cv::Mat DrawSevenSegment(const std::string& text, double cap_height_px);
 
  private:
   std::vector<std::filesystem::path> files_;

@@ -39,6 +39,24 @@ TEST(FontBookTest, SystemFontsDrawDigitsAtTheirCapHeight) {
   }
 }
 
+TEST(FontBookTest, SevenSegmentDigitsAreTheDefaultLotsGlyphs) {
+  const cv::Mat eight = FontBook::DrawSevenSegment("8", 40.0);
+  const cv::Mat one = FontBook::DrawSevenSegment("1", 40.0);
+  ASSERT_EQ(eight.type(), CV_8UC1);
+  cv::Mat ink;
+  cv::threshold(eight, ink, 128, 255, cv::THRESH_BINARY);
+  const cv::Rect box = cv::boundingRect(ink);
+  // render/digit_font.h: a digit is 0.55 of its height wide.
+  EXPECT_NEAR(box.height, 40, 2);
+  EXPECT_NEAR(box.width, 22, 2);
+  // An 8 lights all seven segments, a 1 two of them.
+  EXPECT_GT(cv::countNonZero(eight), 2 * cv::countNonZero(one));
+  // Three digits are three cells wide; a letter leaves its cell blank.
+  const cv::Mat three = FontBook::DrawSevenSegment("208", 40.0);
+  EXPECT_GT(three.cols, 3 * 22);
+  EXPECT_EQ(cv::countNonZero(FontBook::DrawSevenSegment("AB", 40.0)), 0);
+}
+
 TEST(FontBookTest, FindsNothingInAMissingFolder) {
   EXPECT_TRUE(FindFloorFonts("/nonexistent/fonts").empty());
 }

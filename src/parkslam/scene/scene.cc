@@ -63,10 +63,17 @@ Colour Tinted(Random& rng, double level, double tint) {
 }
 
 // Slot IDs as real lots paint them: 1 to 4 characters, digits and letters.
-std::string SampleId(Random& rng, int row_letter, int number) {
+// Seven-segment rows paint digits only, 1 to 3 of them, as the default lot.
+std::string SampleId(Random& rng, int row_letter, int number, bool digits_only) {
   const char letter = static_cast<char>('A' + row_letter % 26);
   char text[16];
-  switch (Choose(rng, {0.3, 0.25, 0.12, 0.12, 0.08, 0.08, 0.05})) {
+  const int style = Choose(rng, {0.3, 0.25, 0.12, 0.12, 0.08, 0.08, 0.05});
+  if (digits_only) {
+    const int width = 1 + style % 3;
+    std::snprintf(text, sizeof(text), "%0*d", width, number % (width == 1 ? 10 : width == 2 ? 100 : 1000));
+    return text;
+  }
+  switch (style) {
     case 0: std::snprintf(text, sizeof(text), "%d", number % 1000); break;
     case 1: std::snprintf(text, sizeof(text), "%d", 10 + number % 90); break;
     case 2: std::snprintf(text, sizeof(text), "%c%d", letter, number % 100); break;
@@ -92,6 +99,7 @@ struct RowStyle {
   double id_height_m = 0.5;
   double id_setback_m = 0.3;
   int font = 0;
+  bool seven_segment = false;
   bool bold = true, stencil = false;
   double stretch = 1.0;
   PaintKind id_paint = PaintKind::kWhite;
@@ -116,9 +124,15 @@ RowStyle SampleRowStyle(Random& rng, const SceneSamplerOptions& options, bool ou
   s.id_height_m = rng.Uniform(0.25, 0.55);
   s.id_setback_m = rng.Uniform(0.1, 0.6);
   s.font = static_cast<int>(rng.Index(1000));
+  s.seven_segment = s.font < options.seven_segment_share * 1000;
   s.bold = rng.Bernoulli(0.4);
   s.stencil = rng.Bernoulli(0.2);
   s.stretch = rng.Bernoulli(0.4) ? rng.Uniform(0.6, 0.9) : rng.Uniform(0.9, 1.3);
+  if (s.seven_segment) {
+    // Painted as the default lot paints them: plain segments, no bridges.
+    s.bold = s.stencil = false;
+    s.stretch = std::clamp(s.stretch, 0.85, 1.15);
+  }
   s.id_paint = rng.Bernoulli(0.6) ? s.paint : Pick(rng, std::vector<PaintKind>{PaintKind::kWhite, PaintKind::kYellow, PaintKind::kYellow});
   s.car_probability = rng.Uniform(0.0, options.parked_car_probability_max);
   s.pillars = !outdoor && rng.Bernoulli(0.35);
@@ -332,9 +346,10 @@ void AddRow(Random& rng, const SceneSamplerOptions& options, bool left, bool out
     const bool has_id = s.ids && rng.Bernoulli(0.9);
     if (has_id) {
       FloorText text;
-      text.text = SampleId(rng, row_letter, first_number + (k - k_first));
+      text.text = SampleId(rng, row_letter, first_number + (k - k_first), s.seven_segment);
       text.height_m = s.id_height_m * rng.Uniform(0.95, 1.05);
       text.font = s.font;
+      text.seven_segment = s.seven_segment;
       text.bold = s.bold;
       text.stencil = s.stencil;
       text.stretch = s.stretch;
@@ -698,6 +713,7 @@ bool SceneSamplerOptions::IsValid(std::string* error) const {
   }
   if (seam_layouts < 1 || seam_layouts > 16) return fail("seam_layouts must be in [1, 16]");
   if (!(outdoor_probability >= 0 && outdoor_probability <= 1)) return fail("outdoor_probability must be in [0, 1]");
+  if (!(seven_segment_share >= 0 && seven_segment_share <= 1)) return fail("seven_segment_share must be in [0, 1]");
   if (!(parked_car_probability_max >= 0 && parked_car_probability_max <= 1)) {
     return fail("parked_car_probability_max must be in [0, 1]");
   }

@@ -66,6 +66,7 @@ struct FloorText {
   Eigen::Vector2d right = Eigen::Vector2d::UnitX();  // unit reading direction; up is its left normal
   double height_m = 0.5;
   int font = 0;           // index into the font book (modulo its size)
+  bool seven_segment = false;  // the default lot's digits instead of `font`
   bool bold = false;
   bool stencil = false;   // the bridges of a stencil cut through the strokes
   double stretch = 1.0;   // width over the font's natural width (condensed < 1)
@@ -192,6 +193,10 @@ struct SceneSamplerOptions {
   double parked_car_probability_max = 0.8;  // per slot, drawn per row up to this
   // Ego vehicle, for keeping the lot's solids off the car.
   double ego_length_m = 4.7, ego_width_m = 1.85, ego_rear_overhang_m = 1.0;
+  // Share of the rows whose IDs are digits in the default lot's
+  // seven-segment face (render/digit_font.h). Taken from the row's font
+  // draw, so that 0 leaves every scene exactly as it was.
+  double seven_segment_share = 0.0;
 
   bool IsValid(std::string* error) const;
 };
