@@ -189,6 +189,8 @@ void AddEvalDetectCommand(CLI::App& app) {
     std::string models;
     std::string classical_check = "refine";
     int input_size = 256;
+    int flips = 1;
+    double min_confidence = 0.0;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -228,6 +230,15 @@ void AddEvalDetectCommand(CLI::App& app) {
                   "of 16; the network was trained at 256)")
       ->check(CLI::Range(64, 1024))
       ->capture_default_str();
+  cmd->add_option("--flips", options->flips,
+                  "With --detector learned: test-time flips of the marking-point network: 1 (none), "
+                  "2 (left-right) or 4 (left-right, up-down and both), averaged")
+      ->check(CLI::IsMember({1, 2, 4}))
+      ->capture_default_str();
+  cmd->add_option("--min-confidence", options->min_confidence,
+                  "With --detector learned: the marking-point threshold (default: the network's, "
+                  "chosen on the synthetic validation set)")
+      ->check(CLI::Range(0.01, 0.99));
   cmd->callback([options] {
     Scores scores;
     if (!options->out_dir.empty()) std::filesystem::create_directories(options->out_dir);
@@ -238,6 +249,10 @@ void AddEvalDetectCommand(CLI::App& app) {
       perception_options.learned_ids.model_path = options->models + "/slot_ids.onnx";
     }
     perception_options.learned_slots.input_size_px = options->input_size;
+    perception_options.learned_slots.flips = options->flips;
+    if (options->min_confidence > 0.0) {
+      perception_options.learned_slots.min_confidence = options->min_confidence;
+    }
     perception_options.learned_slots.classical =
         options->classical_check == "filter"   ? perception::ClassicalCheck::kFilter
         : options->classical_check == "refine" ? perception::ClassicalCheck::kRefine

@@ -27,6 +27,7 @@ bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
     return fail("input_size_px must be a positive multiple of 16");
   }
   if (!(min_confidence > 0.0 && min_confidence < 1.0)) return fail("min_confidence must lie in (0, 1)");
+  if (flips != 1 && flips != 2 && flips != 4) return fail("flips must be 1, 2 or 4");
   if (!(nms_radius_px >= 0.0)) return fail("nms_radius_px must not be negative");
   if (!(classical_match_px > 0.0 && classical_match_rad > 0.0)) {
     return fail("classical_match_px and classical_match_rad must be positive");
@@ -59,9 +60,36 @@ cv::Mat LearnedSlotDetector::Cells(const cv::Mat& top_view) const {
   // view becomes BGR after resizing, on a ninth of the pixels.
   cv::resize(top_view, resized, cv::Size(n, n), 0, 0, cv::INTER_AREA);
   if (resized.channels() == 1) cv::cvtColor(resized, resized, cv::COLOR_GRAY2BGR);
-  const cv::Mat out = network_->Forward(cv::dnn::blobFromImage(resized));
   const int g = n / kStride;
-  return out.reshape(1, {kOutputs, g, g});
+  cv::Mat sum = network_->Forward(cv::dnn::blobFromImage(resized)).reshape(1, {kOutputs, g, g}).clone();
+  if (options_.flips == 1) return sum;
+  // Mirrored views: flip code 1 mirrors x, 0 mirrors y, -1 both. A cell
+  // (cx, cy) of the mirrored view is (g - 1 - cx, cy) of the view (x
+  // mirrored), its offset 1 - offset and its direction's cos negated; the
+  // same for y with sin.
+  const std::vector<int> codes = options_.flips == 2 ? std::vector<int>{1} : std::vector<int>{1, 0, -1};
+  for (const int code : codes) {
+    cv::Mat flipped;
+    cv::flip(resized, flipped, code);
+    const cv::Mat out = network_->Forward(cv::dnn::blobFromImage(flipped)).reshape(1, {kOutputs, g, g});
+    const bool fx = code != 0, fy = code != 1;
+    for (int cy = 0; cy < g; ++cy) {
+      for (int cx = 0; cx < g; ++cx) {
+        const int sx = fx ? g - 1 - cx : cx, sy = fy ? g - 1 - cy : cy;
+        const auto at = [&](int k) { return out.at<float>(k, sy, sx); };
+        sum.at<float>(0, cy, cx) += at(0);
+        sum.at<float>(1, cy, cx) += fx ? 1.0f - at(1) : at(1);
+        sum.at<float>(2, cy, cx) += fy ? 1.0f - at(2) : at(2);
+        sum.at<float>(3, cy, cx) += fx ? -at(3) : at(3);
+        sum.at<float>(4, cy, cx) += fy ? -at(4) : at(4);
+        sum.at<float>(5, cy, cx) += at(5);
+      }
+    }
+  }
+  // Means; the direction's (cos, sin) only by its angle, so its length
+  // does not matter.
+  sum *= 1.0 / options_.flips;
+  return sum;
 }
 
 SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask) const {

@@ -41,6 +41,11 @@ struct LearnedSlotDetectorOptions {
   // The threshold with the best F1 on the synthetic validation set
   // (models/marking_points.onnx.json, "validation").
   double min_confidence = 0.6;
+  // Test-time flips: the network also sees the view mirrored left-right
+  // (2) or left-right, up-down and both (4), and the cells are averaged
+  // after mirroring them back. 1: the view alone. Each flip costs one more
+  // pass of the network.
+  int flips = 1;
   // Two marking points closer than this (top-view pixels) are one.
   double nms_radius_px = 20.0;
   SlotPairingOptions pairing;

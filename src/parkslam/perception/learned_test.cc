@@ -110,6 +110,57 @@ TEST(LearnedModelsTest, BadWeightsFilesAreNamed) {
   std::filesystem::remove_all(dir);
 }
 
+// Test-time flips average the cells of the mirrored views mirrored back,
+// so the cells of a mirrored view are the mirrored cells of the view:
+// index, offset and direction turned about the image's axis.
+TEST(LearnedSlotDetectorTest, FlippedCellsAreMirrorConsistent) {
+  LearnedSlotDetectorOptions options;
+  options.model_path = kModelDir + "/marking_points.onnx";
+  options.flips = 4;
+  const LearnedSlotDetector detector(options);
+  cv::Mat view(600, 600, CV_8UC3, cv::Scalar(90, 95, 100));
+  // An asymmetric pair of T junctions, so that the mirror differs.
+  cv::line(view, {100, 200}, {500, 200}, cv::Scalar(230, 230, 230), 8);
+  cv::line(view, {150, 200}, {150, 480}, cv::Scalar(230, 230, 230), 8);
+  cv::line(view, {420, 200}, {420, 480}, cv::Scalar(230, 230, 230), 8);
+  cv::Mat mirrored;
+  cv::flip(view, mirrored, 1);
+  const cv::Mat a = detector.Cells(view), b = detector.Cells(mirrored);
+  const int g = a.size[1];
+  double worst = 0.0;
+  for (int cy = 0; cy < g; ++cy) {
+    for (int cx = 0; cx < g; ++cx) {
+      const int mx = g - 1 - cx;
+      const auto diff = [&](int k, float expected) {
+        worst = std::max(worst, static_cast<double>(std::abs(b.at<float>(k, cy, mx) - expected)));
+      };
+      diff(0, a.at<float>(0, cy, cx));
+      diff(1, 1.0f - a.at<float>(1, cy, cx));
+      diff(2, a.at<float>(2, cy, cx));
+      diff(3, -a.at<float>(3, cy, cx));
+      diff(4, a.at<float>(4, cy, cx));
+      diff(5, a.at<float>(5, cy, cx));
+    }
+  }
+  // Resizing the mirrored view is the mirror of the resized view up to
+  // rounding; the network's arithmetic adds no more than that.
+  EXPECT_LT(worst, 2e-3);
+  // Without flips the network alone is not mirror-symmetric.
+  options.flips = 1;
+  const LearnedSlotDetector plain(options);
+  const cv::Mat pa = plain.Cells(view), pb = plain.Cells(mirrored);
+  double plain_worst = 0.0;
+  for (int cy = 0; cy < g; ++cy) {
+    for (int cx = 0; cx < g; ++cx) {
+      plain_worst = std::max(plain_worst, static_cast<double>(std::abs(
+                                              pb.at<float>(0, cy, g - 1 - cx) - pa.at<float>(0, cy, cx))));
+    }
+  }
+  EXPECT_GT(plain_worst, 10 * worst);
+  options.flips = 3;
+  EXPECT_THAT(ErrorOf([&] { LearnedSlotDetector bad(options); }), HasSubstr("flips must be 1, 2 or 4"));
+}
+
 MarkingPoint Point(double x, double y, double direction_rad, double score = 0.9) {
   MarkingPoint p;
   p.px = {x, y};
