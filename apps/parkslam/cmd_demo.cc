@@ -2,7 +2,15 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "commands.h"
+#include "detection_scoring.h"
+#include "parkslam/io/numeric_csv.h"
+#include "parkslam/pipeline/perception_eval.h"
+#include "parkslam/pipeline/rendering_source.h"
+#include "parkslam/render/renderer.h"
+#include "parkslam/sim/simulator.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
@@ -22,6 +30,108 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The localizer's estimate at each camera frame of the second drive, in the
+// lot's frame, beside the truth (docs/report.md: localization.csv).
+io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEstimate>& estimates,
+                                 const SE2& T_world_map, const Trajectory& truth) {
+  io::NumericTable log;
+  log.columns = {"t_s",      "x_m",         "y_m",      "yaw_rad",   "state",     "slots_used",
+                 "tags_used", "rejected",    "relocalized", "cov_xx", "cov_xy",    "cov_xyaw",
+                 "cov_yy",   "cov_yyaw",    "cov_yawyaw", "true_x_m", "true_y_m", "true_yaw_rad"};
+  const Eigen::Matrix2d R = T_world_map.rotation();
+  for (const localization::LocalizationEstimate& e : estimates) {
+    const std::optional<SE2> true_pose = PoseAt(truth, e.t_ns);
+    if (!true_pose) continue;
+    const SE2 T = T_world_map * e.T_map_vehicle;
+    // The covariance turned into the lot's frame: R P R^T on x, y.
+    Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+    J.topLeftCorner<2, 2>() = R;
+    const Eigen::Matrix3d P = J * e.covariance * J.transpose();
+    log.rows.push_back({ToSeconds(e.t_ns), T.x(), T.y(), T.yaw(),
+                        static_cast<double>(static_cast<int>(e.state)),
+                        static_cast<double>(e.slots_used), static_cast<double>(e.tags_used),
+                        static_cast<double>(e.rejected), e.relocalized ? 1.0 : 0.0, P(0, 0),
+                        P(0, 1), P(0, 2), P(1, 1), P(1, 2), P(2, 2), true_pose->x(),
+                        true_pose->y(), true_pose->yaw()});
+  }
+  return log;
+}
+
+// A handful of top views of the mapping drive through the front end,
+// scored against the truth: the perception part of the report
+// (perception/*.jpg and metrics "perception").
+nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint64_t seed,
+                                 const pipeline::PerceptionOptions& perception, int frames,
+                                 const std::filesystem::path& dir) {
+  const sim::Simulation simulation = sim::Simulate(scenario, seed);
+  const camera::CameraRig rig = camera::DefaultRig();
+  const render::Renderer renderer(simulation.world, rig, render::RenderOptions{}, seed);
+  const pipeline::PerceptionFrontEnd front_end(rig, perception);
+  const std::vector<std::string> cameras{"front", "rear", "left", "right", "front_mono"};
+  const Trajectory truth = sim::GroundTruthTrajectory(simulation);
+  const cv::Mat& mask = front_end.FootprintMask();
+  const double pixels_per_m = front_end.options().slots.pixels_per_m;
+  Scores scores;
+  struct Sample {
+    double t_s = 0.0;
+    ImageScore score;
+    cv::Mat overlay;
+  };
+  std::vector<Sample> samples;
+  const TimeNs span = truth.back().t_ns - truth.front().t_ns;
+  for (int k = 0; k < frames; ++k) {
+    const TimeNs t = truth.front().t_ns + span * (2 * k + 1) / (2 * frames);
+    const SE2 pose = *PoseAt(truth, t);
+    const pipeline::PerceptionOutput out =
+        front_end.Process(pipeline::RenderCameraFrame(renderer, pose, t, cameras));
+    const pipeline::TopViewTruth tv = pipeline::TruthInTopView(simulation.world, pose, front_end.fusion(), mask);
+    const ImageTruth image_truth{tv.marking_points, tv.entrances, &tv.corners, &tv.ids,
+                                 tv.ignored_points, tv.ignored_entrances};
+    const ImageScore score = Score(image_truth, out.detection, out.ids, pixels_per_m, &scores);
+    samples.push_back({ToSeconds(t - truth.front().t_ns), score, Overlay(out.top_view, tv.marking_points, out.detection)});
+  }
+  // Best: most slots right with no error; worst: most errors; missed: the
+  // frame that misses the most slots.
+  const auto errors = [](const ImageScore& s) {
+    return s.marking_points.false_positives + s.marking_points.false_negatives +
+           s.slots.false_positives + s.slots.false_negatives;
+  };
+  nlohmann::json pictures = nlohmann::json::array();
+  const auto pick = [&](const char* name, const char* caption, auto better) {
+    if (samples.empty()) return;
+    const auto it = std::max_element(samples.begin(), samples.end(), better);
+    std::filesystem::create_directories(dir);
+    std::vector<std::uint8_t> bytes;
+    cv::imencode(".jpg", it->overlay, bytes, {cv::IMWRITE_JPEG_QUALITY, 80});
+    io::WriteFileAtomically(dir / (std::string(name) + ".jpg"),
+                            std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+    pictures.push_back({{"file", std::string("perception/") + name + ".jpg"},
+                        {"caption", caption},
+                        {"t_s", it->t_s},
+                        {"slots_true_positives", it->score.slots.true_positives},
+                        {"slots_false_positives", it->score.slots.false_positives},
+                        {"slots_false_negatives", it->score.slots.false_negatives},
+                        {"marking_points_false_positives", it->score.marking_points.false_positives},
+                        {"marking_points_false_negatives", it->score.marking_points.false_negatives}});
+  };
+  pick("best", "the frame with the most slots found and no error",
+       [&](const Sample& a, const Sample& b) {
+         return std::make_pair(-errors(a.score), a.score.slots.true_positives) <
+                std::make_pair(-errors(b.score), b.score.slots.true_positives);
+       });
+  pick("worst", "the frame with the most errors (false and missed points and slots)",
+       [&](const Sample& a, const Sample& b) { return errors(a.score) < errors(b.score); });
+  pick("missed", "the frame that misses the most slots",
+       [&](const Sample& a, const Sample& b) {
+         return a.score.slots.false_negatives < b.score.slots.false_negatives;
+       });
+  nlohmann::json j = ToJson(scores);
+  j.erase("time_ms_median");
+  j.erase("time_ms_max_frame");
+  j["pictures"] = pictures;
+  return j;
+}
+
 }  // namespace
 
 void AddDemoCommand(CLI::App& app) {
@@ -35,6 +145,8 @@ void AddDemoCommand(CLI::App& app) {
     double live_images_hz = 5.0;
     bool observations = false;
     std::string detector = "classical";
+    int perception_frames = 24;
+    bool no_report = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -63,6 +175,12 @@ void AddDemoCommand(CLI::App& app) {
   cmd->add_flag("--observations", options->observations,
                 "Skip the cameras: run on the simulator's observation-level slot and tag "
                 "detections instead of pixels (fast)");
+  cmd->add_option("--perception-frames", options->perception_frames,
+                  "Top views of the mapping drive scored against the truth for the report's "
+                  "perception part; 0 skips them")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  cmd->add_flag("--no-report", options->no_report, "Do not write report.html");
   AddDetectorOption(cmd, &options->detector);
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
@@ -72,7 +190,8 @@ void AddDemoCommand(CLI::App& app) {
     perception.detector = pipeline::ParseDetectorKind(options->detector);
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     nlohmann::json metrics;
-    const int steps = 7 + (options->consistency_runs > 0) + (options->follow_runs > 0) - 1;
+    const int steps = 7 + (options->consistency_runs > 0) + (options->follow_runs > 0) +
+                      (options->perception_frames > 0) + !options->no_report - 1;
     int step = 0;
     auto header = [&](const char* what) { std::fprintf(stderr, "[%d/%d] %s\n", ++step, steps, what); };
 
@@ -100,9 +219,11 @@ void AddDemoCommand(CLI::App& app) {
     const mapping::Mapper mapper = BuildMap(dataset, mapping::MapperOptions{},
                                             dr.initial_pose, true, image_rate_hz, {}, perception);
     metrics["mapping_s"] = SecondsSince(t0);
-    const SemanticMap map = mapper.Map();
     const Trajectory mapped_trajectory = mapper.KeyframeTrajectory();
-    io::WriteMap(out / "map.json", map);
+    io::WriteMap(out / "map.json", mapper.Map());
+    // Everything after uses the map as written (millimetres), as a car
+    // would load it, so that the report finds the same figures in the file.
+    const SemanticMap map = io::ReadMap(out / "map.json");
     io::WriteTum(out / "trajectory.tum", mapped_trajectory);
     std::printf("%s\n", DescribeMapping(mapper, metrics["mapping_s"].get<double>()).c_str());
 
@@ -115,31 +236,43 @@ void AddDemoCommand(CLI::App& app) {
     metrics["mapping_trajectory"] = MetricsToJson(mapped_m);
     eval::MapMetricsOptions map_options;
     map_options.truth_slot_mask = PassedSlots(dataset, dataset.groundtruth_map->slots.size(), 3);
-    const eval::MapMetrics map_m = eval::EvaluateMap(map, *dataset.groundtruth_map, map_options);
+    // The truth as written beside the drive (millimetres), as `eval-map` and
+    // the report read it.
+    const SemanticMap truth_map = io::ReadMap(out / "dataset" / "groundtruth" / "map.json");
+    const eval::MapMetrics map_m = eval::EvaluateMap(map, truth_map, map_options);
     metrics["map"] = MapMetricsToJson(map_m);
     metrics["dataset"] = dataset.name;
+    metrics["command"] = CommandLine();
+    metrics["version"] = kVersion;
     metrics["detector"] = pipeline::ToString(perception.detector);
 
     header("localizing a second drive on the map (global start)");
     const io::Dataset second = SimulateDataset(scenario, options->seed + 500);
     io::WriteDataset(out / "second_drive", second);
     const SE2 T_world_map =
-        eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map;
+        eval::EvaluateMap(map, truth_map).T_truth_map;
     localization::Localizer localizer(
         map, localization::LocalizerOptions{},
         pipeline::EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle));
     Trajectory localized;
+    std::vector<localization::LocalizationEstimate> estimates;
     {
       DatasetStream stream(second, image_rate_hz, {}, perception);
       SensorSource& source = stream.source();
       while (const auto event = source.Next()) {
         const auto estimate = localizer.Process(*event);
-        if (estimate && estimate->state == localization::LocalizerState::kTracking) {
+        if (!estimate) continue;
+        // Slots and tags of one camera frame come as two estimates: the last counts.
+        if (!estimates.empty() && estimates.back().t_ns == estimate->t_ns) estimates.pop_back();
+        estimates.push_back(*estimate);
+        if (estimate->state == localization::LocalizerState::kTracking) {
           AppendOrReplaceLast(&localized, {estimate->t_ns, T_world_map * estimate->T_map_vehicle});
         }
       }
     }
     io::WriteTum(out / "second_drive_localized.tum", localized);
+    io::WriteNumericCsv(out / "localization.csv",
+                        LocalizationLog(estimates, T_world_map, second.groundtruth_trajectory));
     eval::TrajectoryMetricsOptions no_align;
     no_align.align = false;
     const eval::TrajectoryMetrics loc_m =
@@ -165,6 +298,9 @@ void AddDemoCommand(CLI::App& app) {
                                      [&progress](int done, int) { progress.Update(done); });
       progress.Finish();
       metrics["trace_following"] = TraceFollowingToJson(follow, follow_options);
+      // The runs and their lateral offsets along the trace, for the report.
+      std::filesystem::create_directories(out / "follow");
+      WriteFollowRuns(out / "follow", dataset.groundtruth_trajectory, follow);
       std::printf("trace following, %d runs at %.0f km/h: repeated-trace std %.3f m, lateral "
                   "deviation mean %.3f m, max %.3f m, localization RMSE %.3f m\n",
                   options->follow_runs, options->follow_speed_kmh, follow.metrics.repeat_std_m,
@@ -179,6 +315,10 @@ void AddDemoCommand(CLI::App& app) {
           scenario, options->consistency_runs, options->seed + 1000, 1.0,
           [&progress](int done, int) { progress.Update(done); });
       progress.Finish();
+      io::NumericTable nees;
+      nees.columns = {"t_s", "anees"};
+      for (size_t k = 0; k < c.times_s.size(); ++k) nees.rows.push_back({c.times_s[k], c.anees[k]});
+      io::WriteNumericCsv(out / "ekf_nees.csv", nees);
       metrics["odometry_consistency"] = {{"runs", c.runs},
                                          {"mean_anees", c.mean_anees},
                                          {"band_95", {c.band_lower, c.band_upper}},
@@ -186,6 +326,16 @@ void AddDemoCommand(CLI::App& app) {
       std::printf("EKF consistency: average NEES %.2f (ideal 3; 95 %% band [%.2f, %.2f]), "
                   "inside the band %.1f %% of the time over %d drives\n",
                   c.mean_anees, c.band_lower, c.band_upper, 100 * c.share_inside_band, c.runs);
+    }
+
+    if (options->perception_frames > 0) {
+      header("perception on a handful of frames of the mapping drive");
+      metrics["perception"] = PerceptionSamples(scenario, options->seed, perception,
+                                                options->perception_frames, out / "perception");
+      const nlohmann::json& p = metrics["perception"];
+      std::printf("perception on %d frames: slots precision %.1f %%, recall %.1f %%\n",
+                  p["images"].get<int>(), 100 * p["slots"]["precision"].get<double>(),
+                  100 * p["slots"]["recall"].get<double>());
     }
 
     header("drawing");
@@ -215,6 +365,10 @@ void AddDemoCommand(CLI::App& app) {
     }
     io::WriteFileAtomically(out / "map.svg", svg);
     io::WriteFileAtomically(out / "metrics.json", metrics.dump(2) + "\n");
+    if (!options->no_report) {
+      header("writing the report");
+      WriteReport(out, {}, out / "report.html");
+    }
 
     std::printf("dead reckoning over %.0f m: ATE rmse %.2f m, max %.2f m; drift %.2f m per "
                 "100 m (%.2f %%)\n",
@@ -222,7 +376,8 @@ void AddDemoCommand(CLI::App& app) {
     std::printf("map: %s\n", DescribeMapMetrics(map_m).c_str());
     std::printf("mapper trajectory: ATE rmse %.3f m\n", mapped_m.ate_rmse_m);
     std::printf("wrote %s/{dataset/, odometry.tum, map.json, trajectory.tum, second_drive/, "
-                "second_drive_localized.tum, metrics.json, map.svg, traces.svg}\n",
+                "second_drive_localized.tum, localization.csv, metrics.json, map.svg, traces.svg, "
+                "report.html}\n",
                 out.string().c_str());
   });
 }

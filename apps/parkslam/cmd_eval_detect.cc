@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
+#include "detection_scoring.h"
 #include "image_files.h"
 #include "parkslam/eval/detection_metrics.h"
 #include "parkslam/io/ps2_labels.h"
@@ -24,156 +25,6 @@
 
 namespace parkslam::app {
 namespace {
-
-struct Scores {
-  eval::DetectionCounts marking_points, slots;
-  eval::SlotCornerErrors corners;
-  eval::IdCounts ids;
-  int images = 0;
-  std::vector<double> frame_ms, fusion_ms, slots_ms, ids_ms, tags_ms;
-};
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
-double Max(const std::vector<double>& v) {
-  return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
-}
-
-nlohmann::json ToJson(const Scores& s) {
-  nlohmann::json j;
-  j["images"] = s.images;
-  const auto counts = [](const eval::DetectionCounts& c) {
-    return nlohmann::json{{"true_positives", c.true_positives},
-                          {"false_positives", c.false_positives},
-                          {"false_negatives", c.false_negatives},
-                          {"precision", c.precision()},
-                          {"recall", c.recall()}};
-  };
-  j["marking_points"] = counts(s.marking_points);
-  j["slots"] = counts(s.slots);
-  if (s.corners.entrance_m.count > 0) {
-    j["entrance_corner_error_cm"] = {{"mean", 100 * s.corners.entrance_m.mean()},
-                                     {"rms", 100 * s.corners.entrance_m.rms()},
-                                     {"max", 100 * s.corners.entrance_m.max},
-                                     {"count", s.corners.entrance_m.count}};
-  }
-  if (s.ids.readable > 0) {
-    j["ids"] = {{"readable", s.ids.readable}, {"right", s.ids.correct}, {"unread", s.ids.unread}, {"accuracy", s.ids.accuracy()}};
-  }
-  if (!s.frame_ms.empty()) {
-    j["time_ms_median"] = {{"fusion", Median(s.fusion_ms)}, {"slots", Median(s.slots_ms)},
-                           {"ids", Median(s.ids_ms)}, {"tags", Median(s.tags_ms)},
-                           {"frame", Median(s.frame_ms)}};
-    j["time_ms_max_frame"] = Max(s.frame_ms);
-  } else if (!s.slots_ms.empty()) {
-    j["time_ms_median"] = {{"slots", Median(s.slots_ms)}};
-  }
-  return j;
-}
-
-void Print(const Scores& s) {
-  std::printf("%d images\n", s.images);
-  const auto line = [](const char* what, const eval::DetectionCounts& c) {
-    std::printf("%-15s precision %6.2f %%  recall %6.2f %%  (TP %d, FP %d, FN %d)\n", what,
-                100 * c.precision(), 100 * c.recall(), c.true_positives, c.false_positives,
-                c.false_negatives);
-  };
-  line("marking points", s.marking_points);
-  line("slots", s.slots);
-  if (s.corners.entrance_m.count > 0) {
-    std::printf("entrance corners: mean %.2f cm, rms %.2f cm, max %.2f cm over %d corners\n",
-                100 * s.corners.entrance_m.mean(), 100 * s.corners.entrance_m.rms(),
-                100 * s.corners.entrance_m.max, s.corners.entrance_m.count);
-  }
-  if (s.ids.readable > 0) {
-    std::printf("IDs: %d of %d readable IDs right (%.2f %%)\n", s.ids.correct, s.ids.readable,
-                100 * s.ids.accuracy());
-  }
-  if (!s.frame_ms.empty()) {
-    std::printf("time per frame (median): fusion %.2f ms, slots %.2f ms, IDs %.2f ms, tags %.2f "
-                "ms; total %.2f ms (max %.2f ms)\n",
-                Median(s.fusion_ms), Median(s.slots_ms), Median(s.ids_ms), Median(s.tags_ms),
-                Median(s.frame_ms), Max(s.frame_ms));
-  } else if (!s.slots_ms.empty()) {
-    std::printf("slot detection per image (median): %.2f ms\n", Median(s.slots_ms));
-  }
-}
-
-cv::Mat Overlay(const cv::Mat& image, const std::vector<eval::LabelledMarkingPoint>& truth,
-                const perception::SlotDetection& detection) {
-  cv::Mat out;
-  if (image.channels() == 1) {
-    cv::cvtColor(image, out, cv::COLOR_GRAY2BGR);
-  } else {
-    out = image.clone();
-  }
-  const auto pt = [](const Eigen::Vector2d& p) {
-    return cv::Point2f(static_cast<float>(p.x()), static_cast<float>(p.y()));
-  };
-  for (const eval::LabelledMarkingPoint& t : truth) {
-    cv::circle(out, pt(t.px), 10, cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
-  }
-  for (const perception::DetectedSlot& s : detection.slots) {
-    cv::line(out, pt(s.corners_px[0]), pt(s.corners_px[1]), cv::Scalar(0, 200, 255), 2, cv::LINE_AA);
-  }
-  for (const perception::MarkingPoint& p : detection.marking_points) {
-    const Eigen::Vector2d tip =
-        p.px + 25.0 * Eigen::Vector2d(std::cos(p.direction_rad), std::sin(p.direction_rad));
-    cv::circle(out, pt(p.px), 4, cv::Scalar(0, 0, 255), 2, cv::LINE_AA);
-    cv::line(out, pt(p.px), pt(tip), cv::Scalar(0, 0, 255), 2, cv::LINE_AA);
-  }
-  return out;
-}
-
-// Scores one image; returns true when it holds any error (for --out-dir).
-template <typename T>
-std::vector<T> Pick(const std::vector<T>& items, const std::vector<int>& indices) {
-  std::vector<T> out;
-  for (int i : indices) out.push_back(items[static_cast<size_t>(i)]);
-  return out;
-}
-
-// What one image is scored against; the pointers are null where the truth
-// does not say (the ps2.0 labels have no corners beyond the entrance, no
-// IDs).
-struct ImageTruth {
-  std::vector<eval::LabelledMarkingPoint> points;
-  std::vector<eval::EntranceLine> entrances;
-  const std::vector<eval::SlotCornersPx>* corners = nullptr;
-  const std::vector<eval::SlotIdTruth>* ids = nullptr;
-  std::vector<eval::LabelledMarkingPoint> ignored_points;
-  std::vector<eval::EntranceLine> ignored_entrances;
-};
-
-// Scores one image; returns true when it holds any error (for --out-dir).
-bool Score(const ImageTruth& truth, const perception::SlotDetection& detection,
-           const std::vector<SlotIdReading>& ids, double pixels_per_m, Scores* scores) {
-  const std::vector<eval::LabelledMarkingPoint> all_points = pipeline::AsLabelled(detection.marking_points);
-  const std::vector<eval::LabelledMarkingPoint> points =
-      Pick(all_points, pipeline::ScoredPoints(all_points, truth.points, truth.ignored_points));
-  const std::vector<eval::EntranceLine> all_entrances = pipeline::EntrancesOf(detection.slots);
-  const std::vector<int> kept =
-      pipeline::ScoredSlots(all_entrances, truth.entrances, truth.ignored_entrances);
-  const eval::DetectionMatch mp = eval::MatchMarkingPoints(points, truth.points);
-  const eval::DetectionMatch sm = eval::MatchSlots(Pick(all_entrances, kept), truth.entrances);
-  scores->marking_points.Add(mp);
-  scores->slots.Add(sm);
-  ++scores->images;
-  if (truth.corners != nullptr) {
-    eval::AddSlotCornerErrors(sm, Pick(pipeline::CornersOf(detection.slots), kept), *truth.corners,
-                              pixels_per_m, &scores->corners);
-  }
-  if (truth.ids != nullptr) {
-    std::vector<std::string> read;
-    for (int k : kept) read.push_back(ids[static_cast<size_t>(k)].best());
-    eval::AddIdCounts(sm, read, *truth.ids, &scores->ids);
-  }
-  return mp.false_positives() + mp.false_negatives() + sm.false_positives() + sm.false_negatives() > 0;
-}
 
 }  // namespace
 
@@ -291,7 +142,7 @@ void AddEvalDetectCommand(CLI::App& app) {
         ImageTruth truth;
         truth.points = points;
         truth.entrances = eval::EntranceLinesOf(points, slots);
-        const bool error = Score(truth, detection, {}, 60.0, &scores);
+        const bool error = Score(truth, detection, {}, 60.0, &scores).any_error();
         if (error && !options->out_dir.empty()) {
           WriteImage((std::filesystem::path(options->out_dir) / (name + ".png")).string(),
                      Overlay(image, points, detection));
@@ -320,7 +171,7 @@ void AddEvalDetectCommand(CLI::App& app) {
         const pipeline::TopViewTruth tv = pipeline::TruthInTopView(world, pose, front_end.fusion(), mask);
         const ImageTruth image_truth{tv.marking_points, tv.entrances, &tv.corners, &tv.ids,
                                      tv.ignored_points, tv.ignored_entrances};
-        const bool error = Score(image_truth, out.detection, out.ids, pixels_per_m, &scores);
+        const bool error = Score(image_truth, out.detection, out.ids, pixels_per_m, &scores).any_error();
         scores.fusion_ms.push_back(out.timing.fusion_ms);
         scores.slots_ms.push_back(out.timing.slots_ms);
         scores.ids_ms.push_back(out.timing.ids_ms);

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "parkslam/io/numeric_csv.h"
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/map_json.h"
@@ -54,6 +55,28 @@ nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& r,
   j["runs_finished"] = finished;
   j["per_run"] = per_run;
   return j;
+}
+
+void WriteFollowRuns(const std::filesystem::path& dir, const Trajectory& trace_world,
+                     const pipeline::TraceFollowingResult& result) {
+  io::WriteTum(dir / "trace.tum", trace_world);
+  io::NumericTable lateral;
+  lateral.columns = {"s_m"};
+  for (size_t i = 0; i < result.runs.size(); ++i) {
+    const std::string index = Index(static_cast<int>(i));
+    io::WriteTum(dir / ("run_" + index + ".tum"), result.runs[i].truth_world);
+    if (!result.runs[i].estimate_map.empty()) {
+      io::WriteTum(dir / ("estimate_" + index + ".tum"), result.runs[i].estimate_map);
+    }
+    lateral.columns.push_back("run_" + index + "_m");
+  }
+  const eval::TraceFollowingMetrics& m = result.metrics;
+  for (size_t k = 0; k < m.station_s_m.size(); ++k) {
+    std::vector<double> row{m.station_s_m[k]};
+    for (const std::vector<double>& run : m.lateral_offset_m) row.push_back(run[k]);
+    lateral.rows.push_back(row);
+  }
+  io::WriteNumericCsv(dir / "lateral.csv", lateral);
 }
 
 void AddFollowCommand(CLI::App& app) {
@@ -132,14 +155,11 @@ void AddFollowCommand(CLI::App& app) {
         [&progress](int done, int) { progress.Update(done); });
     progress.Finish();
 
-    io::WriteTum(out / "trace.tum", trace_world);
+    WriteFollowRuns(out, trace_world, result);
     std::vector<viz::SvgTrajectory> drawn{{"trace", "#2a9d2a", Transformed(T_map_world, trace_world)}};
     static const char* kColors[] = {"#d62728", "#1f77b4", "#9467bd", "#ff7f0e", "#8c564b",
                                     "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#393b79"};
     for (size_t i = 0; i < result.runs.size(); ++i) {
-      io::WriteTum(out / ("run_" + Index(static_cast<int>(i)) + ".tum"), result.runs[i].truth_world);
-      io::WriteTum(out / ("estimate_" + Index(static_cast<int>(i)) + ".tum"),
-                   result.runs[i].estimate_map);
       drawn.push_back({i == 0 ? "autonomous runs (true)" : "", kColors[i % 10],
                        Transformed(T_map_world, result.runs[i].truth_world)});
     }

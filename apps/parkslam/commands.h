@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,21 @@ void AddTagsCommand(CLI::App& app);
 void AddDetectCommand(CLI::App& app);
 void AddEvalDetectCommand(CLI::App& app);
 void AddMakeTrainingSetCommand(CLI::App& app);
+void AddReportCommand(CLI::App& app);
+
+// The command line as the user typed it (main() records it), for the
+// records a run leaves (metrics.json, report.html).
+void SetCommandLine(int argc, char** argv);
+const std::string& CommandLine();
+
+// Writes the HTML report of a run folder (cmd_report.cc); `map_path` may
+// name a map outside the folder (follow runs).
+struct ReportInputs {
+  std::filesystem::path map;      // default: DIR/map.json
+  std::filesystem::path dataset;  // default: DIR/second_drive, else DIR/dataset
+};
+void WriteReport(const std::filesystem::path& dir, const ReportInputs& inputs,
+                 const std::filesystem::path& out);
 
 // Options shared by `simulate` and `demo` that pick and tune the scenario.
 struct ScenarioOptions {

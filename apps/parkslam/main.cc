@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
   parkslam::app::AddEvalDetectCommand(app);
   parkslam::app::AddMakeTrainingSetCommand(app);
   parkslam::app::AddDemoCommand(app);
+  parkslam::app::AddReportCommand(app);
+  parkslam::app::SetCommandLine(argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

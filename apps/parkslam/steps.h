@@ -80,6 +80,12 @@ std::string DescribeMapMetrics(const eval::MapMetrics& metrics);
 nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& result,
                                     const pipeline::TraceFollowingOptions& options);
 
+// The trace (trace.tum), each run's true path (run_NN.tum) and estimate
+// (estimate_NN.tum), and the runs' signed lateral offsets along the trace
+// (lateral.csv: s_m, run_NN_m ...; docs/report.md), into `dir`.
+void WriteFollowRuns(const std::filesystem::path& dir, const Trajectory& trace_world,
+                     const pipeline::TraceFollowingResult& result);
+
 // A short human-readable summary of a dataset.
 std::string DescribeDataset(const io::Dataset& dataset);
 

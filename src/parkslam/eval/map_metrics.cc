@@ -276,24 +276,34 @@ MapMetrics EvaluateMap(const SemanticMap& map, const SemanticMap& truth,
   int ids_right = 0;
   int temporary_ids = 0;
   double corner_squared_sum = 0.0;
+  metrics.map_slots.assign(map.slots.size(), MapSlotVerdict{});
   for (std::size_t j = 0; j < truth.slots.size(); ++j) {
-    if (!counts(j)) continue;
-    ++metrics.slots_true;
     const int i = matching.map_of_truth[j];
+    if (!counts(j)) {
+      if (i >= 0) metrics.map_slots[i] = {SlotVerdict::kNotCounted, static_cast<int>(j), 0.0, false};
+      continue;
+    }
+    ++metrics.slots_true;
     if (i < 0) {
       ++metrics.slots_missed;
+      metrics.missed_truth_slots.push_back(static_cast<int>(j));
       continue;
     }
     ++metrics.slots_matched;
     const MapSlot& map_slot = map.slots[i];
     const MapSlot& truth_slot = truth.slots[j];
+    double slot_squared_sum = 0.0;
     for (int c = 0; c < kSlotCorners; ++c) {
       const double error_m = (T * map_slot.corners_map[c] - truth_slot.corners_map[c]).norm();
-      corner_squared_sum += error_m * error_m;
+      slot_squared_sum += error_m * error_m;
       metrics.slot_corner_max_m = std::max(metrics.slot_corner_max_m, error_m);
     }
-    if (IdIsRight(map_slot, truth_slot)) ++ids_right;
+    corner_squared_sum += slot_squared_sum;
+    const bool id_right = IdIsRight(map_slot, truth_slot);
+    if (id_right) ++ids_right;
     if (map_slot.temporary) ++temporary_ids;
+    metrics.map_slots[i] = {SlotVerdict::kMatched, static_cast<int>(j),
+                            std::sqrt(slot_squared_sum / kSlotCorners), id_right};
   }
   if (metrics.slots_matched > 0) {
     const double matched = metrics.slots_matched;
@@ -318,8 +328,12 @@ MapMetrics EvaluateMap(const SemanticMap& map, const SemanticMap& truth,
     }
     if (nearest < 0) {
       ++metrics.slots_spurious;
+      metrics.map_slots[i] = {SlotVerdict::kSpurious, -1, 0.0, false};
     } else if (counts(static_cast<std::size_t>(nearest))) {
       ++metrics.slots_duplicate;
+      metrics.map_slots[i] = {SlotVerdict::kDuplicate, nearest, 0.0, false};
+    } else {
+      metrics.map_slots[i] = {SlotVerdict::kNotCounted, nearest, 0.0, false};
     }
   }
 

@@ -25,6 +25,15 @@ struct MapMetricsOptions {
   std::vector<bool> truth_slot_mask;
 };
 
+// What became of one map slot, for pictures and reports.
+enum class SlotVerdict { kMatched, kSpurious, kDuplicate, kNotCounted };
+struct MapSlotVerdict {
+  SlotVerdict verdict = SlotVerdict::kSpurious;
+  int truth_slot = -1;           // matched (or, for a duplicate, nearest) truth slot
+  double corner_rms_m = 0.0;     // over its 4 corners, matched slots only
+  bool id_right = false;         // IdIsRight, matched slots only
+};
+
 struct MapMetrics {
   int slots_true = 0;       // truth slots that count (mask)
   int slots_matched = 0;    // counted truth slots with a matching map slot
@@ -47,6 +56,10 @@ struct MapMetrics {
   // The alignment used: aligned map point = T_truth_map * map point
   // (identity when !align or when no alignment could be found).
   SE2 T_truth_map;
+  // One verdict per map slot (index by index), and the counted truth slots
+  // that no map slot matched.
+  std::vector<MapSlotVerdict> map_slots;
+  std::vector<int> missed_truth_slots;
 };
 
 // Compares a map with the truth.

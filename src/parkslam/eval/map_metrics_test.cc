@@ -232,6 +232,34 @@ TEST(EvaluateMapTest, SlotCopiedNearbyIsDuplicate) {
   EXPECT_DOUBLE_EQ(m.id_accuracy, 1.0);  // the original, nearer, is the match
 }
 
+// The per-slot verdicts say what the counts say, slot by slot.
+TEST(EvaluateMapTest, VerdictsNameEachMapSlot) {
+  const SemanticMap truth = MakeLot();
+  SemanticMap map = truth;
+  map.slots.erase(map.slots.begin() + 7);                                    // truth 7 missed
+  std::swap(map.slots[4].id, map.slots[5].id);                               // two wrong IDs
+  for (Eigen::Vector2d& c : map.slots[2].corners_map) c.y() += 0.2;          // one off by 0.2 m
+  map.slots.push_back(Slot("99", {80.0, 80.0}, {82.5, 80.0}, kSlotDepthM));  // spurious
+  MapSlot copy = Shifted(truth.slots[3], {0.3, 0.0});
+  MakeTemporary(&copy, 1);
+  map.slots.push_back(copy);  // duplicate of truth 3
+  const MapMetrics m = EvaluateMap(map, truth, Unaligned());
+  ASSERT_EQ(m.map_slots.size(), map.slots.size());
+  EXPECT_EQ(m.missed_truth_slots, std::vector<int>{7});
+  int matched = 0, wrong_ids = 0;
+  for (const MapSlotVerdict& v : m.map_slots) {
+    matched += v.verdict == SlotVerdict::kMatched;
+    wrong_ids += v.verdict == SlotVerdict::kMatched && !v.id_right;
+  }
+  EXPECT_EQ(matched, m.slots_matched);
+  EXPECT_EQ(wrong_ids, 2);
+  EXPECT_NEAR(m.map_slots[2].corner_rms_m, 0.2, 1e-9);
+  EXPECT_NEAR(m.map_slots[3].corner_rms_m, 0.0, 1e-9);
+  EXPECT_EQ(m.map_slots[map.slots.size() - 2].verdict, SlotVerdict::kSpurious);
+  EXPECT_EQ(m.map_slots.back().verdict, SlotVerdict::kDuplicate);
+  EXPECT_EQ(m.map_slots.back().truth_slot, 3);
+}
+
 TEST(EvaluateMapTest, MatchRadiusIsTheThreshold) {
   const SemanticMap truth = MakeLot();
   const MapMetricsOptions options = Unaligned();

@@ -1,0 +1,433 @@
+// parkslam report: one self-contained HTML page of a run folder
+// (docs/report.md). Reads what the folder holds, computes the headline
+// figures again from the run's own files, and lays them beside
+// metrics.json's.
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "parkslam/common/angles.h"
+#include "parkslam/eval/map_metrics.h"
+#include "parkslam/io/atomic_file.h"
+#include "parkslam/io/dataset.h"
+#include "parkslam/io/io_error.h"
+#include "parkslam/io/map_json.h"
+#include "parkslam/io/numeric_csv.h"
+#include "parkslam/io/tum.h"
+#include "parkslam/viz/report_html.h"
+#include "steps.h"
+
+namespace parkslam::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The chi-square 95 % band of a 3-dimensional NEES sample (x, y, yaw).
+constexpr double kNees3Lower = 0.2158;
+constexpr double kNees3Upper = 9.3484;
+
+std::string g_command_line;
+
+nlohmann::json ReadJson(const fs::path& path) {
+  try {
+    return nlohmann::json::parse(io::ReadTextFile(path));
+  } catch (const nlohmann::json::exception& e) {
+    throw io::IoError(path.string() + ": not JSON (" + e.what() + ")");
+  }
+}
+
+// metrics.json's number at a dotted key, or NaN.
+double Recorded(const nlohmann::json& metrics, const std::string& key) {
+  const nlohmann::json* j = &metrics;
+  size_t start = 0;
+  while (true) {
+    const size_t dot = key.find('.', start);
+    const std::string part = key.substr(start, dot - start);
+    if (!j->is_object() || !j->contains(part)) return std::nan("");
+    j = &(*j)[part];
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return j->is_number() ? j->get<double>() : std::nan("");
+}
+
+// Trajectories on the map are thinned to about one point every 0.25 m.
+nlohmann::json Polyline(const Trajectory& trajectory) {
+  nlohmann::json xy = nlohmann::json::array();
+  Eigen::Vector2d last(1e300, 1e300);
+  for (size_t i = 0; i < trajectory.size(); ++i) {
+    const Eigen::Vector2d p = trajectory[i].T_map_vehicle.translation();
+    if ((p - last).norm() < 0.25 && i + 1 != trajectory.size()) continue;
+    xy.push_back({std::round(p.x() * 1000) / 1000, std::round(p.y() * 1000) / 1000});
+    last = p;
+  }
+  return xy;
+}
+
+nlohmann::json Corners(const MapSlot& slot, const SE2& T) {
+  nlohmann::json c = nlohmann::json::array();
+  for (const Eigen::Vector2d& p : slot.corners_map) {
+    const Eigen::Vector2d q = T * p;
+    c.push_back({q.x(), q.y()});
+  }
+  return c;
+}
+
+const char* VerdictName(eval::SlotVerdict v) {
+  switch (v) {
+    case eval::SlotVerdict::kMatched: return "matched";
+    case eval::SlotVerdict::kSpurious: return "spurious";
+    case eval::SlotVerdict::kDuplicate: return "duplicate";
+    case eval::SlotVerdict::kNotCounted: return "not_counted";
+  }
+  return "spurious";
+}
+
+struct Loaded {
+  viz::ReportData data;
+  nlohmann::json metrics;
+  std::string prefix;  // "" for a demo folder's metrics, "trace_following." where nested
+};
+
+void AddFigure(Loaded* r, const std::string& key, const std::string& label, double value,
+               const std::string& unit, double scale, int decimals) {
+  const double recorded = Recorded(r->metrics, key);
+  if (std::isnan(recorded)) return;  // the run did not record it: nothing to agree with
+  r->data.figures.push_back({key, label, value, recorded, unit, scale, decimals});
+}
+
+void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
+  const fs::path map_path = inputs.map.empty() ? dir / "map.json" : inputs.map;
+  if (!fs::exists(map_path)) return;
+  const SemanticMap map = io::ReadMap(map_path);
+  nlohmann::json& scene = r->data.scene;
+  const fs::path dataset_dir = dir / "dataset";
+  const bool has_truth = fs::exists(dataset_dir / "groundtruth" / "map.json");
+  if (!has_truth) {
+    nlohmann::json slots = nlohmann::json::array();
+    for (const MapSlot& s : map.slots) {
+      slots.push_back({{"c", Corners(s, SE2())}, {"id", s.id}, {"temporary", s.temporary},
+                       {"verdict", "not_counted"}, {"err_m", 0.0}, {"id_right", true}});
+    }
+    scene["map"]["slots"] = slots;
+    return;
+  }
+  const io::Dataset dataset = io::ReadDataset(dataset_dir);
+  const SemanticMap& truth = *dataset.groundtruth_map;
+  eval::MapMetricsOptions options;
+  options.truth_slot_mask = PassedSlots(dataset, truth.slots.size(), 3);
+  const eval::MapMetrics m = eval::EvaluateMap(map, truth, options);
+  nlohmann::json truth_slots = nlohmann::json::array(), slots = nlohmann::json::array();
+  for (const MapSlot& s : truth.slots) truth_slots.push_back({{"c", Corners(s, SE2())}, {"id", s.id}});
+  for (size_t i = 0; i < map.slots.size(); ++i) {
+    const eval::MapSlotVerdict& v = m.map_slots[i];
+    slots.push_back({{"c", Corners(map.slots[i], m.T_truth_map)},
+                     {"id", map.slots[i].id},
+                     {"temporary", map.slots[i].temporary},
+                     {"verdict", VerdictName(v.verdict)},
+                     {"err_m", v.corner_rms_m},
+                     {"id_right", v.id_right}});
+  }
+  nlohmann::json truth_tags = nlohmann::json::array(), tags = nlohmann::json::array();
+  for (const MapTag& t : truth.tags) truth_tags.push_back({{"p", {t.p_map.x(), t.p_map.y()}}, {"id", t.tag_id}});
+  for (const MapTag& t : map.tags) {
+    const Eigen::Vector2d p = m.T_truth_map * t.p_map;
+    tags.push_back({{"p", {p.x(), p.y()}}, {"id", t.tag_id}});
+  }
+  scene["map"] = {{"truth_slots", truth_slots}, {"slots", slots}, {"missed", m.missed_truth_slots},
+                  {"truth_tags", truth_tags}, {"tags", tags}};
+  scene["trajectories"].push_back({{"name", "mapping drive: truth"}, {"colour", "#2a9d2a"},
+                                   {"xy", Polyline(dataset.groundtruth_trajectory)}});
+  if (fs::exists(dir / "odometry.tum")) {
+    scene["trajectories"].push_back({{"name", "mapping drive: dead reckoning"}, {"colour", "#d62728"},
+                                     {"width", 1.0}, {"hidden", true},
+                                     {"xy", Polyline(io::ReadTum(dir / "odometry.tum"))}});
+  }
+  if (fs::exists(dir / "trajectory.tum")) {
+    scene["trajectories"].push_back({{"name", "mapping drive: optimized keyframes"}, {"colour", "#1f77b4"},
+                                     {"width", 1.0}, {"hidden", true},
+                                     {"xy", Polyline(Transformed(m.T_truth_map, io::ReadTum(dir / "trajectory.tum")))}});
+  }
+  const std::string p = "map.";
+  AddFigure(r, p + "slots_matched", "slots matched", m.slots_matched, "of " + std::to_string(m.slots_true), 1, 0);
+  AddFigure(r, p + "slots_missed", "slots missed", m.slots_missed, "", 1, 0);
+  AddFigure(r, p + "slots_spurious", "spurious slots", m.slots_spurious, "", 1, 0);
+  AddFigure(r, p + "slots_duplicate", "duplicate slots", m.slots_duplicate, "", 1, 0);
+  AddFigure(r, p + "slot_corner_rmse_m", "slot corner RMSE", m.slot_corner_rmse_m, "cm", 100, 1);
+  AddFigure(r, p + "id_accuracy", "IDs right", m.id_accuracy, "%", 100, 1);
+  AddFigure(r, p + "tags_matched", "tags mapped", m.tags_matched, "of " + std::to_string(m.tags_true), 1, 0);
+}
+
+void AddLocalization(const fs::path& dir, Loaded* r) {
+  const fs::path path = dir / "localization.csv";
+  if (!fs::exists(path)) return;
+  const io::NumericTable log = io::ReadNumericCsv(
+      path, {"t_s", "x_m", "y_m", "yaw_rad", "state", "slots_used", "tags_used", "relocalized",
+             "cov_xx", "cov_xy", "cov_xyaw", "cov_yy", "cov_yyaw", "cov_yawyaw", "true_x_m",
+             "true_y_m", "true_yaw_rad"});
+  const auto col = [&](const char* name) { return static_cast<size_t>(log.Column(name)); };
+  nlohmann::json l;
+  std::vector<std::string> names = {"t", "x", "y", "yaw", "tx", "ty", "tyaw", "err_m", "yaw_err_deg",
+                                    "state", "slots", "tags", "reloc", "nees"};
+  for (const std::string& n : names) l[n] = nlohmann::json::array();
+  double sum_sq = 0.0, sum_yaw_sq = 0.0;
+  int tracked = 0;
+  for (size_t k = 0; k < log.rows.size(); ++k) {
+    const std::vector<double>& row = log.rows[k];
+    if (k > 0 && !(row[col("t_s")] > log.rows[k - 1][col("t_s")])) {
+      throw io::IoError(path.string() + ":" + std::to_string(k + 2) + ": t_s: not increasing");
+    }
+    const Eigen::Vector3d e(row[col("x_m")] - row[col("true_x_m")], row[col("y_m")] - row[col("true_y_m")],
+                            NormalizeAngle(row[col("yaw_rad")] - row[col("true_yaw_rad")]));
+    Eigen::Matrix3d P;
+    P << row[col("cov_xx")], row[col("cov_xy")], row[col("cov_xyaw")], row[col("cov_xy")],
+        row[col("cov_yy")], row[col("cov_yyaw")], row[col("cov_xyaw")], row[col("cov_yyaw")],
+        row[col("cov_yawyaw")];
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(P);
+    const double nees = ldlt.info() == Eigen::Success && ldlt.isPositive() ? e.dot(ldlt.solve(e)) : std::nan("");
+    const int state = static_cast<int>(row[col("state")]);
+    const double err_m = e.head<2>().norm();
+    if (state == 1) {
+      ++tracked;
+      sum_sq += err_m * err_m;
+      sum_yaw_sq += e.z() * e.z();
+    }
+    const auto r3 = [](double v) { return std::round(v * 1e4) / 1e4; };
+    l["t"].push_back(row[col("t_s")]);
+    l["x"].push_back(r3(row[col("x_m")]));
+    l["y"].push_back(r3(row[col("y_m")]));
+    l["yaw"].push_back(r3(row[col("yaw_rad")]));
+    l["tx"].push_back(row[col("true_x_m")]);
+    l["ty"].push_back(row[col("true_y_m")]);
+    l["tyaw"].push_back(r3(row[col("true_yaw_rad")]));
+    l["err_m"].push_back(std::round(err_m * 1e5) / 1e5);
+    l["yaw_err_deg"].push_back(std::round(e.z() * 180 / M_PI * 1e4) / 1e4);
+    l["state"].push_back(state);
+    l["slots"].push_back(static_cast<int>(row[col("slots_used")]));
+    l["tags"].push_back(static_cast<int>(row[col("tags_used")]));
+    l["reloc"].push_back(row[col("relocalized")] != 0.0);
+    if (std::isfinite(nees)) {
+      l["nees"].push_back(std::round(nees * 1e4) / 1e4);
+    } else {
+      l["nees"].push_back(nullptr);
+    }
+  }
+  r->data.scene["localization"] = l;
+  r->data.scene["nees_band"] = {kNees3Lower, kNees3Upper};
+  Trajectory truth, estimate;
+  for (const std::vector<double>& row : log.rows) {
+    const TimeNs t = FromSeconds(row[col("t_s")]);
+    if (!truth.empty() && t <= truth.back().t_ns) continue;
+    truth.push_back({t, SE2(row[col("true_x_m")], row[col("true_y_m")], row[col("true_yaw_rad")])});
+    if (static_cast<int>(row[col("state")]) == 1) {
+      estimate.push_back({t, SE2(row[col("x_m")], row[col("y_m")], row[col("yaw_rad")])});
+    }
+  }
+  r->data.scene["trajectories"].push_back({{"name", "second drive: truth"}, {"colour", "#006400"},
+                                           {"hidden", true}, {"xy", Polyline(truth)}});
+  r->data.scene["trajectories"].push_back({{"name", "second drive: localized"}, {"colour", "#1f77b4"},
+                                           {"xy", Polyline(estimate)}});
+  if (tracked > 0) {
+    AddFigure(r, "localization.frames_tracked", "frames tracked", tracked, "", 1, 0);
+    AddFigure(r, "localization.ate_rmse_m", "localization RMSE", std::sqrt(sum_sq / tracked), "m", 1, 3);
+    AddFigure(r, "localization.yaw_rmse_deg", "localization yaw RMSE",
+              std::sqrt(sum_yaw_sq / tracked) * 180 / M_PI, "deg", 1, 3);
+  }
+}
+
+void AddEkf(const fs::path& dir, Loaded* r) {
+  const fs::path path = dir / "ekf_nees.csv";
+  if (!fs::exists(path)) return;
+  const io::NumericTable t = io::ReadNumericCsv(path, {"t_s", "anees"});
+  nlohmann::json ekf = {{"t", nlohmann::json::array()}, {"anees", nlohmann::json::array()}};
+  double sum = 0.0;
+  for (const std::vector<double>& row : t.rows) {
+    ekf["t"].push_back(row[0]);
+    ekf["anees"].push_back(row[1]);
+    sum += row[1];
+  }
+  const nlohmann::json& c = r->metrics.contains("odometry_consistency") ? r->metrics["odometry_consistency"]
+                                                                         : nlohmann::json::object();
+  if (c.contains("band_95") && c["band_95"].is_array() && c["band_95"].size() == 2) {
+    const double band_lo = c["band_95"][0].get<double>(), band_hi = c["band_95"][1].get<double>();
+    ekf["band"] = {band_lo, band_hi};
+    int inside = 0;
+    for (const std::vector<double>& row : t.rows) inside += row[1] >= band_lo && row[1] <= band_hi;
+    if (!t.rows.empty()) {
+      AddFigure(r, "odometry_consistency.share_inside_band", "EKF ANEES inside its 95 % band",
+                static_cast<double>(inside) / static_cast<double>(t.rows.size()), "%", 100, 1);
+    }
+  }
+  ekf["runs"] = c.value("runs", 0);
+  if (!t.rows.empty()) {
+    AddFigure(r, "odometry_consistency.mean_anees", "EKF average NEES (ideal 3)",
+              sum / static_cast<double>(t.rows.size()), "", 1, 2);
+  }
+  r->data.scene["ekf"] = ekf;
+}
+
+void AddFollow(const fs::path& follow_dir, const std::string& key_prefix, Loaded* r) {
+  const fs::path path = follow_dir / "lateral.csv";
+  if (!fs::exists(path)) return;
+  const io::NumericTable t = io::ReadNumericCsv(path, {"s_m"}, true);
+  nlohmann::json follow = {{"s", nlohmann::json::array()}, {"runs", nlohmann::json::array()}};
+  for (const std::vector<double>& row : t.rows) follow["s"].push_back(row[0]);
+  static const char* kColours[] = {"#d62728", "#1f77b4", "#9467bd", "#ff7f0e",
+                                   "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22"};
+  for (size_t c = 1; c < t.columns.size(); ++c) {
+    nlohmann::json offsets = nlohmann::json::array();
+    for (const std::vector<double>& row : t.rows) {
+      if (std::isnan(row[c])) {
+        offsets.push_back(nullptr);
+      } else {
+        offsets.push_back(std::round(row[c] * 1e5) / 1e5);
+      }
+    }
+    std::string name = t.columns[c];
+    if (name.size() > 2 && name.compare(name.size() - 2, 2, "_m") == 0) name.resize(name.size() - 2);
+    follow["runs"].push_back({{"name", name}, {"offsets", offsets}});
+    const fs::path run = follow_dir / (name + ".tum");
+    if (fs::exists(run)) {
+      r->data.scene["trajectories"].push_back({{"name", "autonomous " + name}, {"colour", kColours[(c - 1) % 8]},
+                                               {"width", 1.0}, {"xy", Polyline(io::ReadTum(run))}});
+    }
+  }
+  if (!r->data.scene.contains("map") && fs::exists(follow_dir / "trace.tum")) {
+    r->data.scene["trajectories"].push_back({{"name", "the trace"}, {"colour", "#2a9d2a"},
+                                             {"xy", Polyline(io::ReadTum(follow_dir / "trace.tum"))}});
+  }
+  // The repeated-trace standard deviation (eval/trace_metrics.h), again.
+  double variance_sum = 0.0;
+  int stations = 0;
+  for (const std::vector<double>& row : t.rows) {
+    double sum = 0.0;
+    int n = 0;
+    for (size_t c = 1; c < row.size(); ++c) {
+      if (!std::isnan(row[c])) {
+        sum += row[c];
+        ++n;
+      }
+    }
+    if (n < 2) continue;
+    const double mean = sum / n;
+    double squares = 0.0;
+    for (size_t c = 1; c < row.size(); ++c) {
+      if (!std::isnan(row[c])) squares += (row[c] - mean) * (row[c] - mean);
+    }
+    variance_sum += squares / n;
+    ++stations;
+  }
+  if (stations > 0) {
+    AddFigure(r, key_prefix + "repeat_std_m", "repeated-trace standard deviation",
+              std::sqrt(variance_sum / stations), "m", 1, 4);
+  }
+  r->data.scene["follow"] = follow;
+}
+
+void AddPerception(const fs::path& dir, Loaded* r) {
+  if (!r->metrics.contains("perception")) return;
+  const nlohmann::json& p = r->metrics["perception"];
+  const auto row = [&](const char* what, const char* key) {
+    if (!p.contains(key)) return;
+    const nlohmann::json& c = p[key];
+    char precision[32], recall[32];
+    std::snprintf(precision, sizeof precision, "%.1f %%", 100 * c.value("precision", 0.0));
+    std::snprintf(recall, sizeof recall, "%.1f %%", 100 * c.value("recall", 0.0));
+    r->data.perception_table.push_back({what, precision, recall,
+                                        std::to_string(c.value("true_positives", 0)),
+                                        std::to_string(c.value("false_positives", 0)),
+                                        std::to_string(c.value("false_negatives", 0))});
+  };
+  r->data.perception_table.push_back({"over " + std::to_string(p.value("images", 0)) + " top views",
+                                      "precision", "recall", "true", "false", "missed"});
+  row("marking points", "marking_points");
+  row("slots", "slots");
+  for (const nlohmann::json& picture : p.value("pictures", nlohmann::json::array())) {
+    const fs::path file = dir / picture.value("file", "");
+    if (!fs::is_regular_file(file)) continue;
+    char caption[400];
+    std::snprintf(caption, sizeof caption, "%s (t = %.0f s: %d slots right, %d false, %d missed)",
+                  picture.value("caption", "").c_str(), picture.value("t_s", 0.0),
+                  picture.value("slots_true_positives", 0), picture.value("slots_false_positives", 0),
+                  picture.value("slots_false_negatives", 0));
+    r->data.pictures.push_back({caption, io::ReadTextFile(file)});
+  }
+}
+
+}  // namespace
+
+void SetCommandLine(int argc, char** argv) {
+  g_command_line.clear();
+  for (int i = 0; i < argc; ++i) {
+    std::string arg = i == 0 ? "parkslam" : argv[i];
+    if (arg.find_first_of(" \t'\"") != std::string::npos) arg = "'" + arg + "'";
+    g_command_line += (i > 0 ? " " : "") + arg;
+  }
+}
+
+const std::string& CommandLine() { return g_command_line; }
+
+void WriteReport(const fs::path& dir, const ReportInputs& inputs, const fs::path& out) {
+  if (!fs::is_directory(dir)) throw io::IoError(dir.string() + ": not a folder");
+  Loaded r;
+  r.metrics = nlohmann::json::object();
+  const fs::path metrics_path = dir / "metrics.json";
+  if (fs::exists(metrics_path)) r.metrics = ReadJson(metrics_path);
+  if (!r.metrics.is_object()) throw io::IoError(metrics_path.string() + ": expected a JSON object");
+  const bool follow_folder = fs::exists(dir / "lateral.csv");
+  r.data.title = follow_folder ? "parkslam follow: " + dir.filename().string()
+                               : "parkslam run: " + r.metrics.value("dataset", dir.filename().string());
+  r.data.command = r.metrics.value("command", std::string("(not recorded)"));
+  r.data.version = r.metrics.value("version", std::string(kVersion));
+  r.data.scene = nlohmann::json::object();
+  r.data.scene["trajectories"] = nlohmann::json::array();
+  AddMap(dir, inputs, &r);
+  AddLocalization(dir, &r);
+  AddEkf(dir, &r);
+  if (follow_folder) {
+    AddFollow(dir, "", &r);
+  } else {
+    AddFollow(dir / "follow", "trace_following.", &r);
+  }
+  AddPerception(dir, &r);
+  r.data.metrics = viz::FlattenMetrics(r.metrics);
+  if (r.data.scene["trajectories"].empty()) r.data.scene.erase("trajectories");
+  if (r.data.figures.empty() && r.data.scene.empty() && r.data.metrics.empty()) {
+    throw io::IoError(dir.string() + ": nothing to report (no metrics.json, map.json, localization.csv "
+                      "or lateral.csv)");
+  }
+  io::WriteFileAtomically(out, viz::RenderReportHtml(r.data));
+}
+
+void AddReportCommand(CLI::App& app) {
+  struct Options {
+    std::string dir, out, map;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "report",
+      "Write one self-contained HTML page of a run folder (demo, follow, or a folder holding "
+      "map.json, localization.csv and the dataset): the map with true and estimated "
+      "trajectories, slots coloured by corner error, plots over time linked to the map, "
+      "follow runs, perception pictures and metrics.json (docs/report.md)");
+  cmd->add_option("DIR", options->dir, "Run folder")->required();
+  cmd->add_option("--out", options->out, "HTML file to write (default: DIR/report.html)");
+  cmd->add_option("--map", options->map, "Map JSON to draw (default: DIR/map.json)");
+  cmd->callback([options] {
+    const auto start = std::chrono::steady_clock::now();
+    const fs::path out = options->out.empty() ? fs::path(options->dir) / "report.html" : fs::path(options->out);
+    ReportInputs inputs;
+    inputs.map = options->map;
+    WriteReport(options->dir, inputs, out);
+    std::printf("wrote %s (%.1f MB) in %.2f s\n", out.string().c_str(),
+                static_cast<double>(fs::file_size(out)) / 1e6,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  });
+}
+
+}  // namespace parkslam::app

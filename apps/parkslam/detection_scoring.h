@@ -1,0 +1,64 @@
+#ifndef PARKSLAM_APPS_DETECTION_SCORING_H_
+#define PARKSLAM_APPS_DETECTION_SCORING_H_
+
+// Scoring the front end's slots, marking points and IDs against a truth
+// with the DMPR-PS rule, shared by `eval-detect` and the perception part of
+// `demo` (and its report).
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "parkslam/eval/detection_metrics.h"
+#include "parkslam/perception/slot_detector.h"
+#include "parkslam/pipeline/perception_eval.h"
+
+namespace parkslam::app {
+
+struct Scores {
+  eval::DetectionCounts marking_points, slots;
+  eval::SlotCornerErrors corners;
+  eval::IdCounts ids;
+  int images = 0;
+  std::vector<double> frame_ms, fusion_ms, slots_ms, ids_ms, tags_ms;
+};
+
+double Median(std::vector<double> v);
+nlohmann::json ToJson(const Scores& s);
+void Print(const Scores& s);
+
+// The image with the truth's marking points (green circles) and the
+// detections (red points with their direction, orange entrance lines).
+cv::Mat Overlay(const cv::Mat& image, const std::vector<eval::LabelledMarkingPoint>& truth,
+                const perception::SlotDetection& detection);
+
+// What one image is scored against; the pointers are null where the truth
+// does not say (the ps2.0 labels have no corners beyond the entrance, no
+// IDs).
+struct ImageTruth {
+  std::vector<eval::LabelledMarkingPoint> points;
+  std::vector<eval::EntranceLine> entrances;
+  const std::vector<eval::SlotCornersPx>* corners = nullptr;
+  const std::vector<eval::SlotIdTruth>* ids = nullptr;
+  std::vector<eval::LabelledMarkingPoint> ignored_points;
+  std::vector<eval::EntranceLine> ignored_entrances;
+};
+
+// One image's own counts, for picking pictures.
+struct ImageScore {
+  eval::DetectionCounts marking_points, slots;
+  bool any_error() const {
+    return marking_points.false_positives + marking_points.false_negatives +
+               slots.false_positives + slots.false_negatives >
+           0;
+  }
+};
+
+// Scores one image into `scores`; returns its own counts.
+ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detection,
+                 const std::vector<SlotIdReading>& ids, double pixels_per_m, Scores* scores);
+
+}  // namespace parkslam::app
+
+#endif  // PARKSLAM_APPS_DETECTION_SCORING_H_
