@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages parkslam needs, and only those that are missing.
 # Safe to run again: with everything present it installs nothing.
+# --with-browser also installs Chromium, which the report's browser test
+# needs (scripts/test.sh asks for it; the demo does not).
 set -euo pipefail
 
 packages=(
@@ -11,6 +13,9 @@ packages=(
   fonts-noto-core fonts-open-sans fonts-cantarell fonts-roboto-unhinted
   libgtest-dev libgmock-dev libbenchmark-dev
 )
+if [ "${1:-}" = "--with-browser" ]; then
+  packages+=(chromium)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds everything (warnings are errors under CI)
-# and runs every test.
+# Installs what is missing (with Chromium, for the report's browser test),
+# builds everything (warnings are errors under CI) and runs every test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install_deps.sh
+scripts/install_deps.sh --with-browser
 scripts/build.sh
 cd build
 ctest --output-on-failure -j"$(nproc)"

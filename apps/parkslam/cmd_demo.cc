@@ -30,33 +30,6 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The localizer's estimate at each camera frame of the second drive, in the
-// lot's frame, beside the truth (docs/report.md: localization.csv).
-io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEstimate>& estimates,
-                                 const SE2& T_world_map, const Trajectory& truth) {
-  io::NumericTable log;
-  log.columns = {"t_s",      "x_m",         "y_m",      "yaw_rad",   "state",     "slots_used",
-                 "tags_used", "rejected",    "relocalized", "cov_xx", "cov_xy",    "cov_xyaw",
-                 "cov_yy",   "cov_yyaw",    "cov_yawyaw", "true_x_m", "true_y_m", "true_yaw_rad"};
-  const Eigen::Matrix2d R = T_world_map.rotation();
-  for (const localization::LocalizationEstimate& e : estimates) {
-    const std::optional<SE2> true_pose = PoseAt(truth, e.t_ns);
-    if (!true_pose) continue;
-    const SE2 T = T_world_map * e.T_map_vehicle;
-    // The covariance turned into the lot's frame: R P R^T on x, y.
-    Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
-    J.topLeftCorner<2, 2>() = R;
-    const Eigen::Matrix3d P = J * e.covariance * J.transpose();
-    log.rows.push_back({ToSeconds(e.t_ns), T.x(), T.y(), T.yaw(),
-                        static_cast<double>(static_cast<int>(e.state)),
-                        static_cast<double>(e.slots_used), static_cast<double>(e.tags_used),
-                        static_cast<double>(e.rejected), e.relocalized ? 1.0 : 0.0, P(0, 0),
-                        P(0, 1), P(0, 2), P(1, 1), P(1, 2), P(2, 2), true_pose->x(),
-                        true_pose->y(), true_pose->yaw()});
-  }
-  return log;
-}
-
 // A handful of top views of the mapping drive through the front end,
 // scored against the truth: the perception part of the report
 // (perception/*.jpg and metrics "perception").

@@ -18,7 +18,7 @@ namespace parkslam::app {
 
 void AddLocalizeCommand(CLI::App& app) {
   struct Options {
-    std::string map, dataset, out, init;
+    std::string map, dataset, out, init, log;
     bool global = false;
     int kidnap_trials = 0;
     PixelOptions pixels;
@@ -32,6 +32,9 @@ void AddLocalizeCommand(CLI::App& app) {
   cmd->add_option("--map", options->map, "Map JSON")->required();
   cmd->add_option("DIR", options->dataset, "Dataset folder")->required();
   cmd->add_option("--out", options->out, "TUM trajectory to write")->required();
+  cmd->add_option("--log", options->log,
+                  "Also write the estimate at every camera frame beside the truth, in the lot's "
+                  "frame (localization.csv for `parkslam report`; needs the dataset's ground truth)");
   AddPixelOptions(cmd, &options->pixels);
   cmd->add_option("--kidnap-trials", options->kidnap_trials,
                   "Also run this many kidnapped-robot trials on the drive: the belief is "
@@ -56,6 +59,10 @@ void AddLocalizeCommand(CLI::App& app) {
       localizer.SetPose(ParsePose(options->init, "--init"),
                         sigma.cwiseAbs2().asDiagonal());
     }
+    if (!options->log.empty() && (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map)) {
+      throw std::runtime_error(options->dataset + ": --log needs the dataset's ground truth");
+    }
+    std::vector<localization::LocalizationEstimate> estimates;
     Trajectory trajectory;
     int frames = 0, tracking = 0, lost_events = 0, relocalizations = 0;
     TimeNs last_frame_ns = 0;
@@ -73,6 +80,11 @@ void AddLocalizeCommand(CLI::App& app) {
       const auto start = std::chrono::steady_clock::now();
       const auto estimate = localizer.Process(*event);
       if (!estimate) continue;
+      if (!options->log.empty()) {
+        // Slots and tags of one camera frame come as two estimates: the last counts.
+        if (!estimates.empty() && estimates.back().t_ns == estimate->t_ns) estimates.pop_back();
+        estimates.push_back(*estimate);
+      }
       update_ms.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count());
@@ -95,6 +107,12 @@ void AddLocalizeCommand(CLI::App& app) {
                                options->map);
     }
     io::WriteTum(options->out, trajectory);
+    if (!options->log.empty()) {
+      // The map may live in its own frame: the log is in the truth's.
+      const SE2 T_world_map = eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map;
+      io::WriteNumericCsv(options->log,
+                          LocalizationLog(estimates, T_world_map, dataset.groundtruth_trajectory));
+    }
     std::sort(update_ms.begin(), update_ms.end());
     const double duration_s = ToSeconds(trajectory.back().t_ns - trajectory.front().t_ns);
     std::printf("%d camera frames, %d tracked (%.1f %%), %.1f Hz; lost %d times, "

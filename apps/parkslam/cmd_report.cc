@@ -96,9 +96,8 @@ struct Loaded {
 
 void AddFigure(Loaded* r, const std::string& key, const std::string& label, double value,
                const std::string& unit, double scale, int decimals) {
-  const double recorded = Recorded(r->metrics, key);
-  if (std::isnan(recorded)) return;  // the run did not record it: nothing to agree with
-  r->data.figures.push_back({key, label, value, recorded, unit, scale, decimals});
+  // NaN where the run did not record it (map/localize folders).
+  r->data.figures.push_back({key, label, value, Recorded(r->metrics, key), unit, scale, decimals});
 }
 
 void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
@@ -106,7 +105,7 @@ void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
   if (!fs::exists(map_path)) return;
   const SemanticMap map = io::ReadMap(map_path);
   nlohmann::json& scene = r->data.scene;
-  const fs::path dataset_dir = dir / "dataset";
+  const fs::path dataset_dir = inputs.dataset.empty() ? dir / "dataset" : inputs.dataset;
   const bool has_truth = fs::exists(dataset_dir / "groundtruth" / "map.json");
   if (!has_truth) {
     nlohmann::json slots = nlohmann::json::array();
@@ -406,7 +405,7 @@ void WriteReport(const fs::path& dir, const ReportInputs& inputs, const fs::path
 
 void AddReportCommand(CLI::App& app) {
   struct Options {
-    std::string dir, out, map;
+    std::string dir, out, map, dataset;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -418,11 +417,14 @@ void AddReportCommand(CLI::App& app) {
   cmd->add_option("DIR", options->dir, "Run folder")->required();
   cmd->add_option("--out", options->out, "HTML file to write (default: DIR/report.html)");
   cmd->add_option("--map", options->map, "Map JSON to draw (default: DIR/map.json)");
+  cmd->add_option("--dataset", options->dataset,
+                  "Dataset whose ground truth the map is judged against (default: DIR/dataset)");
   cmd->callback([options] {
     const auto start = std::chrono::steady_clock::now();
     const fs::path out = options->out.empty() ? fs::path(options->dir) / "report.html" : fs::path(options->out);
     ReportInputs inputs;
     inputs.map = options->map;
+    inputs.dataset = options->dataset;
     WriteReport(options->dir, inputs, out);
     std::printf("wrote %s (%.1f MB) in %.2f s\n", out.string().c_str(),
                 static_cast<double>(fs::file_size(out)) / 1e6,

@@ -42,7 +42,7 @@ const std::string& CommandLine();
 // name a map outside the folder (follow runs).
 struct ReportInputs {
   std::filesystem::path map;      // default: DIR/map.json
-  std::filesystem::path dataset;  // default: DIR/second_drive, else DIR/dataset
+  std::filesystem::path dataset;  // the map's ground truth; default: DIR/dataset
 };
 void WriteReport(const std::filesystem::path& dir, const ReportInputs& inputs,
                  const std::filesystem::path& out);

@@ -12,6 +12,8 @@
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/eval/trajectory_metrics.h"
 #include "parkslam/io/dataset.h"
+#include "parkslam/io/numeric_csv.h"
+#include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper.h"
 #include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/trace_following.h"
@@ -79,6 +81,12 @@ std::string DescribeMapMetrics(const eval::MapMetrics& metrics);
 
 nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& result,
                                     const pipeline::TraceFollowingOptions& options);
+
+// The localizer's estimate at each camera frame in the lot's frame
+// (T_world_map), beside the truth, as localization.csv holds it
+// (docs/report.md); frames outside the truth's time span are left out.
+io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEstimate>& estimates,
+                                 const SE2& T_world_map, const Trajectory& truth);
 
 // The trace (trace.tum), each run's true path (run_NN.tum) and estimate
 // (estimate_NN.tum), and the runs' signed lateral offsets along the trace

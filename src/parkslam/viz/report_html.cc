@@ -135,22 +135,28 @@ std::string RenderReportHtml(const ReportData& data) {
        XmlEscape(data.version) + ".</p>\n";
 
   if (!data.figures.empty()) {
-    h += "<h2>Figures</h2>\n<p>Each figure is computed again from the run's files and compared "
-         "with <code>metrics.json</code> (&#x2713;: they agree).</p>\n<table class=\"figures\">\n";
+    h += "<h2>Figures</h2>\n<p>Each figure is computed from the run's files and, where the run "
+         "recorded it, compared with <code>metrics.json</code> (&#x2713;: they agree).</p>\n"
+         "<table class=\"figures\">\n";
     for (const ReportFigure& f : data.figures) {
+      const bool recorded = std::isfinite(f.recorded);
       const double tolerance = 1e-9 * std::max(1.0, std::abs(f.recorded));
-      const bool agrees = std::abs(f.value - f.recorded) <= tolerance;
+      const bool agrees = recorded && std::abs(f.value - f.recorded) <= tolerance;
       h += "<tr><th>";
       h += XmlEscape(f.label);
-      h += "</th><td class=\"num ";
-      h += agrees ? "agree" : "disagree";
-      h += "\" data-metric=\"";
-      h += XmlEscape(f.key);
-      h += "\" data-value=\"";
-      h += Exact(f.value);
-      h += "\" data-recorded=\"";
-      h += Exact(f.recorded);
-      h += "\">";
+      if (recorded) {
+        h += "</th><td class=\"num ";
+        h += agrees ? "agree" : "disagree";
+        h += "\" data-metric=\"";
+        h += XmlEscape(f.key);
+        h += "\" data-value=\"";
+        h += Exact(f.value);
+        h += "\" data-recorded=\"";
+        h += Exact(f.recorded);
+        h += "\">";
+      } else {
+        h += "</th><td class=\"num\">";
+      }
       h += Fixed(f.value * f.scale, f.decimals);
       if (!f.unit.empty()) {
         h += ' ';

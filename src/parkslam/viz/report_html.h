@@ -32,7 +32,7 @@ struct ReportFigure {
   std::string key;       // "localization.ate_rmse_m"
   std::string label;     // "localization RMSE"
   double value = 0.0;    // as the report computed it
-  double recorded = 0.0; // as metrics.json has it
+  double recorded = 0.0; // as metrics.json has it; NaN where it does not
   std::string unit;      // shown after the value, after scaling
   double scale = 1.0;    // shown value = value * scale
   int decimals = 3;

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace parkslam::viz {
 namespace {
 
@@ -43,6 +45,11 @@ TEST(ReportHtmlTest, FiguresCarryBothValuesAndWhetherTheyAgree) {
                               "data-value=\"0.021299999999999999\""));
   EXPECT_THAT(html, HasSubstr("class=\"num disagree\" data-metric=\"map.slots_matched\" "
                               "data-value=\"139\" data-recorded=\"140\""));
+  // A figure the run did not record is shown without a comparison.
+  data.figures.push_back({"map.tags_matched", "tags mapped", 9, std::nan(""), "", 1.0, 0});
+  const std::string unrecorded = RenderReportHtml(data);
+  EXPECT_THAT(unrecorded, HasSubstr("<th>tags mapped</th><td class=\"num\">9</td>"));
+  EXPECT_THAT(unrecorded, Not(HasSubstr("data-metric=\"map.tags_matched\"")));
   data.figures.push_back({"", "nameless", 1, 1, "", 1.0, 0});
   EXPECT_THROW(RenderReportHtml(data), std::invalid_argument);
 }
