@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect make-training-set; do
+for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect make-training-set report; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -145,6 +145,18 @@ expect nonzero "not empty" -- "$PARKSLAM" make-training-set --out "$tmp/ts" --co
 expect nonzero "--kind" -- "$PARKSLAM" make-training-set --out "$tmp/ts3" --count 1 --kind faces
 expect 0 "ID crops" -- "$PARKSLAM" make-training-set --out "$tmp/ids" --count 6 --seed 3 --kind ids
 head -1 "$tmp/ids/ids/labels.csv" | grep -q "^file,text$" && pass || fail "ids/labels.csv lacks its header"
+
+# report: a demo folder, then broken inputs named by file, line and column.
+"$PARKSLAM" demo --out "$tmp/rep" --observations --consistency-runs 2 --follow-runs 1 \
+  --perception-frames 2 --world "$(dirname "$0")/../../config/worlds/small.yaml" > /dev/null 2>&1
+expect 0 "wrote .*again.html" -- "$PARKSLAM" report "$tmp/rep" --out "$tmp/rep/again.html"
+sed -i '5s/^[^,]*,/abc,/' "$tmp/rep/localization.csv"
+expect nonzero "localization.csv:5: t_s: not a number 'abc'" -- "$PARKSLAM" report "$tmp/rep" --out "$tmp/rep/bad.html"
+[ ! -e "$tmp/rep/bad.html" ] && pass || fail "report left a page behind after an error"
+echo "{" > "$tmp/rep/metrics.json"
+expect nonzero "metrics.json: not JSON \(line 2, column 1\)" -- "$PARKSLAM" report "$tmp/rep"
+expect nonzero "nothing to report" -- "$PARKSLAM" report "$tmp"
+expect nonzero "nope: not a folder" -- "$PARKSLAM" report "$tmp/nope"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -36,8 +36,13 @@ std::string g_command_line;
 nlohmann::json ReadJson(const fs::path& path) {
   try {
     return nlohmann::json::parse(io::ReadTextFile(path));
-  } catch (const nlohmann::json::exception& e) {
-    throw io::IoError(path.string() + ": not JSON (" + e.what() + ")");
+  } catch (const nlohmann::json::parse_error& e) {
+    // The parser's own words are for its developers; say where.
+    const std::string what = e.what();
+    const size_t at = what.find("at line ");
+    const size_t end = at == std::string::npos ? at : what.find(':', at);
+    throw io::IoError(path.string() + ": not JSON" +
+                      (at == std::string::npos ? std::string() : " (" + what.substr(at + 3, end - at - 3) + ")"));
   }
 }
 
