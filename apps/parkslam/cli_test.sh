@@ -158,5 +158,17 @@ expect nonzero "metrics.json: not JSON \(line 2, column 1\)" -- "$PARKSLAM" repo
 expect nonzero "nothing to report" -- "$PARKSLAM" report "$tmp"
 expect nonzero "nope: not a folder" -- "$PARKSLAM" report "$tmp/nope"
 
+# Outputs never replace inputs, by any name; simulate keeps a full folder.
+"$PARKSLAM" simulate --out "$tmp/g" --world "$(dirname "$0")/../../config/worlds/small.yaml" > /dev/null 2>&1
+expect nonzero "not empty.*--force" -- "$PARKSLAM" simulate --out "$tmp/g"
+expect nonzero "lies inside the input DIR" -- "$PARKSLAM" odometry "$tmp/g" --out "$tmp/g/sensors/wheel_speed.csv"
+expect nonzero "lies inside the input DIR" -- "$PARKSLAM" map "$tmp/g" --out "$tmp/g/dataset.yaml"
+"$PARKSLAM" map "$tmp/g" --out "$tmp/gm.json" > /dev/null 2>&1
+expect nonzero "is the input MAP" -- "$PARKSLAM" render "$tmp/gm.json" --out "$tmp/new/../gm.json"
+expect nonzero "is the input --map" -- "$PARKSLAM" localize "$tmp/g" --map "$tmp/gm.json" --out "$tmp/gm.json"
+expect nonzero "is the input DIR" -- "$PARKSLAM" report "$tmp/rep" --out "$tmp/rep/map.json"
+head -c 1 "$tmp/gm.json" | grep -q "{" && pass || fail "the refused commands changed the map"
+expect 0 "written to" -- "$PARKSLAM" simulate --out "$tmp/g" --force --world "$(dirname "$0")/../../config/worlds/small.yaml"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

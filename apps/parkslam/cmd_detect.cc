@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
+#include "parkslam/io/output_guard.h"
 #include "image_files.h"
 #include "parkslam/perception/slot_detector.h"
 #include "parkslam/perception/slot_id_reader.h"
@@ -82,6 +83,7 @@ void AddDetectCommand(CLI::App& app) {
                 "Print one JSON object: marking_points (x, y, direction_rad, shape) and slots "
                 "(entrance_px, corners_px, id, id_confidence), 0-based pixels");
   cmd->callback([options] {
+    io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{options->image, "--image"}});
     const cv::Mat image = ReadImage(options->image, cv::IMREAD_UNCHANGED);
     if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
       throw std::runtime_error(options->image + ": expected an 8-bit grey or colour image");

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
+#include "parkslam/io/output_guard.h"
 #include "detection_scoring.h"
 #include "image_files.h"
 #include "parkslam/eval/detection_metrics.h"
@@ -91,6 +92,8 @@ void AddEvalDetectCommand(CLI::App& app) {
                   "chosen on the synthetic validation set)")
       ->check(CLI::Range(0.01, 0.99));
   cmd->callback([options] {
+    io::CheckOutputsSpareInputs({{options->out_dir, "--out-dir"}},
+                                {{options->ps2, "--ps2"}, {options->models, "--models"}});
     Scores scores;
     if (!options->out_dir.empty()) std::filesystem::create_directories(options->out_dir);
     pipeline::PerceptionOptions perception_options;

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/numeric_csv.h"
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/io/atomic_file.h"
@@ -120,6 +121,10 @@ void AddFollowCommand(CLI::App& app) {
   AddDetectorOption(cmd, &options->detector);
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
+    io::CheckOutputsSpareInputs({{options->out, "--out"}},
+                                {{options->map, "--map"}, {options->trace, "--trace"},
+                                 {options->scenario.world == "default" ? std::string() : options->scenario.world,
+                                  "--world"}});
     const std::filesystem::path out = options->out;
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     const SemanticMap map = io::ReadMap(options->map);

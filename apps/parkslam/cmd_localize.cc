@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/tum.h"
@@ -48,6 +49,8 @@ void AddLocalizeCommand(CLI::App& app) {
                                "without --init)");
   init->excludes(global);
   cmd->callback([options] {
+    io::CheckOutputsSpareInputs({{options->out, "--out"}, {options->log, "--log"}},
+                                {{options->dataset, "DIR"}, {options->map, "--map"}});
     const SemanticMap map = io::ReadMap(options->map);
     const io::Dataset dataset = io::ReadDataset(options->dataset);
     localization::Localizer localizer(

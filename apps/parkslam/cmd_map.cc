@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/tum.h"
@@ -51,6 +52,8 @@ void AddMapCommand(CLI::App& app) {
                   "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
                   "map frame starts at the first pose");
   cmd->callback([options] {
+    io::CheckOutputsSpareInputs({{options->out, "--out"}, {options->trajectory_out, "--trajectory-out"}},
+                                {{options->dataset, "DIR"}});
     const io::Dataset dataset = io::ReadDataset(options->dataset);
     mapping::MapperOptions mapper_options;
     mapper_options.robust =

@@ -1,6 +1,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/tum.h"
 #include "steps.h"
@@ -28,6 +29,7 @@ void AddOdometryCommand(CLI::App& app) {
   cmd->add_option("--init", options->init,
                   "Known start pose x,y,yaw in the map frame (metres, radians)");
   cmd->callback([options] {
+    io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{options->dataset, "DIR"}});
     const io::Dataset dataset = io::ReadDataset(options->dataset);
     pipeline::DeadReckoningOptions dr;
     dr.output_rate_hz = options->rate_hz;

@@ -2,6 +2,7 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/tum.h"
@@ -26,6 +27,9 @@ void AddRenderCommand(CLI::App& app) {
       ->check(CLI::Range(1.0, 200.0))
       ->capture_default_str();
   cmd->callback([options] {
+    std::vector<io::NamedPath> inputs{{options->map, "MAP"}};
+    for (const std::string& t : options->trajectories) inputs.push_back({t, "--trajectory"});
+    io::CheckOutputsSpareInputs({{options->out, "--out"}}, inputs);
     static const char* kColors[] = {"#2a9d2a", "#d62728", "#1f77b4", "#9467bd", "#ff7f0e",
                                     "#8c564b"};
     std::vector<viz::SvgTrajectory> trajectories;

@@ -18,6 +18,7 @@
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/numeric_csv.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
 #include "parkslam/viz/report_html.h"
 #include "steps.h"
@@ -427,6 +428,18 @@ void AddReportCommand(CLI::App& app) {
   cmd->callback([options] {
     const auto start = std::chrono::steady_clock::now();
     const fs::path out = options->out.empty() ? fs::path(options->dir) / "report.html" : fs::path(options->out);
+    // The page may go into the run folder, never over what it reads.
+    std::vector<io::NamedPath> read;
+    for (const char* name : {"metrics.json", "map.json", "localization.csv", "ekf_nees.csv", "lateral.csv",
+                             "odometry.tum", "trajectory.tum", "trace.tum"}) {
+      read.push_back({fs::path(options->dir) / name, "DIR"});
+    }
+    for (const char* folder : {"dataset", "follow", "perception", "second_drive"}) {
+      read.push_back({fs::path(options->dir) / folder, "DIR"});
+    }
+    read.push_back({options->map, "--map"});
+    read.push_back({options->dataset, "--dataset"});
+    io::CheckOutputsSpareInputs({{out, "--out"}}, read);
     ReportInputs inputs;
     inputs.map = options->map;
     inputs.dataset = options->dataset;

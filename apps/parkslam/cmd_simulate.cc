@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/scenario_yaml.h"
 #include "progress.h"
@@ -61,6 +62,7 @@ void AddSimulateCommand(CLI::App& app) {
     bool dump_config = false;
     bool images = false;
     double image_rate_hz = 2.0;
+    bool force = false;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -76,6 +78,9 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_option("--image-rate-hz", options->image_rate_hz, "Frame sets per second with --images")
       ->check(CLI::Range(0.1, 30.0))
       ->capture_default_str();
+  cmd->add_flag("--force", options->force,
+                "Write into a folder that is not empty, after clearing it (its old images and "
+                "data would otherwise mix with the new drive's)");
   cmd->add_flag("--dump-config", options->dump_config,
                 "Print the resolved scenario as YAML and exit (a start for your own world)");
   cmd->callback([options] {
@@ -85,11 +90,29 @@ void AddSimulateCommand(CLI::App& app) {
       return;
     }
     if (options->out.empty()) throw CLI::RequiredError("--out");
+    const std::string world = options->scenario.world == "default" ? std::string() : options->scenario.world;
+    io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{world, "--world"}});
+    std::error_code ec;
+    if (std::filesystem::exists(options->out, ec) && !std::filesystem::is_directory(options->out, ec)) {
+      throw std::runtime_error("--out " + options->out + ": a file, not a folder");
+    }
+    if (std::filesystem::is_directory(options->out, ec) && !std::filesystem::is_empty(options->out, ec)) {
+      if (!options->force) {
+        throw std::runtime_error("--out " + options->out +
+                                 ": the folder is not empty (another drive's data or images would mix "
+                                 "with this one's); choose another or add --force to clear it");
+      }
+      for (const auto& entry : std::filesystem::directory_iterator(options->out)) {
+        std::filesystem::remove_all(entry.path());
+      }
+    }
     const auto start = std::chrono::steady_clock::now();
     const io::Dataset dataset = SimulateDataset(scenario, options->seed);
     const auto simulated = std::chrono::steady_clock::now();
-    io::WriteDataset(options->out, dataset);
+    // dataset.yaml last (docs/dataset_format.md): a run killed before the
+    // end leaves a folder that reads as incomplete.
     if (options->images) WriteImages(options->out, dataset, options->image_rate_hz);
+    io::WriteDataset(options->out, dataset);
     const auto written = std::chrono::steady_clock::now();
     std::printf("%s\n", DescribeDataset(dataset).c_str());
     std::printf("simulated in %.2f s, written to %s in %.2f s\n",

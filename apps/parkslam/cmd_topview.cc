@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "commands.h"
+#include "parkslam/io/output_guard.h"
 #include "image_files.h"
 #include "parkslam/camera/homography_top_view.h"
 #include "parkslam/camera/top_view.h"
@@ -37,6 +38,10 @@ void AddTopviewCommand(CLI::App& app) {
       ->check(CLI::Range(1.0, 100.0))
       ->capture_default_str();
   cmd->callback([options] {
+    io::CheckOutputsSpareInputs({{options->out, "--out"}},
+                                {{options->front, "--front"}, {options->rear, "--rear"},
+                                 {options->left, "--left"}, {options->right, "--right"},
+                                 {options->rig == "default" ? std::string() : options->rig, "--rig"}});
     cv::Mat top;
     if (std::filesystem::is_directory(options->rig)) {
       const camera::HomographyTopView view(io::LoadHomographyRig(options->rig));

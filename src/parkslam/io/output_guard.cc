@@ -1,0 +1,57 @@
+#include "parkslam/io/output_guard.h"
+
+#include <system_error>
+
+#include "parkslam/io/io_error.h"
+
+namespace parkslam::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The path with links and dots resolved as far as it exists.
+fs::path Resolved(const fs::path& path) {
+  std::error_code ec;
+  fs::path resolved = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  return ec ? fs::absolute(path).lexically_normal() : resolved;
+}
+
+// Whether `inner` is `outer` or lies below it (resolved paths).
+bool Within(const fs::path& inner, const fs::path& outer) {
+  auto i = inner.begin();
+  for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
+    if (o->empty()) continue;  // a trailing separator
+    if (i == inner.end() || *i != *o) return false;
+  }
+  return true;
+}
+
+[[noreturn]] void Refuse(const NamedPath& output, const std::string& what, const NamedPath& input) {
+  throw IoError(output.name + " " + output.path.string() + ": " + what + " " + input.name + " " +
+                input.path.string() + " (an output never replaces or goes into an input)");
+}
+
+}  // namespace
+
+void CheckOutputsSpareInputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
+  for (const NamedPath& output : outputs) {
+    if (output.path.empty()) continue;
+    const fs::path out = Resolved(output.path);
+    std::error_code ec;
+    const bool out_exists = fs::exists(output.path, ec);
+    const bool out_is_folder = fs::is_directory(output.path, ec);
+    for (const NamedPath& input : inputs) {
+      if (input.path.empty() || !fs::exists(input.path, ec)) continue;
+      const fs::path in = Resolved(input.path);
+      // Equal once resolved (a folder not made yet, then "..", names an
+      // existing file), or the same file by identity (a hard link).
+      if (out == in || (out_exists && fs::equivalent(output.path, input.path, ec))) {
+        Refuse(output, "is the input", input);
+      }
+      if (fs::is_directory(input.path, ec) && Within(out, in)) Refuse(output, "lies inside the input", input);
+      if (out_is_folder && Within(in, out)) Refuse(output, "is a folder that holds the input", input);
+    }
+  }
+}
+
+}  // namespace parkslam::io

@@ -1,0 +1,69 @@
+#include "parkslam/io/output_guard.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "parkslam/io/io_error.h"
+
+namespace parkslam::io {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+class OutputGuardTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("output_guard_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "ds" / "sensors");
+    std::ofstream(dir_ / "ds" / "dataset.yaml") << "x";
+    std::ofstream(dir_ / "map.json") << "{}";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string ErrorOf(const fs::path& out, const std::vector<NamedPath>& inputs) {
+    try {
+      CheckOutputsSpareInputs({{out, "--out"}}, inputs);
+    } catch (const IoError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(OutputGuardTest, RefusesAnInputFileByAnyName) {
+  const std::vector<NamedPath> inputs{{dir_ / "map.json", "--map"}};
+  EXPECT_THAT(ErrorOf(dir_ / "map.json", inputs), HasSubstr("is the input --map"));
+  EXPECT_THAT(ErrorOf(dir_ / "ds" / ".." / "map.json", inputs), HasSubstr("is the input --map"));
+  // Through a folder that does not exist yet (a writer would make it).
+  EXPECT_THAT(ErrorOf(dir_ / "new" / ".." / "map.json", inputs), HasSubstr("is the input --map"));
+  fs::create_hard_link(dir_ / "map.json", dir_ / "link.json");
+  EXPECT_THAT(ErrorOf(dir_ / "link.json", inputs), HasSubstr("is the input --map"));
+  fs::create_symlink(dir_ / "map.json", dir_ / "sym.json");
+  EXPECT_THAT(ErrorOf(dir_ / "sym.json", inputs), HasSubstr("is the input --map"));
+}
+
+TEST_F(OutputGuardTest, RefusesOutputsInsideAnInputFolder) {
+  const std::vector<NamedPath> inputs{{dir_ / "ds", "DIR"}};
+  EXPECT_THAT(ErrorOf(dir_ / "ds" / "dataset.yaml", inputs), HasSubstr("lies inside the input DIR"));
+  EXPECT_THAT(ErrorOf(dir_ / "ds" / "sensors" / "new.csv", inputs), HasSubstr("lies inside the input DIR"));
+  EXPECT_THAT(ErrorOf(dir_ / "ds", inputs), HasSubstr("the input DIR"));
+  // A sibling whose name starts the same is not inside.
+  EXPECT_EQ(ErrorOf(dir_ / "ds2" / "x.tum", inputs), "");
+  EXPECT_EQ(ErrorOf(dir_ / "out.tum", inputs), "");
+}
+
+TEST_F(OutputGuardTest, RefusesAnOutputFolderHoldingAnInput) {
+  EXPECT_THAT(ErrorOf(dir_, {{dir_ / "map.json", "--map"}}), HasSubstr("is a folder that holds the input --map"));
+  // Missing inputs are the reader's business; empty paths are not given.
+  EXPECT_EQ(ErrorOf(dir_ / "out.json", {{dir_ / "absent.json", "--map"}, {"", "--trace"}}), "");
+}
+
+}  // namespace
+}  // namespace parkslam::io
