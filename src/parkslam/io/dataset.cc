@@ -51,6 +51,11 @@ struct LabelFrame {
   std::vector<int> slots;
 };
 
+// Sensor streams (docs/dataset_format.md): time starts at 0 and a stream
+// may pause for at most this long; a longer gap is a broken recording, not
+// something to dead-reckon through (it would be hours of output).
+constexpr TimeNs kMaxSensorGapNs = 10'000'000'000;
+
 std::string Where(std::size_t index, TimeNs t_ns) {
   return " (entry " + std::to_string(index) + ", t_ns " + std::to_string(t_ns) + ")";
 }
@@ -150,6 +155,12 @@ std::vector<Sample> ReadCsv(const fs::path& file, std::string_view header,
     if (!t_ns) ThrowIoError(source, n, "t_ns", "not an integer " + text::Quoted(fields[0]));
     if (!samples.empty() && *t_ns <= samples.back().t_ns) {
       ThrowIoError(source, n, "t_ns", NotIncreasing(*t_ns, samples.back().t_ns));
+    }
+    if (*t_ns < 0) ThrowIoError(source, n, "t_ns", "below zero (time starts at 0)");
+    if (!samples.empty() && *t_ns - samples.back().t_ns > kMaxSensorGapNs) {
+      ThrowIoError(source, n, "t_ns",
+                   "a gap of " + std::to_string((*t_ns - samples.back().t_ns) / 1'000'000) +
+                       " ms after the previous sample (at most 10 s; split the recording there)");
     }
     for (std::size_t c = 0; c < kValues; ++c) {
       values[c] = text::ParseFiniteDouble(fields[c + 1], source, n, names[c + 1]);

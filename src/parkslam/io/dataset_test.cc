@@ -277,6 +277,26 @@ TEST(DatasetTest, NonIncreasingTimestampsNameFileAndLine) {
                 ":4: t_ns: not strictly increasing (20000000 after 20000000)");
 }
 
+// A sample raised by 1e15 ns (still increasing) made odometry run without
+// end; a gap over 10 s, or time below zero, is refused where it is read.
+TEST(DatasetTest, LongGapsAndNegativeTimesAreRefused) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/sensors/wheel_speed.csv", "40000000,", "1000000000040000000,");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
+            (dir / "d/sensors/wheel_speed.csv").string() +
+                ":4: t_ns: a gap of 1000000000020 ms after the previous sample (at most 10 s; "
+                "split the recording there)");
+  WriteDataset(dir / "e", SampleDataset());
+  EditFile(dir / "e/sensors/wheel_speed.csv", "\n0,", "\n-5,");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "e"); }),
+            (dir / "e/sensors/wheel_speed.csv").string() + ":2: t_ns: below zero (time starts at 0)");
+  // 10 s exactly is still a pause.
+  WriteDataset(dir / "f", SampleDataset());
+  EditFile(dir / "f/sensors/wheel_speed.csv", "40000000,", "10020000000,");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "f"); }), "");
+}
+
 TEST(DatasetTest, NonIncreasingFrameTimesAreReported) {
   const TempDir dir;
   WriteDataset(dir / "d", SampleDataset());
