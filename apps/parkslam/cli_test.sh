@@ -102,7 +102,7 @@ expect 0 "wrote $tmp/overlay.png" -- "$PARKSLAM" detect --image "$tmp/top.png" -
 [ -s "$tmp/overlay.png" ] && pass || fail "no overlay written"
 expect nonzero "nope.png: no such file" -- "$PARKSLAM" detect --image "$tmp/nope.png"
 printf 'not an image' > "$tmp/fake.png"
-expect nonzero "fake.png: not a readable image" -- "$PARKSLAM" detect --image "$tmp/fake.png"
+expect nonzero "fake.png: not a PNG, JPEG, BMP or binary PNM image" -- "$PARKSLAM" detect --image "$tmp/fake.png"
 expect 0 '"slots":\{"false_negatives"' -- "$PARKSLAM" eval-detect --seed 4 --set route.laps=0 --max-frames 3 --rate-hz 0.1 --json
 expect nonzero "no labelled ps2.0 images" -- "$PARKSLAM" eval-detect --ps2 "$tmp"
 
@@ -169,6 +169,13 @@ expect nonzero "is the input --map" -- "$PARKSLAM" localize "$tmp/g" --map "$tmp
 expect nonzero "is the input DIR" -- "$PARKSLAM" report "$tmp/rep" --out "$tmp/rep/map.json"
 head -c 1 "$tmp/gm.json" | grep -q "{" && pass || fail "the refused commands changed the map"
 expect 0 "written to" -- "$PARKSLAM" simulate --out "$tmp/g" --force --world "$(dirname "$0")/../../config/worlds/small.yaml"
+
+# Images: the size is read from the header before decoding; tiny ones are named.
+printf '\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x00\x4e\x20\x00\x00\x4e\x20\x08\x00\x00\x00\x00' > "$tmp/huge.png"
+expect nonzero "huge.png: an image of 20000 x 20000 pixels" -- "$PARKSLAM" detect --image "$tmp/huge.png"
+expect nonzero "huge.png: an image of 20000 x 20000 pixels" -- "$PARKSLAM" tags --image "$tmp/huge.png"
+printf '\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\x00\x01\x00\x00\x00\x01\x08\x00\x00\x00\x00\x3a\x7e\x9b\x55\x00\x00\x00\x0a\x49\x44\x41\x54\x78\x9c\x63\x60\x00\x00\x00\x02\x00\x01\x48\xaf\xa4\x71\x00\x00\x00\x00\x49\x45\x4e\x44\xae\x42\x60\x82' > "$tmp/one.png"
+expect nonzero "one.png: an image of 1 x 1 pixels; a top view needs at least 64 x 64" -- "$PARKSLAM" detect --image "$tmp/one.png"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -85,6 +85,10 @@ void AddDetectCommand(CLI::App& app) {
   cmd->callback([options] {
     io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{options->image, "--image"}});
     const cv::Mat image = ReadImage(options->image, cv::IMREAD_UNCHANGED);
+    if (image.cols < 64 || image.rows < 64) {
+      throw std::runtime_error(options->image + ": an image of " + std::to_string(image.cols) + " x " +
+                               std::to_string(image.rows) + " pixels; a top view needs at least 64 x 64");
+    }
     if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
       throw std::runtime_error(options->image + ": expected an 8-bit grey or colour image");
     }

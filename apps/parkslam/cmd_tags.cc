@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.h"
+#include "image_files.h"
 #include "parkslam/io/rig_yaml.h"
 #include "parkslam/perception/tag_detector.h"
 
@@ -52,7 +53,7 @@ void AddTagsCommand(CLI::App& app) {
     if (!std::filesystem::exists(options->image)) {
       throw std::runtime_error(options->image + ": no such file");
     }
-    const cv::Mat grey = cv::imread(options->image, cv::IMREAD_GRAYSCALE);
+    const cv::Mat grey = ReadImage(options->image, cv::IMREAD_GRAYSCALE);
     if (grey.empty()) throw std::runtime_error(options->image + ": not a readable image");
     perception::TagDetectorOptions detector_options;
     detector_options.tag_size_m = options->tag_size_m;

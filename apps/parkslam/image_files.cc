@@ -7,11 +7,13 @@
 #include <vector>
 
 #include "parkslam/io/atomic_file.h"
+#include "parkslam/io/image_header.h"
 
 namespace parkslam::app {
 
 cv::Mat ReadImage(const std::string& path, int flags) {
   if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such file");
+  io::CheckImageSize(path);
   const cv::Mat image = cv::imread(path, flags);
   if (image.empty()) throw std::runtime_error(path + ": not a readable image");
   return image;

@@ -1,5 +1,7 @@
 #include "parkslam/io/image_folder.h"
 
+#include "parkslam/io/image_header.h"
+
 #include <opencv2/imgcodecs.hpp>
 
 #include "parkslam/camera/image_plane.h"
@@ -84,6 +86,7 @@ CameraFrame ImageFolderSource::ReadFrame(TimeNs t_ns) {
                    "no '" + name + "' image at t_ns " + std::to_string(t_ns));
     }
     const std::string path = (dir_ / it->second).string();
+    CheckImageSize(path);
     const cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
     if (image.empty()) ThrowIoError(path, 0, "", "not a readable image");
     const auto [width, height] = sizes_.at(name);
