@@ -1,12 +1,17 @@
 #include "parkslam/io/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
+#include <mutex>
+#include <set>
 #include <system_error>
 
 #include "parkslam/io/io_error.h"
@@ -18,6 +23,92 @@ namespace fs = std::filesystem;
 
 std::string ErrnoText(int error_number) {
   return std::generic_category().message(error_number);
+}
+
+// Temporaries being written, so that SIGINT, SIGTERM and SIGHUP remove
+// them before the process ends (a killed run leaves no *.tmp.* litter):
+// fixed slots of plain characters, as a signal handler may only read
+// memory and call unlink().
+constexpr int kTemporarySlots = 64;
+constexpr std::size_t kSlotBytes = 4096;
+std::array<std::atomic<bool>, kTemporarySlots> g_slot_claimed{};  // owned by a writer
+std::array<std::atomic<bool>, kTemporarySlots> g_slot_visible{};  // its path is complete
+std::array<std::array<char, kSlotBytes>, kTemporarySlots> g_slot_path{};
+
+extern "C" void RemoveTemporariesAndDie(int signal_number) {
+  for (int k = 0; k < kTemporarySlots; ++k) {
+    if (g_slot_visible[k].load()) ::unlink(g_slot_path[k].data());
+  }
+  ::signal(signal_number, SIG_DFL);
+  ::raise(signal_number);
+}
+
+void InstallCleanupOnce() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+      struct sigaction action {};
+      struct sigaction previous {};
+      ::sigaction(signal_number, nullptr, &previous);
+      // Leave a handler the program installed itself alone.
+      if (previous.sa_handler != SIG_DFL) continue;
+      action.sa_handler = RemoveTemporariesAndDie;
+      ::sigemptyset(&action.sa_mask);
+      ::sigaction(signal_number, &action, nullptr);
+    }
+  });
+}
+
+// The slot holding `temporary`, or -1 when all are taken or the path is too
+// long (then a signal leaves it, and the next write removes it as stale).
+int Register(const fs::path& temporary) {
+  const std::string& text = temporary.native();
+  if (text.size() + 1 > kSlotBytes) return -1;
+  for (int k = 0; k < kTemporarySlots; ++k) {
+    bool expected = false;
+    if (!g_slot_claimed[k].compare_exchange_strong(expected, true)) continue;
+    std::memcpy(g_slot_path[k].data(), text.c_str(), text.size() + 1);
+    g_slot_visible[k].store(true);
+    return k;
+  }
+  return -1;
+}
+
+void Unregister(int slot) {
+  if (slot < 0) return;
+  g_slot_visible[slot].store(false);
+  g_slot_claimed[slot].store(false);
+}
+
+// Temporaries of `path` left by a process that no longer runs (killed
+// with SIGKILL, or a power cut): "<name>.tmp.<pid>.<n>" with no such pid.
+// Each folder is looked through once per process.
+void RemoveStaleTemporaries(const fs::path& path) {
+  static std::mutex mutex;
+  static std::set<fs::path> seen;
+  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!seen.insert(folder).second) return;
+  }
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const size_t at = name.rfind(".tmp.");
+    if (at == std::string::npos) continue;
+    const std::string rest = name.substr(at + 5);
+    const size_t dot = rest.find('.');
+    if (dot == std::string::npos || dot == 0) continue;
+    const std::string pid_text = rest.substr(0, dot);
+    if (pid_text.find_first_not_of("0123456789") != std::string::npos ||
+        rest.substr(dot + 1).find_first_not_of("0123456789") != std::string::npos || pid_text.size() > 9) {
+      continue;
+    }
+    const pid_t pid = static_cast<pid_t>(std::stol(pid_text));
+    if (pid == ::getpid() || (::kill(pid, 0) != 0 && errno == ESRCH)) {
+      if (pid != ::getpid()) fs::remove(it->path(), ec);
+    }
+  }
 }
 
 // A name no other writer in this or another process uses at the same time.
@@ -61,7 +152,14 @@ void CreateParentFolders(const fs::path& path) {
 
 void WriteFileAtomically(const fs::path& path, std::string_view content) {
   CreateParentFolders(path);
+  InstallCleanupOnce();
+  RemoveStaleTemporaries(path);
   const fs::path temporary = TemporaryPathFor(path);
+  const int slot = Register(temporary);
+  struct Unregistered {
+    int slot;
+    ~Unregistered() { Unregister(slot); }
+  } unregistered{slot};
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC,
                         0644);
   if (fd < 0) {
