@@ -128,7 +128,7 @@ void AddDemoCommand(CLI::App& app) {
       "map, localize a second drive on it, follow the recorded drive autonomously, measure "
       "everything and draw it.");
   cmd->add_option("--out", options->out, "Output folder")->required();
-  cmd->add_option("--seed", options->seed, "Random seed")->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Random seed")->check(SeedValidator())->capture_default_str();
   cmd->add_option("--consistency-runs", options->consistency_runs,
                   "Monte-Carlo runs for the EKF consistency (NEES) check; 0 skips it")
       ->check(CLI::Range(0, 1000))

@@ -51,7 +51,7 @@ void AddEvalDetectCommand(CLI::App& app) {
       "for 10 m): on top views rendered along a simulated drive against the simulator's truth, "
       "or on labelled ps2.0 images (--ps2)");
   AddScenarioOptions(cmd, &options->scenario);
-  cmd->add_option("--seed", options->seed, "Drive seed")->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Drive seed")->check(SeedValidator())->capture_default_str();
   cmd->add_option("--rate-hz", options->rate_hz, "Frames per second of the drive to score")
       ->check(CLI::Range(0.01, 30.0))
       ->capture_default_str();

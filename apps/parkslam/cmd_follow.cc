@@ -107,6 +107,7 @@ void AddFollowCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--seed", options->seed, "Seed of the first run (run r uses seed + r); also "
                   "the seed of the recorded human drive")
+      ->check(SeedValidator())
       ->capture_default_str();
   cmd->add_option("--trace", options->trace,
                   "Trace to follow, TUM in the map's frame (default: the recorded human drive "

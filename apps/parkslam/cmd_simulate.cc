@@ -70,7 +70,7 @@ void AddSimulateCommand(CLI::App& app) {
       "Simulate a drive through a parking lot and write it as a dataset with ground truth");
   AddScenarioOptions(cmd, &options->scenario);
   cmd->add_option("--seed", options->seed, "Random seed (same seed, same data)")
-      ->capture_default_str();
+      ->check(SeedValidator())->capture_default_str();
   cmd->add_option("--out", options->out, "Dataset folder to write");
   cmd->add_flag("--images", options->images,
                 "Also render the four fisheye and the front camera along the drive (JPEG, "

@@ -55,6 +55,10 @@ struct ScenarioOptions {
   double id_partial_rate = -1.0;
 };
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options);
+
+// A seed: a whole number from 0 to 2^64 - 1, written as such ("-1" would
+// otherwise wrap around to 2^64 - 1 without a word).
+const CLI::Validator& SeedValidator();
 sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options);
 
 // Where the cameras' frames come from for `map` and `localize`: rendered

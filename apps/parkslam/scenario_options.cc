@@ -6,6 +6,20 @@
 
 namespace parkslam::app {
 
+const CLI::Validator& SeedValidator() {
+  static const CLI::Validator validator(
+      [](const std::string& text) -> std::string {
+        const std::string max = "18446744073709551615";
+        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos ||
+            text.size() > max.size() || (text.size() == max.size() && text > max)) {
+          return "a seed is a whole number from 0 to 18446744073709551615, got '" + text + "'";
+        }
+        return "";
+      },
+      "SEED");
+  return validator;
+}
+
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
   command->add_option("--world", options->world,
                       "Built-in world `default` or a scenario YAML file")
