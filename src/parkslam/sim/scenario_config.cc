@@ -187,8 +187,11 @@ bool ScenarioConfig::IsValid(std::string* error) const {
   Checker checker(error);
   CheckWorld(world, checker);
   CheckRoute(route, checker);
+  // The vehicle's own message, taken only after IsValid wrote it.
   std::string vehicle_error;
-  checker.Require(vehicle.IsValid(&vehicle_error), "vehicle", vehicle_error.c_str());
+  const bool vehicle_ok = vehicle.IsValid(&vehicle_error);
+  if (vehicle_error.rfind("vehicle.", 0) == 0) vehicle_error.erase(0, 8);
+  checker.Require(vehicle_ok, "vehicle", vehicle_error.c_str());
   CheckSensors(sensors, checker);
   return checker.ok();
 }

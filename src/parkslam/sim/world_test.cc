@@ -131,6 +131,16 @@ TEST(WorldTest, OverlappingIdRangesAreRejected) {
   EXPECT_TRUE(config.IsValid(&error)) << error;
 }
 
+// The vehicle's message reaches the scenario's (it once printed garbage:
+// a pointer into the message taken before the message was written).
+TEST(WorldTest, InvalidVehicleIsNamedWithItsOwnMessage) {
+  ScenarioConfig config = DefaultScenario();
+  config.vehicle.wheelbase_m = -1.0;
+  std::string error;
+  EXPECT_FALSE(config.IsValid(&error));
+  EXPECT_EQ(error, "vehicle: wheelbase_m must be in (0.5, 10)");
+}
+
 TEST(WorldTest, PillarBlocksLineOfSight) {
   World world;
   world.pillars.push_back({{5.0, 0.0}, 0.3});
