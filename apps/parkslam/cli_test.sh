@@ -177,6 +177,8 @@ expect nonzero "huge.png: an image of 20000 x 20000 pixels" -- "$PARKSLAM" tags 
 printf '\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\x00\x01\x00\x00\x00\x01\x08\x00\x00\x00\x00\x3a\x7e\x9b\x55\x00\x00\x00\x0a\x49\x44\x41\x54\x78\x9c\x63\x60\x00\x00\x00\x02\x00\x01\x48\xaf\xa4\x71\x00\x00\x00\x00\x49\x45\x4e\x44\xae\x42\x60\x82' > "$tmp/one.png"
 expect nonzero "one.png: an image of 1 x 1 pixels; a top view needs at least 64 x 64" -- "$PARKSLAM" detect --image "$tmp/one.png"
 
+expect nonzero "initial-trust-region.*1e-32 to 1e16" -- "$PARKSLAM" map "$tmp/g" --out "$tmp/tr.json" --initial-trust-region 1e300
+
 # Seeds are whole numbers in range, never wrapped around.
 expect nonzero "a seed is a whole number.*'-1'" -- "$PARKSLAM" simulate --seed -1 --out "$tmp/s1"
 expect nonzero "a seed is a whole number.*'18446744073709551616'" -- "$PARKSLAM" simulate --seed 18446744073709551616 --out "$tmp/s1"

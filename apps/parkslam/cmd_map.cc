@@ -45,7 +45,15 @@ void AddMapCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--initial-trust-region", options->initial_trust_region,
                   "Initial trust-region radius of the final solve")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            double v = 0.0;
+            if (!CLI::detail::lexical_cast(text, v) || !(v >= 1e-32 && v <= 1e16)) {
+              return "must be a number from 1e-32 to 1e16 (the solver's own bounds), got " + text;
+            }
+            return "";
+          },
+          "1e-32..1e16"))
       ->capture_default_str();
   AddPixelOptions(cmd, &options->pixels);
   cmd->add_option("--init", options->init,

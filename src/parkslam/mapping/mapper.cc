@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -77,8 +78,12 @@ bool MapperOptions::IsValid(std::string* error) const {
   if (!(merge_distance_m >= 0 && min_observations >= 1 && id_min_votes > 0))
     return fail("slot management thresholds out of range");
   if (!(window_keyframes >= 2 && online_iterations >= 1 && batch_window_every >= 1 &&
-        final_iterations >= 1 && final_rounds >= 1 && initial_trust_region_radius > 0))
+        final_iterations >= 1 && final_rounds >= 1))
     return fail("solver settings out of range");
+  // Ceres refuses a first radius outside its own bounds (min 1e-32, max
+  // 1e16) and would leave the map unsolved without a word.
+  if (!(initial_trust_region_radius >= 1e-32 && initial_trust_region_radius <= 1e16))
+    return fail("initial_trust_region_radius must be in [1e-32, 1e16]");
   return true;
 }
 
@@ -454,6 +459,9 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
   solver_options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
+  if (summary.termination_type == ceres::FAILURE) {
+    throw std::runtime_error("Mapper: the solver refused to run or failed: " + summary.message);
+  }
   if (final) {
     stats_.final_iterations += static_cast<int>(summary.iterations.size());
     stats_.final_cost = summary.final_cost;

@@ -282,6 +282,15 @@ TEST(MapperTest, InvalidOptionsThrow) {
   MapperOptions o;
   o.null_weight = 0.0;
   EXPECT_THROW(Mapper(o, {}, SE2()), std::invalid_argument);
+  // A first trust region Ceres would refuse (it once left the map unsolved
+  // and the command exited 0).
+  for (const double radius : {1e300, 1e-40}) {
+    MapperOptions t;
+    t.initial_trust_region_radius = radius;
+    std::string error;
+    EXPECT_FALSE(t.IsValid(&error));
+    EXPECT_EQ(error, "initial_trust_region_radius must be in [1e-32, 1e16]");
+  }
 }
 
 }  // namespace
