@@ -6,6 +6,7 @@
 
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
+#include "parkslam/control/safety_supervisor.h"
 #include "parkslam/control/trace.h"
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/pipeline/dead_reckoning.h"
@@ -52,7 +53,7 @@ class PoseSource {
   }
 
   // Feeds an event; true at a camera frame (with the estimate in *pose).
-  bool Process(const SensorEvent& event, SE2* pose, bool* lost) {
+  bool Process(const SensorEvent& event, SE2* pose, bool* lost, int* used = nullptr, int* rejected = nullptr) {
     const bool frame = std::holds_alternative<SlotObservationFrame>(event) ||
                        std::holds_alternative<TagObservationFrame>(event);
     if (odometry_only_) {
@@ -65,10 +66,16 @@ class PoseSource {
     if (!estimate) return false;
     *pose = estimate->T_map_vehicle;
     *lost = estimate->state != localization::LocalizerState::kTracking;
+    if (used != nullptr) *used = estimate->slots_used + estimate->tags_used;
+    if (rejected != nullptr) *rejected = estimate->rejected;
     return true;
   }
 
   SE2 Now() const { return odometry_only_ ? ekf_->pose() : localizer_->PredictedPose(); }
+  // The position covariance of the last estimate (m^2).
+  Eigen::Matrix2d PositionCovariance() const {
+    return odometry_only_ ? Eigen::Matrix2d::Zero() : Eigen::Matrix2d(localizer_->covariance().topLeftCorner<2, 2>());
+  }
 
  private:
   bool odometry_only_;
@@ -123,6 +130,10 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
     PoseSource source(map, options, odometry_options, T_map_world * start_world,
                       start_covariance, simulator.time_ns());
     control::PathFollower follower(trace, scenario.vehicle, options.follower);
+    // Dead reckoning alone never knows it is lost: no supervisor there.
+    const bool supervised = options.safety_stop && !options.odometry_only;
+    control::SafetySupervisor supervisor(options.safety);
+    bool kidnapped = false;
 
     TraceRun run;
     const double dt_s = 1.0 / 100.0;
@@ -131,15 +142,39 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
     TimeNs next_record_ns = 0, next_image_ns = 0;
     std::vector<SensorEvent> events;
     while (true) {
+      const double t_s = ToSeconds(simulator.time_ns());
+      if (options.kidnap_at_s >= 0.0 && !kidnapped && t_s >= options.kidnap_at_s) {
+        // The car itself moved (not only the belief): a closed-loop kidnap.
+        const Eigen::Vector3d& d = options.kidnap_offset;
+        simulator.Teleport(simulator.state().T_map_vehicle * SE2(d.x(), d.y(), d.z()));
+        kidnapped = true;
+      }
+      const double allowed_mps =
+          supervised ? supervisor.AllowedSpeed(simulator.time_ns(), dt_s, cruise_mps) : cruise_mps;
+      if (supervised && allowed_mps == 0.0) run.stopped_s += dt_s;
       const control::PathFollower::Command command =
-          follower.Update(source.Now(), measured_speed, dt_s, cruise_mps);
-      const sim::VehicleState& state =
-          simulator.Step(command.speed_mps, command.road_wheel_angle_rad, &events);
+          follower.Update(source.Now(), measured_speed, dt_s, allowed_mps);
+      // While the supervisor brakes, its speed is a hard cap and the brakes
+      // may work harder than the driver's comfort limit.
+      const bool braking = supervised && supervisor.Braking(simulator.time_ns());
+      simulator.SetMaxDecel(braking ? options.safety.brake_decel_mps2 : 0.0);
+      const sim::VehicleState& state = simulator.Step(std::min(command.speed_mps, allowed_mps),
+                                                      command.road_wheel_angle_rad, &events);
+      if (options.blackout_from_s >= 0.0 && ToSeconds(state.t_ns) >= options.blackout_from_s &&
+          ToSeconds(state.t_ns) < options.blackout_to_s) {
+        // The cameras see nothing: no slot or tag frame reaches the localizer.
+        std::erase_if(events, [](const SensorEvent& e) {
+          return std::holds_alternative<SlotObservationFrame>(e) ||
+                 std::holds_alternative<TagObservationFrame>(e);
+        });
+      }
       if (state.t_ns >= next_record_ns) {
         run.truth_world.push_back({state.t_ns, state.T_map_vehicle});
         next_record_ns = state.t_ns + FromSeconds(kTruthRecordPeriodS);
       }
-      if (renderer) {
+      const bool blackout = options.blackout_from_s >= 0.0 && ToSeconds(state.t_ns) >= options.blackout_from_s &&
+                            ToSeconds(state.t_ns) < options.blackout_to_s;
+      if (renderer && !blackout) {
         // On pixels: only what the cameras see reaches the localizer.
         std::erase_if(events, [](const SensorEvent& e) {
           return std::holds_alternative<SlotObservationFrame>(e) ||
@@ -158,7 +193,9 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
         if (const auto* w = std::get_if<WheelSpeed>(&event)) measured_speed = w->speed_mps;
         SE2 estimate;
         bool lost = false;
-        if (!source.Process(event, &estimate, &lost)) continue;
+        int used = 1, rejected = 0;
+        if (!source.Process(event, &estimate, &lost, &used, &rejected)) continue;
+        supervisor.OnEstimate(EventTime(event), !lost, source.PositionCovariance(), used, rejected);
         AppendOrReplaceLast(&run.estimate_map, {EventTime(event), estimate});
         run.lost_frames += lost;
         // The truth of this frame in the map frame.
@@ -175,6 +212,7 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
       }
       if (run.duration_s > timeout_s) break;
     }
+    run.safety_interventions = supervisor.interventions();
     run.localization_rmse_m = run_n > 0 ? std::sqrt(run_loc2 / run_n) : 0.0;
     run.localization_yaw_rmse_rad = run_n > 0 ? std::sqrt(run_yaw2 / run_n) : 0.0;
     loc_sum2 += run_loc2;

@@ -14,6 +14,7 @@
 
 #include "parkslam/common/trajectory.h"
 #include "parkslam/control/path_follower.h"
+#include "parkslam/control/safety_supervisor.h"
 #include "parkslam/eval/trace_metrics.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/map/semantic_map.h"
@@ -42,6 +43,17 @@ struct TraceFollowingOptions {
   PerceptionOptions perception;  // the front end on those frames
   control::PathFollowerOptions follower;
   localization::LocalizerOptions localizer;
+  // The car brakes to a stop when localization is lost, too uncertain or
+  // stale, and goes on when it is back (control/safety_supervisor.h).
+  bool safety_stop = true;
+  control::SafetyOptions safety;
+  // Faults for tests (times from the run's start; < 0: none): the car
+  // itself jumps by kidnap_offset (x, y, yaw in its own frame) at
+  // kidnap_at_s; no slot or tag frame is seen in [blackout_from_s,
+  // blackout_to_s).
+  double kidnap_at_s = -1.0;
+  Eigen::Vector3d kidnap_offset = Eigen::Vector3d::Zero();
+  double blackout_from_s = -1.0, blackout_to_s = -1.0;
 };
 
 struct TraceRun {
@@ -53,6 +65,8 @@ struct TraceRun {
   double localization_yaw_rmse_rad = 0.0;
   int lost_frames = 0;
   int camera_frames = 0;        // rendered live
+  int safety_interventions = 0; // times the supervisor made the car stop
+  double stopped_s = 0.0;       // time held at a standstill by it
 };
 
 struct TraceFollowingResult {

@@ -80,7 +80,7 @@ const VehicleState& LiveSimulator::Step(double speed_command_mps,
   const RouteConfig& limits = scenario_.route;
   const double speed_mps =
       LimitSpeed(state_.speed_mps, speed_command_mps, limits.max_accel_mps2 * step_s_,
-                 limits.max_decel_mps2 * step_s_);
+                 (max_decel_mps2_ > 0.0 ? max_decel_mps2_ : limits.max_decel_mps2) * step_s_);
   const double angle_rad = LimitSteering(state_.road_wheel_angle_rad,
                                          road_wheel_angle_command_rad, step_s_,
                                          scenario_.vehicle);

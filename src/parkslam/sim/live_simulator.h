@@ -54,6 +54,11 @@ class LiveSimulator {
   const VehicleState& Step(double speed_command_mps, double road_wheel_angle_command_rad,
                            std::vector<SensorEvent>* events);
 
+  // The hardest the car slows down (m/s^2): by default the route's
+  // max_decel_mps2 (a driver's comfort); a controller that must stop (a
+  // safety stop) may brake harder. <= 0 restores the route's.
+  void SetMaxDecel(double decel_mps2) { max_decel_mps2_ = decel_mps2; }
+
   // A kidnap: the true pose jumps to T_map_vehicle, speed and steering are
   // kept; the sensors go on from the new pose.
   void Teleport(const SE2& T_map_vehicle);
@@ -66,6 +71,7 @@ class LiveSimulator {
   const std::vector<int>& last_slot_labels() const { return last_slot_labels_; }
 
  private:
+  double max_decel_mps2_ = 0.0;  // <= 0: the route's
   // One sensor's sample clock: sample k is due at
   // FromSeconds((k + phase) * period_s), as in the batch simulator.
   struct SampleClock {

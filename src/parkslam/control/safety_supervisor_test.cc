@@ -1,0 +1,109 @@
+#include "parkslam/control/safety_supervisor.h"
+
+#include <gtest/gtest.h>
+
+namespace parkslam::control {
+namespace {
+
+const Eigen::Matrix2d kSmall = Eigen::Matrix2d::Identity() * 0.01;  // 0.1 m sigma
+
+// Drives the supervisor at 100 Hz from t0 to t1 (s) with an estimate every
+// 0.2 s as `estimate(t)` says; returns the last allowed speed.
+template <typename Estimate>
+double Drive(SafetySupervisor* supervisor, double t0, double t1, double cruise, Estimate estimate, double* stopped_at = nullptr) {
+  double v = 0.0;
+  for (int k = static_cast<int>(t0 * 100); k < static_cast<int>(t1 * 100); ++k) {
+    const double t = k / 100.0;
+    if (k % 20 == 0) estimate(supervisor, t);
+    v = supervisor->AllowedSpeed(FromSeconds(t), 0.01, cruise);
+    if (stopped_at != nullptr && v == 0.0 && *stopped_at < 0) *stopped_at = t;
+  }
+  return v;
+}
+
+TEST(SafetySupervisorTest, CruisesWhileLocalizationIsHealthy) {
+  SafetySupervisor s;
+  const double v = Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) {
+    e->OnEstimate(FromSeconds(t), true, kSmall);
+  });
+  EXPECT_DOUBLE_EQ(v, 2.78);
+  EXPECT_EQ(s.interventions(), 0);
+}
+
+TEST(SafetySupervisorTest, BrakesToAStopWhenLostAndGoesOnWhenBack) {
+  SafetySupervisor s;
+  Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  double stopped_at = -1.0;
+  // Lost from t = 10 s: 2.78 m/s at 2.5 m/s^2 stops in 1.11 s.
+  Drive(&s, 10.0, 20.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), false, kSmall); },
+      &stopped_at);
+  EXPECT_NEAR(stopped_at, 10.0 + 2.78 / 2.5, 0.02);
+  EXPECT_EQ(s.interventions(), 1);
+  // Tracking again from t = 20 s: waits resume_after_s, then 1 m/s^2.
+  const double v_soon = Drive(&s, 20.0, 20.9, 2.78, [](SafetySupervisor* e, double t) {
+    e->OnEstimate(FromSeconds(t), true, kSmall);
+  });
+  EXPECT_DOUBLE_EQ(v_soon, 0.0);
+  const double v_later = Drive(&s, 20.9, 22.5, 2.78, [](SafetySupervisor* e, double t) {
+    e->OnEstimate(FromSeconds(t), true, kSmall);
+  });
+  EXPECT_NEAR(v_later, 1.5, 0.02);  // 1 m/s^2 from 21.0 s to 22.5 s
+}
+
+TEST(SafetySupervisorTest, StopsWhenEstimatesStopComingOrGrowUncertain) {
+  SafetySupervisor blackout;
+  Drive(&blackout, 0.0, 5.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  double stopped_at = -1.0;
+  Drive(&blackout, 5.0, 10.0, 2.78, [](SafetySupervisor*, double) {}, &stopped_at);
+  // The last estimate at 4.8 s is too old from 5.4 s on; then 1.11 s of braking.
+  EXPECT_NEAR(stopped_at, 4.8 + 0.6 + 2.78 / 2.5, 0.03);
+
+  SafetySupervisor uncertain;
+  Drive(&uncertain, 0.0, 5.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  EXPECT_GT(Drive(&uncertain, 5.0, 6.0, 2.78, [](SafetySupervisor* e, double t) {
+              e->OnEstimate(FromSeconds(t), true, Eigen::Matrix2d::Identity() * 0.2);  // 0.45 m
+            }), 2.7);
+  EXPECT_EQ(Drive(&uncertain, 6.0, 8.0, 2.78, [](SafetySupervisor* e, double t) {
+              e->OnEstimate(FromSeconds(t), true, Eigen::Matrix2d::Identity() * 0.3);  // 0.55 m
+            }), 0.0);
+}
+
+TEST(SafetySupervisorTest, ABriefLossStillEndsInAFullStop) {
+  SafetySupervisor s;
+  Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  double stopped_at = -1.0;
+  // One lost estimate at 10.0 s, tracking again from 10.2 s.
+  Drive(&s, 10.0, 14.0, 2.78, [](SafetySupervisor* e, double t) {
+    e->OnEstimate(FromSeconds(t), t > 10.1, kSmall);
+  }, &stopped_at);
+  EXPECT_NEAR(stopped_at, 10.0 + 2.78 / 2.5, 0.02);
+  EXPECT_EQ(s.interventions(), 1);
+}
+
+TEST(SafetySupervisorTest, FramesThatRejectEverythingStopTheCar) {
+  SafetySupervisor s;
+  Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  double stopped_at = -1.0;
+  // From 10 s every frame rejects its 4 observations; the third (10.4 s)
+  // makes it unhealthy.
+  Drive(&s, 10.0, 14.0, 2.78, [](SafetySupervisor* e, double t) {
+    e->OnEstimate(FromSeconds(t), true, kSmall, 0, 4);
+  }, &stopped_at);
+  EXPECT_NEAR(stopped_at, 10.4 + 2.78 / 2.5, 0.02);
+  // Two such frames alone do not.
+  SafetySupervisor two;
+  Drive(&two, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) {
+    const bool bad = t >= 5.0 && t < 5.3;
+    e->OnEstimate(FromSeconds(t), true, kSmall, bad ? 0 : 3, bad ? 2 : 0);
+  });
+  EXPECT_EQ(two.interventions(), 0);
+}
+
+TEST(SafetySupervisorTest, InvalidOptionsThrow) {
+  SafetyOptions o;
+  o.brake_decel_mps2 = 0.0;
+  EXPECT_THROW(SafetySupervisor{o}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace parkslam::control
