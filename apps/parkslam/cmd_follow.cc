@@ -178,7 +178,9 @@ void AddFollowCommand(CLI::App& app) {
                   result.metrics.repeat_std_m);
     svg.title = title;
     io::WriteFileAtomically(out / "traces.svg", viz::RenderMapSvg(map, drawn, svg));
-    const nlohmann::json j = TraceFollowingToJson(result, follow);
+    nlohmann::json j = TraceFollowingToJson(result, follow);
+    // Where the map was, for `parkslam report` of this folder.
+    j["map"] = std::filesystem::absolute(options->map).string();
     io::WriteFileAtomically(out / "metrics.json", j.dump(2) + "\n");
     if (options->json) {
       std::cout << j.dump() << "\n";

@@ -107,7 +107,11 @@ void AddFigure(Loaded* r, const std::string& key, const std::string& label, doub
 }
 
 void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
-  const fs::path map_path = inputs.map.empty() ? dir / "map.json" : inputs.map;
+  fs::path map_path = inputs.map.empty() ? dir / "map.json" : inputs.map;
+  // A follow folder names the map it ran on.
+  if (inputs.map.empty() && !fs::exists(map_path) && r->metrics.contains("map") && r->metrics["map"].is_string()) {
+    map_path = r->metrics["map"].get<std::string>();
+  }
   if (!fs::exists(map_path)) return;
   const SemanticMap map = io::ReadMap(map_path);
   nlohmann::json& scene = r->data.scene;
@@ -302,7 +306,8 @@ void AddFollow(const fs::path& follow_dir, const std::string& key_prefix, Loaded
                                                {"width", 1.0}, {"xy", Polyline(io::ReadTum(run))}});
     }
   }
-  if (!r->data.scene.contains("map") && fs::exists(follow_dir / "trace.tum")) {
+  // A follow folder's trace (the demo draws its mapping drive, the same).
+  if (key_prefix.empty() && fs::exists(follow_dir / "trace.tum")) {
     r->data.scene["trajectories"].push_back({{"name", "the trace"}, {"colour", "#2a9d2a"},
                                              {"xy", Polyline(io::ReadTum(follow_dir / "trace.tum"))}});
   }

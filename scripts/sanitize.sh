@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Builds everything with AddressSanitizer and UndefinedBehaviorSanitizer in
+# build-asan/ (RelWithDebInfo, no benchmarks) and runs every test there.
+# Extra arguments go to ctest (e.g. -R io_test).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPARKSLAM_SANITIZE=ON \
+  -DPARKSLAM_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build build-asan -j"$(nproc)"
+# Leaks of libraries' own one-time allocations (fontconfig, OpenCV's
+# thread pools) are not ours: leak checking is off, the rest is on.
+export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+cd build-asan
+ctest --output-on-failure -j"$(nproc)" "$@"
