@@ -52,6 +52,7 @@ nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint6
   };
   std::vector<Sample> samples;
   const TimeNs span = truth.back().t_ns - truth.front().t_ns;
+  Progress progress("  frames", frames);
   for (int k = 0; k < frames; ++k) {
     const TimeNs t = truth.front().t_ns + span * (2 * k + 1) / (2 * frames);
     const SE2 pose = *PoseAt(truth, t);
@@ -62,7 +63,9 @@ nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint6
                                  tv.ignored_points, tv.ignored_entrances};
     const ImageScore score = Score(image_truth, out.detection, out.ids, pixels_per_m, &scores);
     samples.push_back({ToSeconds(t - truth.front().t_ns), score, Overlay(out.top_view, tv.marking_points, out.detection)});
+    progress.Update(k + 1);
   }
+  progress.Finish();
   // Best: most slots right with no error; worst: most errors; missed: the
   // frame that misses the most slots.
   const auto errors = [](const ImageScore& s) {
