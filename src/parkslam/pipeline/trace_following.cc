@@ -160,34 +160,28 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
       simulator.SetMaxDecel(braking ? options.safety.brake_decel_mps2 : 0.0);
       const sim::VehicleState& state = simulator.Step(std::min(command.speed_mps, allowed_mps),
                                                       command.road_wheel_angle_rad, &events);
-      if (options.blackout_from_s >= 0.0 && ToSeconds(state.t_ns) >= options.blackout_from_s &&
-          ToSeconds(state.t_ns) < options.blackout_to_s) {
-        // The cameras see nothing: no slot or tag frame reaches the localizer.
-        std::erase_if(events, [](const SensorEvent& e) {
-          return std::holds_alternative<SlotObservationFrame>(e) ||
-                 std::holds_alternative<TagObservationFrame>(e);
-        });
-      }
       if (state.t_ns >= next_record_ns) {
         run.truth_world.push_back({state.t_ns, state.T_map_vehicle});
         next_record_ns = state.t_ns + FromSeconds(kTruthRecordPeriodS);
       }
-      const bool blackout = options.blackout_from_s >= 0.0 && ToSeconds(state.t_ns) >= options.blackout_from_s &&
-                            ToSeconds(state.t_ns) < options.blackout_to_s;
-      if (renderer && !blackout) {
-        // On pixels: only what the cameras see reaches the localizer.
+      const double now_s = ToSeconds(state.t_ns);
+      // A blackout: the cameras see nothing, no slot or tag frame reaches
+      // the localizer. On pixels only what the cameras see reaches it.
+      const bool blackout = options.blackout_from_s >= 0.0 && now_s >= options.blackout_from_s &&
+                            now_s < options.blackout_to_s;
+      if (blackout || renderer) {
         std::erase_if(events, [](const SensorEvent& e) {
           return std::holds_alternative<SlotObservationFrame>(e) ||
                  std::holds_alternative<TagObservationFrame>(e);
         });
-        if (state.t_ns >= next_image_ns) {
-          PerceptionOutput seen = front_end->Process(
-              RenderCameraFrame(*renderer, state.T_map_vehicle, state.t_ns, cameras));
-          events.push_back(std::move(seen.slots));
-          events.push_back(std::move(seen.tags));
-          next_image_ns = state.t_ns + FromSeconds(1.0 / options.live_image_rate_hz);
-          ++run.camera_frames;
-        }
+      }
+      if (renderer && !blackout && state.t_ns >= next_image_ns) {
+        PerceptionOutput seen = front_end->Process(
+            RenderCameraFrame(*renderer, state.T_map_vehicle, state.t_ns, cameras));
+        events.push_back(std::move(seen.slots));
+        events.push_back(std::move(seen.tags));
+        next_image_ns = state.t_ns + FromSeconds(1.0 / options.live_image_rate_hz);
+        ++run.camera_frames;
       }
       for (const SensorEvent& event : events) {
         if (const auto* w = std::get_if<WheelSpeed>(&event)) measured_speed = w->speed_mps;
