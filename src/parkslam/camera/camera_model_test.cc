@@ -85,7 +85,8 @@ TEST(CameraModelTest, DefaultRigSeesTheTopViewSquareAroundTheCar) {
 }
 
 TEST(CameraModelTest, FrontMonoLooksForwardLevel) {
-  const CameraConfig* mono = DefaultRig().Find("front_mono");
+  const CameraRig rig = DefaultRig();  // alive while `mono` is used
+  const CameraConfig* mono = rig.Find("front_mono");
   ASSERT_NE(mono, nullptr);
   // A point 10 m straight ahead at the camera's height lands on the centre.
   const Eigen::Vector3d p_camera = mono->T_vehicle_camera.inverse() * Eigen::Vector3d(11.8, 0.3, 1.3);

@@ -99,7 +99,8 @@ TEST(TagDetectorTest, RenderedTagsGiveTheirIdAndDistance) {
 
 TEST(TagDetectorTest, WrongImageIsRejected) {
   const TagDetector detector;
-  const camera::CameraIntrinsics& mono = camera::DefaultRig().Find("front_mono")->intrinsics;
+  const camera::CameraRig rig = camera::DefaultRig();  // alive while `mono` is used
+  const camera::CameraIntrinsics& mono = rig.Find("front_mono")->intrinsics;
   EXPECT_THROW(detector.Detect(cv::Mat(10, 10, CV_8UC3), nullptr), std::invalid_argument);
   EXPECT_THROW(detector.Detect(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), &mono),
                std::invalid_argument);
