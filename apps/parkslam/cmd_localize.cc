@@ -135,11 +135,13 @@ void AddLocalizeCommand(CLI::App& app) {
       const Trajectory truth_map = Transformed(T_map_world, dataset.groundtruth_trajectory);
       pipeline::KidnapOptions kidnap;
       kidnap.trials = options->kidnap_trials;
+      Progress trials("  kidnap trials", kidnap.trials);
       const pipeline::KidnapResult k = pipeline::RunKidnapTrials(
           map, dataset.log, truth_map, localization::LocalizerOptions{},
           pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
                                              dataset.scenario.vehicle),
-          kidnap);
+          kidnap, [&trials](int done, int) { trials.Update(done); });
+      trials.Finish();
       std::vector<double> times = k.recovery_s;
       std::sort(times.begin(), times.end());
       std::printf("kidnapped-robot trials: %d of %d recovered within %.0f s of driving "

@@ -127,9 +127,17 @@ void WriteCsv(const fs::path& file, std::string_view header,
   WriteFileAtomically(file, out);
 }
 
+// Plausible magnitudes of the sensor values (docs/dataset_format.md): a car
+// in a parking lot, generously. A value beyond is a broken recording, and
+// would otherwise drive the filters to infinities far from its file.
+constexpr double kMaxWheelSpeedMps = 60.0;      // 216 km/h
+constexpr double kMaxSteeringWheelRad = 30.0;   // almost 5 turns
+constexpr double kMaxYawRateRadps = 20.0;
+constexpr double kMaxHeadingRad = 1e4;          // unwrapped headings allowed
+
 template <std::size_t kValues, typename Sample, typename MakeSample>
 std::vector<Sample> ReadCsv(const fs::path& file, std::string_view header,
-                            MakeSample make_sample) {
+                            const std::array<double, kValues>& max_abs, MakeSample make_sample) {
   const auto names = ColumnNames<kValues>(header);
   const std::string source = file.string();
   const std::string content = ReadTextFile(file);
@@ -164,6 +172,12 @@ std::vector<Sample> ReadCsv(const fs::path& file, std::string_view header,
     }
     for (std::size_t c = 0; c < kValues; ++c) {
       values[c] = text::ParseFiniteDouble(fields[c + 1], source, n, names[c + 1]);
+      if (std::abs(values[c]) > max_abs[c]) {
+        std::string limit;
+        text::AppendDouble(&limit, max_abs[c]);
+        ThrowIoError(source, n, names[c + 1],
+                     "implausible " + text::Quoted(fields[c + 1]) + " (at most " + limit + " in magnitude)");
+      }
     }
     samples.push_back(make_sample(*t_ns, values));
   }
@@ -708,13 +722,13 @@ Dataset ReadDataset(const fs::path& dir) {
 
   SensorLog& log = dataset.log;
   log.wheel_speeds = ReadCsv<1, WheelSpeed>(
-      dir / kWheelSpeedFile, kWheelSpeedHeader,
+      dir / kWheelSpeedFile, kWheelSpeedHeader, {kMaxWheelSpeedMps},
       [](TimeNs t, const std::array<double, 1>& v) { return WheelSpeed{t, v[0]}; });
   log.steering_angles = ReadCsv<1, SteeringAngle>(
-      dir / kSteeringFile, kSteeringHeader,
+      dir / kSteeringFile, kSteeringHeader, {kMaxSteeringWheelRad},
       [](TimeNs t, const std::array<double, 1>& v) { return SteeringAngle{t, v[0]}; });
   log.imu_samples = ReadCsv<2, ImuSample>(
-      dir / kImuFile, kImuHeader,
+      dir / kImuFile, kImuHeader, {kMaxYawRateRadps, kMaxHeadingRad},
       [](TimeNs t, const std::array<double, 2>& v) { return ImuSample{t, v[0], v[1]}; });
   log.slot_frames = ReadJsonl<SlotObservationFrame>(dir / kSlotsFile, ParseSlotFrame);
   log.tag_frames = ReadJsonl<TagObservationFrame>(dir / kTagsFile, ParseTagFrame);

@@ -297,6 +297,18 @@ TEST(DatasetTest, LongGapsAndNegativeTimesAreRefused) {
   EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "f"); }), "");
 }
 
+TEST(DatasetTest, ImplausibleSensorValuesAreRefused) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/sensors/imu.csv", "0,0.01,-3.14159", "0,0.01,1e308");
+  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
+            (dir / "d/sensors/imu.csv").string() +
+                ":2: heading_rad: implausible '1e308' (at most 10000 in magnitude)");
+  WriteDataset(dir / "e", SampleDataset());
+  EditFile(dir / "e/sensors/steering.csv", "-3.3", "-300");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "e"); }), HasSubstr("steering.csv:3: steering_wheel_rad: implausible '-300'"));
+}
+
 TEST(DatasetTest, NonIncreasingFrameTimesAreReported) {
   const TempDir dir;
   WriteDataset(dir / "d", SampleDataset());

@@ -16,7 +16,8 @@ constexpr double kSettleS = 10.0;  // tracking time before a kidnap
 KidnapResult RunKidnapTrials(const SemanticMap& map, const SensorLog& log, const Trajectory& truth,
                              const localization::LocalizerOptions& localizer_options,
                              const odometry::OdometryEkfOptions& odometry_options,
-                             const KidnapOptions& options) {
+                             const KidnapOptions& options,
+                             const std::function<void(int done, int total)>& on_trial_done) {
   if (truth.size() < 2) throw std::invalid_argument("kidnap trials need a ground-truth drive");
   const TimeNs start = truth.front().t_ns, end = truth.back().t_ns;
   const double duration_s = ToSeconds(end - start);
@@ -74,6 +75,7 @@ KidnapResult RunKidnapTrials(const SemanticMap& map, const SensorLog& log, const
       ++result.successes;
       result.recovery_s.push_back(driving_s);
     }
+    if (on_trial_done) on_trial_done(trial + 1, options.trials);
   }
   return result;
 }

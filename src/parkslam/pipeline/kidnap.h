@@ -2,6 +2,7 @@
 #define PARKSLAM_PIPELINE_KIDNAP_H_
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "parkslam/common/trajectory.h"
@@ -39,7 +40,8 @@ struct KidnapResult {
 KidnapResult RunKidnapTrials(const SemanticMap& map, const SensorLog& log, const Trajectory& truth,
                              const localization::LocalizerOptions& localizer_options,
                              const odometry::OdometryEkfOptions& odometry_options,
-                             const KidnapOptions& options);
+                             const KidnapOptions& options,
+                             const std::function<void(int done, int total)>& on_trial_done = {});
 
 }  // namespace parkslam::pipeline
 
