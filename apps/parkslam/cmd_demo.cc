@@ -7,10 +7,6 @@
 #include "commands.h"
 #include "detection_scoring.h"
 #include "parkslam/io/numeric_csv.h"
-#include "parkslam/pipeline/perception_eval.h"
-#include "parkslam/pipeline/rendering_source.h"
-#include "parkslam/render/renderer.h"
-#include "parkslam/sim/simulator.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
@@ -36,14 +32,8 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint64_t seed,
                                  const pipeline::PerceptionOptions& perception, int frames,
                                  const std::filesystem::path& dir) {
-  const sim::Simulation simulation = sim::Simulate(scenario, seed);
-  const camera::CameraRig rig = camera::DefaultRig();
-  const render::Renderer renderer(simulation.world, rig, render::RenderOptions{}, seed);
-  const pipeline::PerceptionFrontEnd front_end(rig, perception);
-  const std::vector<std::string> cameras{"front", "rear", "left", "right", "front_mono"};
-  const Trajectory truth = sim::GroundTruthTrajectory(simulation);
-  const cv::Mat& mask = front_end.FootprintMask();
-  const double pixels_per_m = front_end.options().slots.pixels_per_m;
+  const DriveScorer drive(scenario, seed, perception);
+  const Trajectory& truth = drive.truth();
   Scores scores;
   struct Sample {
     double t_s = 0.0;
@@ -55,23 +45,14 @@ nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint6
   Progress progress("  frames", frames);
   for (int k = 0; k < frames; ++k) {
     const TimeNs t = truth.front().t_ns + span * (2 * k + 1) / (2 * frames);
-    const SE2 pose = *PoseAt(truth, t);
-    const pipeline::PerceptionOutput out =
-        front_end.Process(pipeline::RenderCameraFrame(renderer, pose, t, cameras));
-    const pipeline::TopViewTruth tv = pipeline::TruthInTopView(simulation.world, pose, front_end.fusion(), mask);
-    const ImageTruth image_truth{tv.marking_points, tv.entrances, &tv.corners, &tv.ids,
-                                 tv.ignored_points, tv.ignored_entrances};
-    const ImageScore score = Score(image_truth, out.detection, out.ids, pixels_per_m, &scores);
-    samples.push_back({ToSeconds(t - truth.front().t_ns), score, Overlay(out.top_view, tv.marking_points, out.detection)});
+    const DriveScorer::Frame frame = drive.ScoreAt(t, &scores);
+    samples.push_back({ToSeconds(t - truth.front().t_ns), frame.score,
+                       Overlay(frame.out.top_view, frame.truth_points, frame.out.detection)});
     progress.Update(k + 1);
   }
   progress.Finish();
   // Best: most slots right with no error; worst: most errors; missed: the
   // frame that misses the most slots.
-  const auto errors = [](const ImageScore& s) {
-    return s.marking_points.false_positives + s.marking_points.false_negatives +
-           s.slots.false_positives + s.slots.false_negatives;
-  };
   nlohmann::json pictures = nlohmann::json::array();
   const auto pick = [&](const char* name, const char* caption, auto better) {
     if (samples.empty()) return;
@@ -92,11 +73,11 @@ nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint6
   };
   pick("best", "the frame with the most slots found and no error",
        [&](const Sample& a, const Sample& b) {
-         return std::make_pair(-errors(a.score), a.score.slots.true_positives) <
-                std::make_pair(-errors(b.score), b.score.slots.true_positives);
+         return std::make_pair(-a.score.errors(), a.score.slots.true_positives) <
+                std::make_pair(-b.score.errors(), b.score.slots.true_positives);
        });
   pick("worst", "the frame with the most errors (false and missed points and slots)",
-       [&](const Sample& a, const Sample& b) { return errors(a.score) < errors(b.score); });
+       [&](const Sample& a, const Sample& b) { return a.score.errors() < b.score.errors(); });
   pick("missed", "the frame that misses the most slots",
        [&](const Sample& a, const Sample& b) {
          return a.score.slots.false_negatives < b.score.slots.false_negatives;
@@ -238,8 +219,6 @@ void AddDemoCommand(CLI::App& app) {
       while (const auto event = source.Next()) {
         const auto estimate = localizer.Process(*event);
         if (!estimate) continue;
-        // Slots and tags of one camera frame come as two estimates: the last counts.
-        if (!estimates.empty() && estimates.back().t_ns == estimate->t_ns) estimates.pop_back();
         estimates.push_back(*estimate);
         if (estimate->state == localization::LocalizerState::kTracking) {
           AppendOrReplaceLast(&localized, {estimate->t_ns, T_world_map * estimate->T_map_vehicle});

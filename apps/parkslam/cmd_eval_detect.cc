@@ -18,10 +18,7 @@
 #include "parkslam/perception/slot_detector.h"
 #include "parkslam/pipeline/perception_eval.h"
 #include "parkslam/pipeline/perception_front_end.h"
-#include "parkslam/pipeline/rendering_source.h"
-#include "parkslam/render/renderer.h"
 #include "parkslam/sim/simulator.h"
-#include "parkslam/sim/world.h"
 #include "progress.h"
 
 namespace parkslam::app {
@@ -152,37 +149,23 @@ void AddEvalDetectCommand(CLI::App& app) {
         }
       }
     } else {
-      const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
-      const sim::Simulation simulation = sim::Simulate(scenario, options->seed);
-      const sim::World& world = simulation.world;
-      const camera::CameraRig rig = camera::DefaultRig();
-      const render::Renderer renderer(world, rig, render::RenderOptions{}, options->seed);
-      const pipeline::PerceptionFrontEnd front_end(rig, perception_options);
-      const std::vector<std::string> cameras{"front", "rear", "left", "right", "front_mono"};
-      const Trajectory truth = sim::GroundTruthTrajectory(simulation);
+      const DriveScorer drive(ResolveScenario(options->scenario), options->seed, perception_options);
+      const Trajectory& truth = drive.truth();
       const TimeNs period = FromSeconds(1.0 / options->rate_hz);
       int total = static_cast<int>((truth.back().t_ns - truth.front().t_ns) / period) + 1;
       if (options->max_frames > 0) total = std::min(total, options->max_frames);
       Progress bar("  scoring", total);
-      const cv::Mat& mask = front_end.FootprintMask();
-      const double pixels_per_m = front_end.options().slots.pixels_per_m;
       for (int k = 0; k < total; ++k) {
-        const TimeNs t = truth.front().t_ns + period * k;
-        const SE2 pose = *PoseAt(truth, t);
-        const pipeline::PerceptionOutput out =
-            front_end.Process(pipeline::RenderCameraFrame(renderer, pose, t, cameras));
-        const pipeline::TopViewTruth tv = pipeline::TruthInTopView(world, pose, front_end.fusion(), mask);
-        const ImageTruth image_truth{tv.marking_points, tv.entrances, &tv.corners, &tv.ids,
-                                     tv.ignored_points, tv.ignored_entrances};
-        const bool error = Score(image_truth, out.detection, out.ids, pixels_per_m, &scores).any_error();
+        const DriveScorer::Frame frame = drive.ScoreAt(truth.front().t_ns + period * k, &scores);
+        const pipeline::PerceptionOutput& out = frame.out;
         scores.fusion_ms.push_back(out.timing.fusion_ms);
         scores.slots_ms.push_back(out.timing.slots_ms);
         scores.ids_ms.push_back(out.timing.ids_ms);
         scores.tags_ms.push_back(out.timing.tags_ms);
         scores.frame_ms.push_back(out.timing.total_ms());
-        if (error && !options->out_dir.empty()) {
+        if (frame.score.any_error() && !options->out_dir.empty()) {
           const std::filesystem::path base = std::filesystem::path(options->out_dir) / std::to_string(k);
-          WriteImage(base.string() + "_overlay.png", Overlay(out.top_view, tv.marking_points, out.detection));
+          WriteImage(base.string() + "_overlay.png", Overlay(out.top_view, frame.truth_points, out.detection));
           WriteImage(base.string() + "_top.png", out.top_view);
         }
         bar.Update(k + 1);

@@ -163,10 +163,8 @@ void AddFollowCommand(CLI::App& app) {
 
     WriteFollowRuns(out, trace_world, result);
     std::vector<viz::SvgTrajectory> drawn{{"trace", "#2a9d2a", Transformed(T_map_world, trace_world)}};
-    static const char* kColors[] = {"#d62728", "#1f77b4", "#9467bd", "#ff7f0e", "#8c564b",
-                                    "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#393b79"};
     for (size_t i = 0; i < result.runs.size(); ++i) {
-      drawn.push_back({i == 0 ? "autonomous runs (true)" : "", kColors[i % 10],
+      drawn.push_back({i == 0 ? "autonomous runs (true)" : "", kRunColours[i % kRunColours.size()],
                        Transformed(T_map_world, result.runs[i].truth_world)});
     }
     viz::MapSvgOptions svg;

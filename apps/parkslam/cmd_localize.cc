@@ -83,11 +83,7 @@ void AddLocalizeCommand(CLI::App& app) {
       const auto start = std::chrono::steady_clock::now();
       const auto estimate = localizer.Process(*event);
       if (!estimate) continue;
-      if (!options->log.empty()) {
-        // Slots and tags of one camera frame come as two estimates: the last counts.
-        if (!estimates.empty() && estimates.back().t_ns == estimate->t_ns) estimates.pop_back();
-        estimates.push_back(*estimate);
-      }
+      if (!options->log.empty()) estimates.push_back(*estimate);
       update_ms.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count());

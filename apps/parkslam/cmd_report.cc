@@ -3,6 +3,7 @@
 // figures again from the run's own files, and lays them beside
 // metrics.json's.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,17 +50,11 @@ nlohmann::json ReadJson(const fs::path& path) {
 
 // metrics.json's number at a dotted key, or NaN.
 double Recorded(const nlohmann::json& metrics, const std::string& key) {
-  const nlohmann::json* j = &metrics;
-  size_t start = 0;
-  while (true) {
-    const size_t dot = key.find('.', start);
-    const std::string part = key.substr(start, dot - start);
-    if (!j->is_object() || !j->contains(part)) return std::nan("");
-    j = &(*j)[part];
-    if (dot == std::string::npos) break;
-    start = dot + 1;
-  }
-  return j->is_number() ? j->get<double>() : std::nan("");
+  std::string path = "/" + key;
+  std::replace(path.begin(), path.end(), '.', '/');
+  const nlohmann::json::json_pointer pointer(path);
+  return metrics.contains(pointer) && metrics[pointer].is_number() ? metrics[pointer].get<double>()
+                                                                   : std::nan("");
 }
 
 // Trajectories on the map are thinned to about one point every 0.25 m.
@@ -286,8 +281,6 @@ void AddFollow(const fs::path& follow_dir, const std::string& key_prefix, Loaded
   const io::NumericTable t = io::ReadNumericCsv(path, {"s_m"}, true);
   nlohmann::json follow = {{"s", nlohmann::json::array()}, {"runs", nlohmann::json::array()}};
   for (const std::vector<double>& row : t.rows) follow["s"].push_back(row[0]);
-  static const char* kColours[] = {"#d62728", "#1f77b4", "#9467bd", "#ff7f0e",
-                                   "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22"};
   for (size_t c = 1; c < t.columns.size(); ++c) {
     nlohmann::json offsets = nlohmann::json::array();
     for (const std::vector<double>& row : t.rows) {
@@ -299,10 +292,11 @@ void AddFollow(const fs::path& follow_dir, const std::string& key_prefix, Loaded
     }
     std::string name = t.columns[c];
     if (name.size() > 2 && name.compare(name.size() - 2, 2, "_m") == 0) name.resize(name.size() - 2);
-    follow["runs"].push_back({{"name", name}, {"offsets", offsets}});
+    const char* colour = kRunColours[(c - 1) % kRunColours.size()];
+    follow["runs"].push_back({{"name", name}, {"colour", colour}, {"offsets", offsets}});
     const fs::path run = follow_dir / (name + ".tum");
     if (fs::exists(run)) {
-      r->data.scene["trajectories"].push_back({{"name", "autonomous " + name}, {"colour", kColours[(c - 1) % 8]},
+      r->data.scene["trajectories"].push_back({{"name", "autonomous " + name}, {"colour", colour},
                                                {"width", 1.0}, {"xy", Polyline(io::ReadTum(run))}});
     }
   }

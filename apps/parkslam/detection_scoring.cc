@@ -1,5 +1,7 @@
 #include "detection_scoring.h"
 
+#include "parkslam/pipeline/rendering_source.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
@@ -144,5 +146,28 @@ ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detec
   return own;
 }
 
+
+DriveScorer::DriveScorer(const sim::ScenarioConfig& scenario, std::uint64_t seed,
+                         const pipeline::PerceptionOptions& perception)
+    : simulation_(sim::Simulate(scenario, seed)),
+      rig_(camera::DefaultRig()),
+      renderer_(simulation_.world, rig_, render::RenderOptions{}, seed),
+      front_end_(rig_, perception),
+      truth_(sim::GroundTruthTrajectory(simulation_)) {}
+
+DriveScorer::Frame DriveScorer::ScoreAt(TimeNs t_ns, Scores* scores) const {
+  static const std::vector<std::string> kCameras{"front", "rear", "left", "right", "front_mono"};
+  const SE2 pose = *PoseAt(truth_, t_ns);
+  Frame frame;
+  frame.out = front_end_.Process(pipeline::RenderCameraFrame(renderer_, pose, t_ns, kCameras));
+  const pipeline::TopViewTruth tv =
+      pipeline::TruthInTopView(simulation_.world, pose, front_end_.fusion(), front_end_.FootprintMask());
+  const ImageTruth image_truth{tv.marking_points, tv.entrances, &tv.corners, &tv.ids,
+                               tv.ignored_points, tv.ignored_entrances};
+  frame.score = Score(image_truth, frame.out.detection, frame.out.ids,
+                      front_end_.options().slots.pixels_per_m, scores);
+  frame.truth_points = tv.marking_points;
+  return frame;
+}
 
 }  // namespace parkslam::app

@@ -10,9 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "parkslam/common/trajectory.h"
 #include "parkslam/eval/detection_metrics.h"
 #include "parkslam/perception/slot_detector.h"
 #include "parkslam/pipeline/perception_eval.h"
+#include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/render/renderer.h"
+#include "parkslam/sim/simulator.h"
 
 namespace parkslam::app {
 
@@ -48,16 +52,45 @@ struct ImageTruth {
 // One image's own counts, for picking pictures.
 struct ImageScore {
   eval::DetectionCounts marking_points, slots;
-  bool any_error() const {
+  // False and missed marking points and slots.
+  int errors() const {
     return marking_points.false_positives + marking_points.false_negatives +
-               slots.false_positives + slots.false_negatives >
-           0;
+           slots.false_positives + slots.false_negatives;
   }
+  bool any_error() const { return errors() > 0; }
 };
 
 // Scores one image into `scores`; returns its own counts.
 ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detection,
                  const std::vector<SlotIdReading>& ids, double pixels_per_m, Scores* scores);
+
+// A simulated drive whose cameras are rendered at the true pose, fused and
+// run through the front end, frame by frame, and scored against the
+// simulator's truth in the top view (eval-detect, demo).
+class DriveScorer {
+ public:
+  DriveScorer(const sim::ScenarioConfig& scenario, std::uint64_t seed,
+              const pipeline::PerceptionOptions& perception);
+  DriveScorer(const DriveScorer&) = delete;
+  DriveScorer& operator=(const DriveScorer&) = delete;
+
+  struct Frame {
+    pipeline::PerceptionOutput out;
+    std::vector<eval::LabelledMarkingPoint> truth_points;  // for Overlay()
+    ImageScore score;
+  };
+  // The frame at t_ns, its counts added to *scores.
+  Frame ScoreAt(TimeNs t_ns, Scores* scores) const;
+
+  const Trajectory& truth() const { return truth_; }
+
+ private:
+  sim::Simulation simulation_;
+  camera::CameraRig rig_;
+  render::Renderer renderer_;
+  pipeline::PerceptionFrontEnd front_end_;
+  Trajectory truth_;
+};
 
 }  // namespace parkslam::app
 

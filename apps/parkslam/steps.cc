@@ -247,7 +247,10 @@ io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEst
                  "tags_used", "rejected",    "relocalized", "cov_xx", "cov_xy",    "cov_xyaw",
                  "cov_yy",   "cov_yyaw",    "cov_yawyaw", "true_x_m", "true_y_m", "true_yaw_rad"};
   const Eigen::Matrix2d R = T_world_map.rotation();
-  for (const localization::LocalizationEstimate& e : estimates) {
+  for (size_t k = 0; k < estimates.size(); ++k) {
+    const localization::LocalizationEstimate& e = estimates[k];
+    // Slots and tags of one camera frame come as two estimates: the last counts.
+    if (k + 1 < estimates.size() && estimates[k + 1].t_ns == e.t_ns) continue;
     const std::optional<SE2> true_pose = PoseAt(truth, e.t_ns);
     if (!true_pose) continue;
     const SE2 T = T_world_map * e.T_map_vehicle;

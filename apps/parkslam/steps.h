@@ -3,6 +3,7 @@
 
 // The steps the subcommands share (demo runs them one after the other).
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -84,9 +85,16 @@ nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& result
 
 // The localizer's estimate at each camera frame in the lot's frame
 // (T_world_map), beside the truth, as localization.csv holds it
-// (docs/report.md); frames outside the truth's time span are left out.
+// (docs/report.md); of estimates with one time (a frame's slots, then its
+// tags) the last is kept; frames outside the truth's time span are left out.
 io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEstimate>& estimates,
                                  const SE2& T_world_map, const Trajectory& truth);
+
+// Colours of autonomous runs, run i taking kRunColours[i % size] (follow's
+// SVG, the report's map and lateral plot).
+inline constexpr std::array<const char*, 10> kRunColours = {
+    "#d62728", "#1f77b4", "#9467bd", "#ff7f0e", "#8c564b",
+    "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#393b79"};
 
 // The trace (trace.tum), each run's true path (run_NN.tum) and estimate
 // (estimate_NN.tum), and the runs' signed lateral offsets along the trace

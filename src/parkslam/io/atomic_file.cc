@@ -105,9 +105,7 @@ void RemoveStaleTemporaries(const fs::path& path) {
       continue;
     }
     const pid_t pid = static_cast<pid_t>(std::stol(pid_text));
-    if (pid == ::getpid() || (::kill(pid, 0) != 0 && errno == ESRCH)) {
-      if (pid != ::getpid()) fs::remove(it->path(), ec);
-    }
+    if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) fs::remove(it->path(), ec);
   }
 }
 

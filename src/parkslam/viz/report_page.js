@@ -293,9 +293,8 @@
          x: data.ekf.t, y: data.ekf.anees}]});
     }
     if (data.follow) {
-      const colours = ['#d62728', '#1f77b4', '#9467bd', '#ff7f0e', '#8c564b', '#e377c2', '#7f7f7f', '#bcbd22'];
       plot({id: 'plot-lateral', xlabel: 'distance along the trace (m)', ylabel: 'lateral (m)',
-            series: data.follow.runs.map((r, k) => ({name: r.name, colour: colours[k % colours.length],
+            series: data.follow.runs.map((r) => ({name: r.name, colour: r.colour,
                                                       x: data.follow.s, y: r.offsets}))});
     }
     if (loc && loc.t.length > 0) select(loc.t[0]);
