@@ -2,7 +2,8 @@
 # Installs the Debian packages parkslam needs, and only those that are missing.
 # Safe to run again: with everything present it installs nothing.
 # --with-browser also installs Chromium, which the report's browser test
-# needs (scripts/test.sh asks for it; the demo does not).
+# needs (scripts/test.sh asks for it; the demo does not); --with-fuzzer
+# installs Clang and its libFuzzer runtime (scripts/fuzz.sh).
 set -euo pipefail
 
 packages=(
@@ -13,8 +14,12 @@ packages=(
   fonts-noto-core fonts-open-sans fonts-cantarell fonts-roboto-unhinted
   libgtest-dev libgmock-dev libbenchmark-dev
 )
-if [ "${1:-}" = "--with-browser" ]; then
-  packages+=(chromium)
-fi
+for option in "$@"; do
+  case "$option" in
+    --with-browser) packages+=(chromium) ;;
+    --with-fuzzer) packages+=(clang libclang-rt-dev) ;;
+    *) echo "install_deps.sh: unknown option '$option' (--with-browser, --with-fuzzer)" >&2; exit 2 ;;
+  esac
+done
 
 exec "$(dirname "$0")/apt_install_missing.sh" install_deps "${packages[@]}"

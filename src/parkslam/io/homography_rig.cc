@@ -1,73 +1,93 @@
 #include "parkslam/io/homography_rig.h"
 
-#include <opencv2/core.hpp>
+#include <Eigen/Core>
+#include <yaml-cpp/yaml.h>
 
-#include <cmath>
+#include <string>
+#include <system_error>
 
+#include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
+#include "parkslam/io/yaml_util.h"
 
 namespace parkslam::io {
 namespace {
 
-cv::Mat ReadMatrix(const cv::FileStorage& fs, const std::string& file, const char* key, int rows,
-                   int cols) {
-  cv::Mat m;
-  try {
-    fs[key] >> m;
-  } catch (const cv::Exception&) {
-    m.release();
+using yaml_util::YamlReader;
+
+// A matrix as OpenCV's FileStorage writes it:
+//   key: !!opencv-matrix {rows: R, cols: C, dt: d|f|i, data: [R x C numbers]}
+// read row by row.
+Eigen::MatrixXd ReadMatrix(const YAML::Node& root, const YamlReader& r, const char* key, int rows,
+                           int cols) {
+  const YAML::Node node = root[key];
+  if (!node) r.Fail(root, key, "missing");
+  r.ExpectKeys(node, key, {"rows", "cols", "dt", "data"});
+  const std::string path(key);
+  if (r.Int(node["rows"], path + ".rows") * static_cast<long long>(r.Int(node["cols"], path + ".cols")) !=
+      static_cast<long long>(rows) * cols) {
+    r.Fail(node, path, "expected a " + std::to_string(rows) + "x" + std::to_string(cols) + " matrix");
   }
-  if (m.empty() || m.rows * m.cols != rows * cols) {
-    ThrowIoError(file, 0, key, "expected a " + std::to_string(rows) + "x" + std::to_string(cols) +
-                                   " matrix");
+  const std::string dt = r.String(node["dt"], path + ".dt");
+  if (dt != "d" && dt != "f" && dt != "i") r.Fail(node["dt"], path + ".dt", "expected d, f or i");
+  const YAML::Node data = node["data"];
+  r.ExpectSequence(data, path + ".data");
+  if (data.size() != static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols)) {
+    r.Fail(data, path + ".data", "expected " + std::to_string(rows * cols) + " numbers, got " +
+                                     std::to_string(data.size()));
   }
-  m.convertTo(m, CV_64F);
-  m = m.reshape(1, rows);
-  for (int r = 0; r < m.rows; ++r) {
-    for (int c = 0; c < m.cols; ++c) {
-      if (!std::isfinite(m.at<double>(r, c))) ThrowIoError(file, 0, key, "not a finite number");
-    }
+  Eigen::MatrixXd m(rows, cols);
+  for (int i = 0; i < rows * cols; ++i) {
+    m(i / cols, i % cols) =
+        r.Double(data[static_cast<std::size_t>(i)], yaml_util::IndexKey(path + ".data", i));
   }
   return m;
 }
 
 camera::HomographyCamera LoadCamera(const std::filesystem::path& path, camera::Side side) {
   const std::string file = path.string();
-  if (!std::filesystem::exists(path)) ThrowIoError(file, 0, "", "no such file");
-  cv::FileStorage fs;
-  try {
-    fs.open(file, cv::FileStorage::READ);
-  } catch (const cv::Exception& e) {
-    ThrowIoError(file, 0, "", std::string("not a readable OpenCV YAML file: ") + e.what());
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) ThrowIoError(file, 0, "", "no such file");
+  // OpenCV's own parser is not used on these files: it can loop for ever or
+  // allocate what a corrupt header asks (found by fuzz_homography_rig).
+  // Its "%YAML:1.0" line is not YAML 1.2; it becomes a comment, which keeps
+  // the line numbers.
+  std::string text = ReadTextFile(path);
+  if (text.rfind("%YAML:", 0) != 0) {
+    ThrowIoError(file, 1, "", "not an OpenCV YAML file (expected the first line %YAML:1.0)");
   }
-  if (!fs.isOpened()) ThrowIoError(file, 0, "", "not a readable OpenCV YAML file");
-  const cv::Mat K = ReadMatrix(fs, file, "camera_matrix", 3, 3);
-  const cv::Mat D = ReadMatrix(fs, file, "dist_coeffs", 4, 1);
-  const cv::Mat resolution = ReadMatrix(fs, file, "resolution", 2, 1);
-  const cv::Mat H = ReadMatrix(fs, file, "project_matrix", 3, 3);
-  const cv::Mat scale = ReadMatrix(fs, file, "scale_xy", 2, 1);
-  const cv::Mat shift = ReadMatrix(fs, file, "shift_xy", 2, 1);
+  text[0] = '#';
+  const YAML::Node root = yaml_util::LoadYaml(text, file);
+  const YamlReader r(file, true);
+  r.ExpectMap(root, "");
+  r.CheckKeys(root, "", {"camera_matrix", "dist_coeffs", "resolution", "project_matrix",
+                         "scale_xy", "shift_xy"});
+  const Eigen::MatrixXd K = ReadMatrix(root, r, "camera_matrix", 3, 3);
+  const Eigen::MatrixXd D = ReadMatrix(root, r, "dist_coeffs", 4, 1);
+  const Eigen::MatrixXd resolution = ReadMatrix(root, r, "resolution", 2, 1);
+  const Eigen::MatrixXd H = ReadMatrix(root, r, "project_matrix", 3, 3);
+  const Eigen::MatrixXd scale = ReadMatrix(root, r, "scale_xy", 2, 1);
+  const Eigen::MatrixXd shift = ReadMatrix(root, r, "shift_xy", 2, 1);
+  if (!(resolution(0, 0) >= 16 && resolution(1, 0) >= 16 && resolution(0, 0) <= 16384 &&
+        resolution(1, 0) <= 16384)) {
+    ThrowIoError(file, 0, "resolution", "must lie between 16x16 and 16384x16384");
+  }
   camera::HomographyCamera cam;
   cam.side = side;
   cam.intrinsics.kind = camera::CameraKind::kFisheye;
-  cam.intrinsics.width = static_cast<int>(resolution.at<double>(0, 0));
-  cam.intrinsics.height = static_cast<int>(resolution.at<double>(1, 0));
-  if (cam.intrinsics.width < 16 || cam.intrinsics.height < 16) {
-    ThrowIoError(file, 0, "resolution", "must be at least 16x16");
-  }
-  cam.intrinsics.fx = K.at<double>(0, 0);
-  cam.intrinsics.fy = K.at<double>(1, 1);
-  cam.intrinsics.cx = K.at<double>(0, 2);
-  cam.intrinsics.cy = K.at<double>(1, 2);
+  cam.intrinsics.width = static_cast<int>(resolution(0, 0));
+  cam.intrinsics.height = static_cast<int>(resolution(1, 0));
+  cam.intrinsics.fx = K(0, 0);
+  cam.intrinsics.fy = K(1, 1);
+  cam.intrinsics.cx = K(0, 2);
+  cam.intrinsics.cy = K(1, 2);
   if (!(cam.intrinsics.fx > 0 && cam.intrinsics.fy > 0)) {
     ThrowIoError(file, 0, "camera_matrix", "focal lengths must be positive");
   }
-  for (int i = 0; i < 4; ++i) cam.intrinsics.distortion[i] = D.at<double>(i, 0);
-  cam.scale_xy = {scale.at<double>(0, 0), scale.at<double>(1, 0)};
-  cam.shift_xy = {shift.at<double>(0, 0), shift.at<double>(1, 0)};
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) cam.project_matrix(r, c) = H.at<double>(r, c);
-  }
+  for (int i = 0; i < 4; ++i) cam.intrinsics.distortion[i] = D(i, 0);
+  cam.scale_xy = {scale(0, 0), scale(1, 0)};
+  cam.shift_xy = {shift(0, 0), shift(1, 0)};
+  cam.project_matrix = H;
   return cam;
 }
 

@@ -11,7 +11,7 @@ namespace parkslam::io {
 // left.yaml and right.yaml in `folder` (OpenCV FileStorage: camera_matrix,
 // dist_coeffs (cv::fisheye), resolution, project_matrix, scale_xy,
 // shift_xy), as in shared/data/surround-view-sample. Throws IoError naming
-// the file and the field.
+// the file, the line and the field. Parsed as YAML (not by OpenCV).
 camera::HomographyRig LoadHomographyRig(const std::filesystem::path& folder);
 
 }  // namespace parkslam::io

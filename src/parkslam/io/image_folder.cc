@@ -1,11 +1,12 @@
 #include "parkslam/io/image_folder.h"
 
-#include "parkslam/io/image_header.h"
+#include <system_error>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "parkslam/camera/image_plane.h"
 #include "parkslam/io/atomic_file.h"
+#include "parkslam/io/image_header.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/text_util.h"
 
@@ -14,7 +15,8 @@ namespace parkslam::io {
 std::vector<ImageIndexEntry> ReadImageIndex(const std::filesystem::path& dataset_dir) {
   const std::filesystem::path path = dataset_dir / "images" / "index.csv";
   const std::string name = path.string();
-  if (!std::filesystem::exists(path)) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) {
     ThrowIoError(name, 0, "", "missing (the dataset has no images: simulate --images writes them)");
   }
   const std::string text = ReadTextFile(path);
@@ -41,7 +43,8 @@ std::vector<ImageIndexEntry> ReadImageIndex(const std::filesystem::path& dataset
     if (e.file.empty() || file.is_absolute() || e.file.find("..") != std::string::npos) {
       ThrowIoError(name, n, "file", "expected a path inside the dataset folder");
     }
-    if (!std::filesystem::exists(dataset_dir / file)) {
+    // A name too long for the file system is "no such file" too.
+    if (!std::filesystem::exists(dataset_dir / file, error)) {
       ThrowIoError(name, n, "file", (dataset_dir / file).string() + ": no such file");
     }
     if (!seen.emplace(std::make_pair(e.t_ns, e.camera), n).second) {
