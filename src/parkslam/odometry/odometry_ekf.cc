@@ -1,5 +1,6 @@
 #include "parkslam/odometry/odometry_ekf.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "parkslam/common/angles.h"
@@ -34,6 +35,14 @@ bool OdometryEkfOptions::IsValid(std::string* error) const {
       return false;
     }
   }
+  if (!(innovation_gate_chi2 > 0.0 && std::isfinite(gate_after_s) && gate_after_s >= 0.0 &&
+        std::isfinite(fault_reset_after_s) && fault_reset_after_s >= 0.0)) {
+    if (error != nullptr) {
+      *error = "innovation_gate_chi2 must be positive, gate_after_s and fault_reset_after_s "
+               "finite and non-negative";
+    }
+    return false;
+  }
   if (!(wheel_speed_sigma_mps > 0 && gyro_sigma_radps > 0 && heading_sigma_rad > 0 &&
         steering_wheel_sigma_rad + steering_model_sigma_radps > 0)) {
     if (error != nullptr) *error = "measurement noise must be positive";
@@ -42,10 +51,16 @@ bool OdometryEkfOptions::IsValid(std::string* error) const {
   return true;
 }
 
+const char* OdometryEkfStats::ChannelName(int channel) {
+  static const char* const kNames[kChannels] = {"wheel_speed", "steering", "gyro", "heading"};
+  return channel >= 0 && channel < kChannels ? kNames[channel] : "?";
+}
+
 OdometryEkf::OdometryEkf(const OdometryEkfOptions& options) : options_(options) {}
 
 void OdometryEkf::Initialize(TimeNs t_ns, const SE2& T_map_vehicle, double yaw_sigma_rad) {
   t_ns_ = t_ns;
+  initialized_at_ns_ = t_ns;
   x_.setZero();
   x_[kX] = T_map_vehicle.x();
   x_[kY] = T_map_vehicle.y();
@@ -141,12 +156,49 @@ void OdometryEkf::Update(double innovation, const RowVector& h, double r) {
   P_ = i_kh * P_ * i_kh.transpose() + k * r * k.transpose();
 }
 
+void OdometryEkf::GatedUpdate(int channel, double innovation, const RowVector& h, double r,
+                              int reset_state, double reset_sigma) {
+  const OdometryEkfOptions& o = options_;
+  const bool gating = ToSeconds(t_ns_ - initialized_at_ns_) >= o.gate_after_s;
+  const double s = (h * P_ * h.transpose())(0, 0) + r;
+  if (!gating || innovation * innovation <= o.innovation_gate_chi2 * s) {
+    rejecting_since_ns_[channel] = -1;
+    Update(innovation, h, r);
+    return;
+  }
+  if (rejecting_since_ns_[channel] < 0) rejecting_since_ns_[channel] = t_ns_;
+  if (ToSeconds(t_ns_ - rejecting_since_ns_[channel]) < o.fault_reset_after_s) {
+    ++stats_.rejected[channel];
+    return;
+  }
+  // The sensor has moved to a new level: give the state that explains it
+  // its prior uncertainty back, or the step's size if larger (dropping its
+  // correlations), and take the measurement; the state takes the step.
+  const double kept = P_(reset_state, reset_state);
+  P_.row(reset_state).setZero();
+  P_.col(reset_state).setZero();
+  P_(reset_state, reset_state) =
+      std::max({kept, Square(reset_sigma), Square(innovation / std::max(std::abs(h[reset_state]), 1e-9))});
+  ++stats_.resets[channel];
+  rejecting_since_ns_[channel] = -1;
+  Update(innovation, h, r);
+}
+
+void OdometryEkf::NoteSample(int channel) {
+  if (last_sample_ns_[channel] >= 0) {
+    stats_.longest_gap_s[channel] =
+        std::max(stats_.longest_gap_s[channel], ToSeconds(t_ns_ - last_sample_ns_[channel]));
+  }
+  last_sample_ns_[channel] = t_ns_;
+}
+
 void OdometryEkf::UpdateWheelSpeed(const WheelSpeed& m) {
   RowVector h = RowVector::Zero();
   h[kSpeed] = 1.0 + x_[kWheelScale];
   h[kWheelScale] = x_[kSpeed];
-  Update(m.speed_mps - (1.0 + x_[kWheelScale]) * x_[kSpeed], h,
-         Square(options_.wheel_speed_sigma_mps));
+  NoteSample(OdometryEkfStats::kWheelSpeed);
+  GatedUpdate(OdometryEkfStats::kWheelSpeed, m.speed_mps - (1.0 + x_[kWheelScale]) * x_[kSpeed],
+              h, Square(options_.wheel_speed_sigma_mps), kSpeed, options_.initial_speed_sigma_mps);
 }
 
 void OdometryEkf::UpdateSteering(const SteeringAngle& m) {
@@ -162,25 +214,34 @@ void OdometryEkf::UpdateSteering(const SteeringAngle& m) {
                               Square(std::cos(delta)));
   const double r = Square(d_omega * options_.steering_wheel_sigma_rad) +
                    Square(options_.steering_model_sigma_radps);
-  Update(0.0 - (x_[kYawRate] - v * tan_delta / vehicle.wheelbase_m), h, r);
+  NoteSample(OdometryEkfStats::kSteering);
+  GatedUpdate(OdometryEkfStats::kSteering, 0.0 - (x_[kYawRate] - v * tan_delta / vehicle.wheelbase_m),
+              h, r, kYawRate, options_.initial_yaw_rate_sigma_radps);
 }
 
 void OdometryEkf::UpdateImu(const ImuSample& m) {
   RowVector h = RowVector::Zero();
   h[kYawRate] = 1.0;
   h[kGyroBias] = 1.0;
-  Update(m.yaw_rate_radps - (x_[kYawRate] + x_[kGyroBias]), h,
-         Square(options_.gyro_sigma_radps));
+  NoteSample(OdometryEkfStats::kGyro);
+  GatedUpdate(OdometryEkfStats::kGyro, m.yaw_rate_radps - (x_[kYawRate] + x_[kGyroBias]), h,
+              Square(options_.gyro_sigma_radps), kGyroBias, options_.gyro_bias_sigma_radps);
   h.setZero();
   h[kYaw] = 1.0;
   h[kHeadingBias] = 1.0;
-  Update(AngleDiff(m.heading_rad, x_[kYaw] + x_[kHeadingBias]), h,
-         Square(options_.heading_sigma_rad));
+  // A heading jump is the AHRS's offset changing: the heading bias takes it.
+  GatedUpdate(OdometryEkfStats::kHeading, AngleDiff(m.heading_rad, x_[kYaw] + x_[kHeadingBias]),
+              h, Square(options_.heading_sigma_rad), kHeadingBias,
+              options_.heading_bias_sigma_rad);
 }
 
 bool OdometryEkf::Process(const SensorEvent& event) {
   const TimeNs t = EventTime(event);
-  if (!initialized_ || t < t_ns_) return false;
+  if (!initialized_) return false;
+  if (t < t_ns_) {
+    ++stats_.late_events;
+    return false;
+  }
   PredictTo(t);
   if (const auto* w = std::get_if<WheelSpeed>(&event)) {
     UpdateWheelSpeed(*w);

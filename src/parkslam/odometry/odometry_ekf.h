@@ -20,6 +20,16 @@
 //   steering angle   0 = omega - v tan(z_sw / ratio) / L   (bicycle model)
 //   gyroscope        z = omega + b_g                       (R = sigma_g^2)
 //   AHRS heading     z = yaw + b_h                         (R = sigma_h^2)
+//
+// Faults (docs/robustness.md): each scalar update is gated on its
+// normalized innovation squared, y^2 / (h P h^T + r) > innovation_gate_chi2
+// (1 degree of freedom), so a single spike of the gyroscope, the heading or
+// the wheel speed is rejected. A sensor that keeps failing the gate for
+// fault_reset_after_s has changed rather than spiked: its bias state (the
+// heading bias for a heading jump, the gyro bias, the speed, the yaw rate
+// for steering) gets its prior variance back (at least the step's square)
+// and the measurement is taken, so the filter follows the new level instead
+// of rejecting it for ever.
 
 #include <Eigen/Core>
 #include <string>
@@ -53,8 +63,26 @@ struct OdometryEkfOptions {
   double gyro_bias_sigma_radps = 0.003;
   double heading_bias_sigma_rad = 0.02;
   double wheel_scale_sigma = 0.003;
+  // Fault gating (above). 19.5 is the chi-square quantile of p = 1e-5 with
+  // one degree of freedom; gating starts gate_after_s after initialization,
+  // when the priors have converged.
+  double innovation_gate_chi2 = 19.5;
+  double gate_after_s = 2.0;
+  double fault_reset_after_s = 1.0;
 
   bool IsValid(std::string* error) const;
+};
+
+// What the filter saw of its inputs' faults.
+struct OdometryEkfStats {
+  enum Channel { kWheelSpeed = 0, kSteering, kGyro, kHeading, kChannels };
+  static const char* ChannelName(int channel);
+  int late_events = 0;  // older than the filter's time: dropped
+  int rejected[kChannels] = {};  // updates refused by the gate
+  int resets[kChannels] = {};    // faults accepted as a new level
+  // The longest time between two samples of a sensor (wheel speed,
+  // steering, IMU), in seconds.
+  double longest_gap_s[kChannels] = {};
 };
 
 class OdometryEkf {
@@ -102,11 +130,17 @@ class OdometryEkf {
   Eigen::Matrix3d pose_covariance() const { return P_.topLeftCorner<3, 3>(); }
   const StateVector& state() const { return x_; }
   const StateMatrix& covariance() const { return P_; }
+  const OdometryEkfStats& stats() const { return stats_; }
 
  private:
   void Predict(double dt_s);
   // Scalar update: innovation y, Jacobian row h, variance r.
   void Update(double innovation, const Eigen::Matrix<double, 1, kStateSize>& h, double r);
+  // Update through the fault gate of `channel`; `reset_state` is the state
+  // whose prior variance `reset_sigma` comes back when the fault persists.
+  void GatedUpdate(int channel, double innovation, const Eigen::Matrix<double, 1, kStateSize>& h,
+                   double r, int reset_state, double reset_sigma);
+  void NoteSample(int channel);
   void UpdateWheelSpeed(const WheelSpeed& m);
   void UpdateSteering(const SteeringAngle& m);
   void UpdateImu(const ImuSample& m);
@@ -116,6 +150,12 @@ class OdometryEkf {
   TimeNs t_ns_ = 0;
   StateVector x_ = StateVector::Zero();
   StateMatrix P_ = StateMatrix::Identity();
+  TimeNs initialized_at_ns_ = 0;
+  // Per channel: the time of the last sample and since when the gate has
+  // rejected it (-1: it is passing).
+  TimeNs last_sample_ns_[OdometryEkfStats::kChannels] = {-1, -1, -1, -1};
+  TimeNs rejecting_since_ns_[OdometryEkfStats::kChannels] = {-1, -1, -1, -1};
+  OdometryEkfStats stats_;
 };
 
 }  // namespace parkslam::odometry

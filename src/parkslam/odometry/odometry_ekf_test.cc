@@ -134,5 +134,73 @@ TEST(OdometryEkfTest, InvalidOptionsAreRejected) {
   EXPECT_FALSE(o.IsValid(&error));
 }
 
+// Faults (docs/robustness.md): a one-sample spike is gated out; a heading
+// that jumps and stays is taken by the heading bias after the reset time,
+// and yaw (from the gyroscope) does not follow it.
+TEST(OdometryEkfTest, GatesImuSpikesAndTakesAHeadingJumpAsBias) {
+  OdometryEkfOptions o;
+  for (const bool gated : {true, false}) {
+    if (!gated) o.innovation_gate_chi2 = 1e12;  // a gate nothing fails
+    OdometryEkf ekf(o);
+    ekf.Initialize(0, SE2(0, 0, 0), 0.01);
+    Drive(ekf, o, 2.0, 0.0, 0.0, 5.0);
+    // One gyro spike of 3 rad/s and one wheel-speed spike of 20 m/s.
+    const TimeNs t = ekf.time_ns() + 10 * kMs;
+    ekf.Process(WheelSpeed{t, 20.0});
+    ekf.Process(ImuSample{t, 3.0, 0.0});
+    Drive(ekf, o, 2.0, 0.0, 0.0, 5.0);
+    if (gated) {
+      EXPECT_EQ(ekf.stats().rejected[OdometryEkfStats::kGyro], 1);
+      EXPECT_EQ(ekf.stats().rejected[OdometryEkfStats::kWheelSpeed], 1);
+      EXPECT_NEAR(ekf.pose().yaw(), 0.0, 1e-3);
+      EXPECT_NEAR(ekf.pose().x(), 20.0, 0.15);
+    } else {
+      // Without the gate the same spikes bend and stretch the track.
+      EXPECT_EQ(ekf.stats().rejected[OdometryEkfStats::kGyro], 0);
+      EXPECT_GT(std::abs(ekf.pose().y()) + std::abs(ekf.pose().x() - 20.0), 0.2);
+    }
+  }
+}
+
+TEST(OdometryEkfTest, HeadingJumpIsAbsorbedByTheHeadingBias) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.Initialize(0, SE2(0, 0, 0), 0.01);
+  Drive(ekf, o, 2.0, 0.0, 0.0, 5.0);
+  // From now on the AHRS reads 0.4 rad more than the true heading (0).
+  const TimeNs start = ekf.time_ns();
+  for (TimeNs t = start + 10 * kMs; t <= start + FromSeconds(10.0); t += 10 * kMs) {
+    ekf.Process(WheelSpeed{t, 2.0});
+    ekf.Process(SteeringAngle{t, 0.0});
+    ekf.Process(ImuSample{t, 0.0, 0.4});
+  }
+  const OdometryEkfStats& stats = ekf.stats();
+  EXPECT_EQ(stats.resets[OdometryEkfStats::kHeading], 1);
+  // Rejected for fault_reset_after_s at 100 Hz, then taken.
+  EXPECT_NEAR(stats.rejected[OdometryEkfStats::kHeading], 100, 2);
+  EXPECT_NEAR(ekf.state()[OdometryEkf::kHeadingBias], 0.4, 0.01);
+  EXPECT_NEAR(ekf.pose().yaw(), 0.0, 0.01);
+  EXPECT_NEAR(ekf.pose().y(), 0.0, 0.1);
+}
+
+TEST(OdometryEkfTest, CountsLateEventsAndSensorGaps) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.Initialize(0, SE2(0, 0, 0), 0.01);
+  Drive(ekf, o, 2.0, 0.0, 0.0, 2.0);
+  EXPECT_FALSE(ekf.Process(WheelSpeed{ekf.time_ns() - 5 * kMs, 2.0}));
+  EXPECT_EQ(ekf.stats().late_events, 1);
+  // Wheel speed silent for 3 s, the IMU not.
+  const TimeNs start = ekf.time_ns();
+  for (TimeNs t = start + 10 * kMs; t <= start + FromSeconds(3.0); t += 10 * kMs) {
+    ekf.Process(ImuSample{t, 0.0, 0.0});
+  }
+  Drive(ekf, o, 2.0, 0.0, 0.0, 1.0);
+  EXPECT_NEAR(ekf.stats().longest_gap_s[OdometryEkfStats::kWheelSpeed], 3.01, 1e-6);
+  EXPECT_NEAR(ekf.stats().longest_gap_s[OdometryEkfStats::kGyro], 0.01, 1e-6);
+  // Dead reckoning carried the car through the gap at its last speed.
+  EXPECT_NEAR(ekf.pose().x(), 12.0, 0.1);
+}
+
 }  // namespace
 }  // namespace parkslam::odometry
