@@ -74,7 +74,7 @@ void AddLocalizeCommand(CLI::App& app) {
     const std::filesystem::path recorded =
         options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
     DatasetStream stream(dataset, options->pixels.live_images_hz, recorded,
-                         options->pixels.Perception());
+                         options->pixels.Perception(), options->pixels.Faults());
     SensorSource& source = stream.source();
     const DriveSpan span = SpanOf(dataset.log);
     Progress progress("  localizing", span.TotalTenths());
@@ -119,6 +119,10 @@ void AddLocalizeCommand(CLI::App& app) {
                 frames, tracking, 100.0 * tracking / std::max(frames, 1),
                 duration_s > 0 ? (trajectory.size() - 1) / duration_s : 0.0, lost_events,
                 relocalizations, update_ms[update_ms.size() / 2], update_ms.back());
+    const std::string stream_faults = stream.DescribeFaults();
+    if (!stream_faults.empty()) std::printf("%s\n", stream_faults.c_str());
+    const std::string odometry_faults = DescribeOdometryFaults(localizer.odometry_stats());
+    if (!odometry_faults.empty()) std::printf("%s\n", odometry_faults.c_str());
     std::printf("%zu poses written to %s\n", trajectory.size(), options->out.c_str());
     if (options->kidnap_trials > 0) {
       if (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map) {

@@ -77,9 +77,10 @@ void AddMapCommand(CLI::App& app) {
     const auto start = std::chrono::steady_clock::now();
     const std::filesystem::path recorded =
         options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
+    std::string faults_seen;
     mapping::Mapper mapper =
         BuildMap(dataset, mapper_options, init, true, options->pixels.live_images_hz, recorded,
-                 options->pixels.Perception());
+                 options->pixels.Perception(), options->pixels.Faults(), &faults_seen);
     const double total_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     io::WriteMap(options->out, mapper.Map());
@@ -87,6 +88,7 @@ void AddMapCommand(CLI::App& app) {
       io::WriteTum(options->trajectory_out, mapper.KeyframeTrajectory());
     }
     std::printf("%s\n", DescribeMapping(mapper, total_s).c_str());
+    if (!faults_seen.empty()) std::printf("%s\n", faults_seen.c_str());
     std::printf("map written to %s\n", options->out.c_str());
   });
 }

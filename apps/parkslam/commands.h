@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "parkslam/common/se2.h"
+#include "parkslam/pipeline/fault_injection.h"
 #include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/sim/scenario_config.h"
 
@@ -67,8 +68,11 @@ struct PixelOptions {
   double live_images_hz = 0.0;
   bool images = false;
   std::string detector = "classical";
+  std::vector<std::string> faults;  // --fault, as written
   // The front end's options for the chosen detector.
   pipeline::PerceptionOptions Perception() const;
+  // The parsed --fault options; throws std::runtime_error naming the bad one.
+  std::vector<pipeline::SensorFault> Faults() const;
 };
 // --detector: which slot detector and ID reader a command on pixels runs.
 void AddDetectorOption(CLI::App* command, std::string* detector);

@@ -91,6 +91,24 @@ void AddPixelOptions(CLI::App* command, PixelOptions* options) {
                  "slots, IDs and tags found in them replace the dataset's detections")
       ->excludes("--live-images");
   AddDetectorOption(command, &options->detector);
+  command->add_option(
+      "--fault", options->faults,
+      "Inject a sensor fault into the stream (repeatable; docs/robustness.md): "
+      "KIND@START+DURATION[,camera=NAME][,magnitude=X], seconds from the stream's start; KIND "
+      "is camera-gap, camera-black, camera-frozen, late-frames, imu-spikes, heading-jump, "
+      "wheel-dropout or clock-jitter (e.g. camera-black@60+20,camera=left)");
+}
+
+std::vector<pipeline::SensorFault> PixelOptions::Faults() const {
+  std::vector<pipeline::SensorFault> parsed;
+  for (const std::string& text : faults) {
+    try {
+      parsed.push_back(pipeline::ParseSensorFault(text));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(std::string("--fault: ") + e.what());
+    }
+  }
+  return parsed;
 }
 
 void AddDetectorOption(CLI::App* command, std::string* detector) {

@@ -4,6 +4,7 @@
 
 #include "commands.h"
 #include "parkslam/common/angles.h"
+#include "parkslam/common/seed_mix.h"
 #include "parkslam/sim/simulator.h"
 #include "progress.h"
 #include "parkslam/camera/camera_model.h"
@@ -70,8 +71,17 @@ struct DatasetStream::Live {
 
 DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
                              const std::filesystem::path& recorded_images_dir,
-                             const pipeline::PerceptionOptions& perception)
+                             const pipeline::PerceptionOptions& perception,
+                             const std::vector<pipeline::SensorFault>& faults)
     : log_(dataset.log) {
+  // The faults act on what the sensors give: the log, or the log with the
+  // camera frames, before the front end.
+  const auto with_faults = [&](SensorSource& inner) -> SensorSource& {
+    if (faults.empty()) return inner;
+    faults_ = std::make_unique<pipeline::FaultInjectingSource>(inner, faults,
+                                                               MixSeed(dataset.seed, 0xFA17));
+    return *faults_;
+  };
   if (!recorded_images_dir.empty()) {
     io::ReadImageIndex(recorded_images_dir);  // names what is missing before the rig does
     const camera::CameraRig rig = io::LoadRig(recorded_images_dir / "images" / "rig.yaml");
@@ -81,10 +91,13 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
         std::vector<std::string>{"front", "rear", "left", "right", "front_mono"});
     live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(rig, perception);
     live_->perception =
-        std::make_unique<pipeline::PerceptionSource>(*live_->source, *live_->front_end);
+        std::make_unique<pipeline::PerceptionSource>(with_faults(*live_->source), *live_->front_end);
     return;
   }
-  if (rate_hz <= 0.0) return;
+  if (rate_hz <= 0.0) {
+    with_faults(log_);
+    return;
+  }
   if (dataset.groundtruth_trajectory.size() < 2) {
     throw std::runtime_error(dataset.name + ": live images need the dataset's ground truth");
   }
@@ -99,14 +112,70 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
   // On pixels: the frames replace the dataset's observation-level slots
   // and tags.
   live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(camera::DefaultRig(), perception);
-  live_->perception = std::make_unique<pipeline::PerceptionSource>(*live_->source, *live_->front_end);
+  live_->perception =
+      std::make_unique<pipeline::PerceptionSource>(with_faults(*live_->source), *live_->front_end);
 }
 
 DatasetStream::~DatasetStream() = default;
 
 SensorSource& DatasetStream::source() {
   if (live_) return *live_->perception;
+  if (faults_) return *faults_;
   return log_;
+}
+
+std::string DatasetStream::DescribeFaults() const {
+  std::string out;
+  if (faults_) {
+    const pipeline::InjectedFaults& f = faults_->injected();
+    char line[512];
+    std::snprintf(line, sizeof(line),
+                  "faults injected: %d frames dropped, %d images black, %d frozen, %d frames "
+                  "late, %d IMU spikes, %d headings shifted, %d wheel samples dropped, %d "
+                  "events jittered",
+                  f.frames_dropped, f.images_blackened, f.images_frozen, f.frames_delayed,
+                  f.imu_spikes, f.heading_samples_shifted, f.wheel_samples_dropped,
+                  f.events_jittered);
+    out += line;
+  }
+  if (live_ && live_->perception) {
+    const perception::CameraHealthMonitor& health = live_->perception->camera_health();
+    std::string cameras;
+    for (const auto& [name, n] : health.black_images()) {
+      cameras += (cameras.empty() ? "" : ", ") + name + " black in " + std::to_string(n) + " frames";
+    }
+    for (const auto& [name, n] : health.frozen_images()) {
+      cameras += (cameras.empty() ? "" : ", ") + name + " frozen in " + std::to_string(n) + " frames";
+    }
+    if (!cameras.empty()) {
+      out += std::string(out.empty() ? "" : "\n") + "cameras left out: " + cameras;
+    }
+  }
+  return out;
+}
+
+std::string DescribeOdometryFaults(const odometry::OdometryEkfStats& stats) {
+  using S = odometry::OdometryEkfStats;
+  std::string parts;
+  const auto add = [&parts](const std::string& part) {
+    parts += (parts.empty() ? "" : ", ") + part;
+  };
+  if (stats.late_events > 0) add(std::to_string(stats.late_events) + " late events dropped");
+  for (int c = 0; c < S::kChannels; ++c) {
+    if (stats.rejected[c] > 0 || stats.resets[c] > 0) {
+      add(std::string(S::ChannelName(c)) + " " + std::to_string(stats.rejected[c]) +
+          " samples gated out, " + std::to_string(stats.resets[c]) + " level changes taken");
+    }
+  }
+  for (int c : {S::kWheelSpeed, S::kSteering, S::kGyro}) {
+    if (stats.longest_gap_s[c] > 0.5) {
+      char gap[96];
+      std::snprintf(gap, sizeof(gap), "%s silent for up to %.1f s",
+                    c == S::kGyro ? "imu" : S::ChannelName(c), stats.longest_gap_s[c]);
+      add(gap);
+    }
+  }
+  return parts.empty() ? "" : "odometry faults seen: " + parts;
 }
 
 int DriveSpan::TotalTenths() const {
@@ -138,7 +207,9 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
                          std::optional<SE2> initial_pose, bool progress,
                          double live_image_rate_hz,
                          const std::filesystem::path& recorded_images_dir,
-                         const pipeline::PerceptionOptions& perception) {
+                         const pipeline::PerceptionOptions& perception,
+                         const std::vector<pipeline::SensorFault>& faults,
+                         std::string* faults_seen) {
   mapping::Mapper mapper(options,
                          pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
                                                             dataset.scenario.vehicle),
@@ -146,7 +217,7 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
   const DriveSpan span = SpanOf(dataset.log);
   std::optional<Progress> bar;
   if (progress) bar.emplace("  mapping", span.TotalTenths());
-  DatasetStream stream(dataset, live_image_rate_hz, recorded_images_dir, perception);
+  DatasetStream stream(dataset, live_image_rate_hz, recorded_images_dir, perception, faults);
   SensorSource& source = stream.source();
   while (const auto event = source.Next()) {
     mapper.Process(*event);
@@ -154,6 +225,11 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
   }
   mapper.Finish();
   if (bar) bar->Finish();
+  if (faults_seen != nullptr) {
+    *faults_seen = stream.DescribeFaults();
+    const std::string odometry = DescribeOdometryFaults(mapper.odometry_stats());
+    if (!odometry.empty()) *faults_seen += (faults_seen->empty() ? "" : "\n") + odometry;
+  }
   return mapper;
 }
 

@@ -19,6 +19,7 @@
 #include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/trace_following.h"
 #include "parkslam/pipeline/dead_reckoning.h"
+#include "parkslam/pipeline/fault_injection.h"
 
 namespace parkslam::app {
 
@@ -53,25 +54,38 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
                          std::optional<SE2> initial_pose, bool progress,
                          double live_image_rate_hz = 0.0,
                          const std::filesystem::path& recorded_images_dir = {},
-                         const pipeline::PerceptionOptions& perception = {});
+                         const pipeline::PerceptionOptions& perception = {},
+                         const std::vector<pipeline::SensorFault>& faults = {},
+                         std::string* faults_seen = nullptr);
 
 // The stream of a dataset: on pixels with live camera frames when
 // live_image_rate_hz > 0, or with the dataset's recorded images when
 // recorded_images_dir is given (its folder, holding images/); the slots and
 // tags the perception front end finds then replace the dataset's.
+// With `faults` the stream carries them (pipeline/fault_injection.h),
+// before the front end on pixels.
 class DatasetStream {
  public:
   DatasetStream(const io::Dataset& dataset, double live_image_rate_hz,
                 const std::filesystem::path& recorded_images_dir = {},
-                const pipeline::PerceptionOptions& perception = {});
+                const pipeline::PerceptionOptions& perception = {},
+                const std::vector<pipeline::SensorFault>& faults = {});
   ~DatasetStream();
   SensorSource& source();
+  // What was injected and which cameras the front end found black or
+  // frozen; "" when nothing was.
+  std::string DescribeFaults() const;
 
  private:
   struct Live;
   SensorLogSource log_;
   std::unique_ptr<Live> live_;
+  std::unique_ptr<pipeline::FaultInjectingSource> faults_;
 };
+
+// What the dead reckoning saw of its inputs' faults, one line; "" when
+// nothing (no late event, no gated sample, no sensor gap over 0.5 s).
+std::string DescribeOdometryFaults(const odometry::OdometryEkfStats& stats);
 std::string DescribeMapping(const mapping::Mapper& mapper, double total_s);
 
 // Which truth slots the car passed: detected at least min_sightings times

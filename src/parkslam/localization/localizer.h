@@ -86,6 +86,8 @@ class Localizer {
   std::optional<LocalizationEstimate> Process(const SensorEvent& event);
 
   LocalizerState state() const { return state_; }
+  // What the dead reckoning saw of its inputs' faults.
+  const odometry::OdometryEkfStats& odometry_stats() const { return odometry_->stats(); }
   // The pose at the last camera frame.
   SE2 pose() const { return SE2(x_[0], x_[1], x_[2]); }
   // The pose now: the last estimate moved on by the odometry since that

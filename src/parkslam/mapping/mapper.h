@@ -58,6 +58,9 @@ class Mapper {
   SemanticMap Map() const;
   Trajectory KeyframeTrajectory() const;
   const MapperStats& stats() const { return stats_; }
+  // What the dead reckoning saw of its inputs' faults (late events, gated
+  // spikes, sensor gaps).
+  const odometry::OdometryEkfStats& odometry_stats() const { return ekf_->stats(); }
 
   // Internals, public for tests.
   struct Keyframe {

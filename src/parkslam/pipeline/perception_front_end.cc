@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <opencv2/imgproc.hpp>
+
 #include "parkslam/camera/image_plane.h"
 #include "parkslam/common/angles.h"
 
@@ -118,12 +120,32 @@ PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
                        static_cast<int>(std::ceil(std::max(a.y(), b.y()))) + 1);
     footprint_mask_(cv::Rect(tl, br) & cv::Rect(0, 0, tv.size_px, tv.size_px)).setTo(0);
   }
+  // Each fisheye's part of the top view (with its blends and a margin of
+  // kExcludedMarginPx), masked when that camera is left out.
+  constexpr int kExcludedMarginPx = 5;
+  for (std::size_t c = 0; c < options_.fisheye_cameras.size(); ++c) {
+    cv::Mat region(tv.size_px, tv.size_px, CV_8UC1, cv::Scalar(0));
+    for (int v = 0; v < tv.size_px; ++v) {
+      for (int u = 0; u < tv.size_px; ++u) {
+        const int k = static_cast<int>(c);
+        if (fusion_->PrimaryCamera(u, v) == k || fusion_->SecondaryCamera(u, v) == k) {
+          region.at<std::uint8_t>(v, u) = 255;
+        }
+      }
+    }
+    cv::dilate(region, region, cv::Mat(), cv::Point(-1, -1), kExcludedMarginPx);
+    camera_regions_.push_back(region);
+  }
 }
 
 PerceptionFrontEnd::~PerceptionFrontEnd() = default;
 
-PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame) const {
+PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame,
+                                             const std::vector<std::string>& excluded) const {
   PerceptionOutput out;
+  const auto is_excluded = [&excluded](const std::string& name) {
+    return std::find(excluded.begin(), excluded.end(), name) != excluded.end();
+  };
   out.slots.t_ns = frame.t_ns;
   out.tags.t_ns = frame.t_ns;
   const auto image_of = [&frame](const std::string& name) -> const ImagePlane* {
@@ -134,18 +156,30 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame) const {
   };
 
   // Slots (paper III-A): fusion, detection, ID reading.
+  // A left-out fisheye is fused as black (what no camera sees) and its part
+  // of the top view masked.
   std::vector<cv::Mat> fisheyes;
-  for (const std::string& name : options_.fisheye_cameras) {
-    if (const ImagePlane* plane = image_of(name)) fisheyes.push_back(camera::AsMat(*plane));
+  cv::Mat mask = footprint_mask_;
+  std::size_t left_out = 0;
+  for (std::size_t c = 0; c < options_.fisheye_cameras.size(); ++c) {
+    const std::string& name = options_.fisheye_cameras[c];
+    const ImagePlane* plane = image_of(name);
+    if (plane == nullptr) break;
+    if (!is_excluded(name)) {
+      fisheyes.push_back(camera::AsMat(*plane));
+      continue;
+    }
+    fisheyes.push_back(cv::Mat::zeros(plane->height, plane->width, CV_8UC1));
+    if (left_out++ == 0) mask = footprint_mask_.clone();
+    mask.setTo(0, camera_regions_[c]);
   }
-  if (fisheyes.size() == options_.fisheye_cameras.size()) {
+  if (fisheyes.size() == options_.fisheye_cameras.size() && left_out < fisheyes.size()) {
     Clock::time_point start = Clock::now();
     out.top_view = fusion_->Fuse(fisheyes);
     out.timing.fusion_ms = MsSince(start);
     start = Clock::now();
-    out.detection = learned_detector_ != nullptr
-                        ? learned_detector_->Detect(out.top_view, footprint_mask_)
-                        : slot_detector_->Detect(out.top_view, footprint_mask_);
+    out.detection = learned_detector_ != nullptr ? learned_detector_->Detect(out.top_view, mask)
+                                                 : slot_detector_->Detect(out.top_view, mask);
     out.timing.slots_ms = MsSince(start);
     start = Clock::now();
     out.ids.resize(out.detection.slots.size());
@@ -179,7 +213,9 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame) const {
   }
 
   // Tags (paper III-B) in the front camera.
-  if (const ImagePlane* plane = image_of(options_.tag_camera)) {
+  const ImagePlane* tag_plane =
+      is_excluded(options_.tag_camera) ? nullptr : image_of(options_.tag_camera);
+  if (const ImagePlane* plane = tag_plane) {
     const Clock::time_point start = Clock::now();
     const cv::Mat image = camera::AsMat(*plane);
     if (image.cols != tag_camera_.intrinsics.width || image.rows != tag_camera_.intrinsics.height) {
@@ -243,7 +279,13 @@ std::optional<SensorEvent> PerceptionSource::Next() {
       continue;  // only what the cameras see
     }
     if (const auto* frame = std::get_if<CameraFrame>(&*event)) {
-      PerceptionOutput out = front_end_.Process(*frame);
+      // Black or frozen cameras are left out while they are so.
+      const std::vector<perception::CameraHealth> health = health_.Check(*frame);
+      std::vector<std::string> excluded;
+      for (std::size_t k = 0; k < health.size(); ++k) {
+        if (health[k] != perception::CameraHealth::kOk) excluded.push_back(frame->cameras[k]);
+      }
+      PerceptionOutput out = front_end_.Process(*frame, excluded);
       ++frames_processed_;
       total_timing_.fusion_ms += out.timing.fusion_ms;
       total_timing_.slots_ms += out.timing.slots_ms;

@@ -14,6 +14,7 @@
 
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/camera/top_view.h"
+#include "parkslam/perception/camera_health.h"
 #include "parkslam/perception/learned_slot_detector.h"
 #include "parkslam/perception/learned_slot_id_reader.h"
 #include "parkslam/perception/slot_detector.h"
@@ -98,9 +99,13 @@ class PerceptionFrontEnd {
   ~PerceptionFrontEnd();
 
   // Runs every stage on one frame set. Cameras the frame lacks are skipped
-  // with their stage (no top view without all four fisheyes). Throws
-  // std::invalid_argument when an image's size does not match its camera.
-  PerceptionOutput Process(const CameraFrame& frame) const;
+  // with their stage (no top view without all four fisheyes). Cameras named
+  // in `excluded` (failed: perception/camera_health.h) are left out: a
+  // fisheye's part of the top view is black and masked, the tag camera's
+  // tags are not looked for. Throws std::invalid_argument when an image's
+  // size does not match its camera.
+  PerceptionOutput Process(const CameraFrame& frame,
+                           const std::vector<std::string>& excluded = {}) const;
 
   const camera::TopViewFusion& fusion() const { return *fusion_; }
   // 0 on the car's footprint in the top view, 255 elsewhere.
@@ -119,12 +124,14 @@ class PerceptionFrontEnd {
   std::unique_ptr<perception::LearnedSlotIdReader> learned_reader_;
   std::unique_ptr<perception::TagDetector> tag_detector_;
   cv::Mat footprint_mask_;
+  std::vector<cv::Mat> camera_regions_;  // per fisheye, 255 where it counts
 };
 
 // A sensor stream on pixels: camera frames of `inner` become slot and tag
 // observation frames (at the frame's time) by the front end; the
 // observation-level slot and tag frames `inner` may carry are dropped, so
-// that everything downstream sees only what the cameras saw.
+// that everything downstream sees only what the cameras saw. Cameras whose
+// images are black or frozen are left out of the frames they fail in.
 class PerceptionSource final : public SensorSource {
  public:
   PerceptionSource(SensorSource& inner, const PerceptionFrontEnd& front_end);
@@ -134,9 +141,12 @@ class PerceptionSource final : public SensorSource {
   // Sum and maximum of the per-frame stage times.
   const PerceptionTiming& total_timing() const { return total_timing_; }
   double max_frame_ms() const { return max_frame_ms_; }
+  // The cameras judged black or frozen, and how often (left out then).
+  const perception::CameraHealthMonitor& camera_health() const { return health_; }
 
  private:
   SensorSource& inner_;
+  perception::CameraHealthMonitor health_;
   const PerceptionFrontEnd& front_end_;
   std::optional<SensorEvent> pending_tags_;
   int frames_processed_ = 0;
