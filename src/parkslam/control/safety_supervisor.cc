@@ -34,6 +34,11 @@ SafetySupervisor::SafetySupervisor(const SafetyOptions& options) : options_(opti
 void SafetySupervisor::OnEstimate(TimeNs t_ns, bool tracking, const Eigen::Matrix2d& position_covariance,
                                   int used, int rejected) {
   rejecting_frames_ = used == 0 && rejected > 0 ? rejecting_frames_ + 1 : used > 0 ? 0 : rejecting_frames_;
+  // Held still after a stop, the car sees the same landmarks again and
+  // again: their rejection is no new sign of a move, and counting it would
+  // keep the car standing for ever where the only landmark in view
+  // disagrees with the map. It counts again once the car goes on.
+  if (interventions_ > 0 && !stopping_ && allowed_mps_ == 0.0) rejecting_frames_ = 0;
   have_estimate_ = true;
   last_estimate_ns_ = t_ns;
   last_tracking_ = tracking;

@@ -13,7 +13,9 @@
 //   - is not the last of max_rejecting_frames frames in a row in which the
 //     localizer rejected what it saw and accepted nothing (a car that was
 //     moved sees its landmarks where the map has none, about a second
-//     before the localizer declares itself lost).
+//     before the localizer declares itself lost); rejections seen while
+//     held still after a stop do not count (the same landmarks again are
+//     no new sign of a move).
 // The speed the car may drive, v_allowed, follows:
 //   unhealthy:                    v_allowed <- max(0, v_allowed - a_brake dt)
 //   healthy for resume_after_s:   v_allowed <- min(v_cruise, v_allowed + a_go dt)

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace parkslam::control {
 namespace {
 
@@ -97,6 +99,32 @@ TEST(SafetySupervisorTest, FramesThatRejectEverythingStopTheCar) {
     e->OnEstimate(FromSeconds(t), true, kSmall, bad ? 0 : 3, bad ? 2 : 0);
   });
   EXPECT_EQ(two.interventions(), 0);
+}
+
+// Found in closed loop: stopped where the only landmark in view disagrees
+// with the map (rejected now and then, nothing else used), the car stood
+// for ever although localization tracked with a small covariance.
+TEST(SafetySupervisorTest, RejectionsSeenWhileHeldStillDoNotKeepTheCarStanding) {
+  SafetySupervisor s;
+  Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  // From 10 s: nothing used; every other frame rejects one observation.
+  int frame = 0;
+  double fastest_after_stop = 0.0;
+  bool stopped = false;
+  for (int k = 1000; k < 2000; ++k) {
+    const double t = k / 100.0;
+    if (k % 20 == 0) s.OnEstimate(FromSeconds(t), true, kSmall, 0, (frame++ % 2 == 0) ? 1 : 0);
+    const double v = s.AllowedSpeed(FromSeconds(t), 0.01, 2.78);
+    stopped = stopped || v == 0.0;
+    if (stopped) fastest_after_stop = std::max(fastest_after_stop, v);
+  }
+  // It stops, goes on after resume_after_s, and the next three rejections
+  // (1.2 s at 1 m/s^2) stop it again before it is fast: it creeps on
+  // instead of standing for ever.
+  EXPECT_TRUE(stopped);
+  EXPECT_GT(s.interventions(), 1);
+  EXPECT_GT(fastest_after_stop, 0.0);
+  EXPECT_LE(fastest_after_stop, 1.25);
 }
 
 TEST(SafetySupervisorTest, InvalidOptionsThrow) {
