@@ -36,6 +36,10 @@ nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& r,
   j["runs"] = static_cast<int>(r.runs.size());
   j["speed_kmh"] = o.speed_kmh;
   j["odometry_only"] = o.odometry_only;
+  j["actuator_delay_s"] = o.vehicle_dynamics.actuator_delay_s;
+  j["speed_lag_s"] = o.vehicle_dynamics.speed_lag_s;
+  j["understeer_gradient_rad_per_mps2"] = o.vehicle_dynamics.understeer_gradient_rad_per_mps2;
+  j["sideslip_rad_per_mps2"] = o.vehicle_dynamics.sideslip_rad_per_mps2;
   j["repeat_std_m"] = number(m.repeat_std_m);
   j["repeat_std_max_m"] = number(m.repeat_std_max_m);
   j["lateral_mean_m"] = number(m.lateral_mean_all_m);
@@ -51,7 +55,9 @@ nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& r,
                        {"lateral_mean_m", number(i < m.lateral_mean_m.size() ? m.lateral_mean_m[i] : NAN)},
                        {"lateral_max_m", number(i < m.lateral_max_m.size() ? m.lateral_max_m[i] : NAN)},
                        {"localization_rmse_m", r.runs[i].localization_rmse_m},
-                       {"lost_frames", r.runs[i].lost_frames}});
+                       {"lost_frames", r.runs[i].lost_frames},
+                       {"safety_interventions", r.runs[i].safety_interventions},
+                       {"stopped_s", r.runs[i].stopped_s}});
   }
   j["runs_finished"] = finished;
   j["per_run"] = per_run;
@@ -90,6 +96,7 @@ void AddFollowCommand(CLI::App& app) {
     bool odometry_only = false, json = false;
     double live_images_hz = 0.0;
     std::string detector = "classical";
+    std::string vehicle = "ideal";
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -120,6 +127,12 @@ void AddFollowCommand(CLI::App& app) {
                   "pose, writing nothing, and localize on what the front end finds in them")
       ->check(CLI::Range(0.0, 30.0));
   AddDetectorOption(cmd, &options->detector);
+  cmd->add_option("--vehicle", options->vehicle,
+                  "The car between commands and road: ideal (a kinematic bicycle that obeys at "
+                  "once) or realistic (0.15 s actuator delay, 0.5 s speed lag, tyre slip in "
+                  "turns; docs/localization.md)")
+      ->check(CLI::IsMember({"ideal", "realistic"}))
+      ->capture_default_str();
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
     io::CheckOutputsSpareInputs({{options->out, "--out"}},
@@ -155,6 +168,7 @@ void AddFollowCommand(CLI::App& app) {
     follow.odometry_only = options->odometry_only;
     follow.live_image_rate_hz = options->live_images_hz;
     follow.perception.detector = pipeline::ParseDetectorKind(options->detector);
+    if (options->vehicle == "realistic") follow.vehicle_dynamics = sim::RealisticDynamics();
     Progress progress("  runs", options->runs);
     const pipeline::TraceFollowingResult result = pipeline::FollowTrace(
         scenario, map, T_map_world, trace_world, follow,
@@ -170,8 +184,9 @@ void AddFollowCommand(CLI::App& app) {
     viz::MapSvgOptions svg;
     char title[256];
     std::snprintf(title, sizeof title,
-                  "%d autonomous runs at %.0f km/h, %s: repeated-trace std %.3f m",
+                  "%d autonomous runs at %.0f km/h, %s%s: repeated-trace std %.3f m",
                   options->runs, options->speed_kmh,
+                  options->vehicle == "realistic" ? "realistic vehicle, " : "",
                   options->odometry_only ? "dead reckoning only" : "localized on the map",
                   result.metrics.repeat_std_m);
     svg.title = title;

@@ -126,7 +126,9 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
     const SE2 true_start = start_world * SE2(rng.Gaussian(options.start_position_sigma_m),
                                              rng.Gaussian(options.start_position_sigma_m),
                                              rng.Gaussian(options.start_yaw_sigma_rad));
-    sim::LiveSimulator simulator(scenario, seed, true_start);
+    sim::LiveSimulatorOptions simulator_options;
+    simulator_options.dynamics = options.vehicle_dynamics;
+    sim::LiveSimulator simulator(scenario, seed, true_start, simulator_options);
     PoseSource source(map, options, odometry_options, T_map_world * start_world,
                       start_covariance, simulator.time_ns());
     control::PathFollower follower(trace, scenario.vehicle, options.follower);

@@ -19,6 +19,7 @@
 #include "parkslam/localization/localizer.h"
 #include "parkslam/map/semantic_map.h"
 #include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/sim/live_simulator.h"
 #include "parkslam/sim/scenario_config.h"
 
 namespace parkslam::pipeline {
@@ -54,6 +55,9 @@ struct TraceFollowingOptions {
   double kidnap_at_s = -1.0;
   Eigen::Vector3d kidnap_offset = Eigen::Vector3d::Zero();
   double blackout_from_s = -1.0, blackout_to_s = -1.0;
+  // The car between the commands and the road: ideal (all zero) or a real
+  // car's delay, lags and tyre slip (sim::RealisticDynamics()).
+  sim::VehicleDynamics vehicle_dynamics;
 };
 
 struct TraceRun {

@@ -54,6 +54,23 @@ TEST(TraceFollowingTest, LocalizedRunsRepeatTheTraceClosely) {
   EXPECT_LT(r.localization_rmse_m, 0.10);
 }
 
+// The targets with a real car's actuator delay, speed lag and tyre
+// slip (sim::RealisticDynamics): std <= 0.05 m, lateral mean <= 0.10 m.
+TEST(TraceFollowingTest, RealisticVehicleRepeatsTheTraceAt4And10Kmh) {
+  const sim::ScenarioConfig scenario = ShortDrive();
+  for (const double kmh : {4.0, 10.0}) {
+    TraceFollowingOptions options;
+    options.runs = 3;
+    options.speed_kmh = kmh;
+    options.vehicle_dynamics = sim::RealisticDynamics();
+    const TraceFollowingResult r =
+        FollowTrace(scenario, TrueMap(scenario), SE2(), HumanDrive(scenario), options);
+    for (const TraceRun& run : r.runs) EXPECT_TRUE(run.finished) << kmh << " km/h";
+    EXPECT_LE(r.metrics.repeat_std_m, 0.05) << kmh << " km/h";
+    EXPECT_LE(r.metrics.lateral_mean_all_m, 0.10) << kmh << " km/h";
+  }
+}
+
 TEST(TraceFollowingTest, DeadReckoningAloneDriftsAway) {
   const sim::ScenarioConfig scenario = ShortDrive();
   TraceFollowingOptions options;

@@ -1,5 +1,7 @@
 #include "parkslam/sim/live_simulator.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -47,16 +49,41 @@ double LimitSteering(double angle_rad, double command_rad, double dt_s,
 
 }  // namespace
 
-bool LiveSimulatorOptions::IsValid(std::string* error) const {
-  if (std::isfinite(step_hz) && step_hz >= 1.0 && step_hz <= 10000.0) return true;
-  if (error != nullptr) *error = "step_hz: must be in [1, 10000]";
+bool VehicleDynamics::IsValid(std::string* error) const {
+  const auto in = [](double v, double hi) { return std::isfinite(v) && v >= 0.0 && v <= hi; };
+  if (in(actuator_delay_s, 2.0) && in(speed_lag_s, 10.0) &&
+      in(understeer_gradient_rad_per_mps2, 0.1) && in(sideslip_rad_per_mps2, 0.1)) {
+    return true;
+  }
+  if (error != nullptr) {
+    *error = "dynamics: actuator_delay_s in [0, 2], speed_lag_s in [0, 10], "
+             "understeer_gradient_rad_per_mps2 and sideslip_rad_per_mps2 in [0, 0.1]";
+  }
   return false;
+}
+
+VehicleDynamics RealisticDynamics() {
+  VehicleDynamics d;
+  d.actuator_delay_s = 0.15;
+  d.speed_lag_s = 0.5;
+  d.understeer_gradient_rad_per_mps2 = 0.004;
+  d.sideslip_rad_per_mps2 = 0.005;
+  return d;
+}
+
+bool LiveSimulatorOptions::IsValid(std::string* error) const {
+  if (!(std::isfinite(step_hz) && step_hz >= 1.0 && step_hz <= 10000.0)) {
+    if (error != nullptr) *error = "step_hz: must be in [1, 10000]";
+    return false;
+  }
+  return dynamics.IsValid(error);
 }
 
 LiveSimulator::LiveSimulator(const ScenarioConfig& scenario, std::uint64_t seed,
                              const SE2& T_map_vehicle_start,
                              const LiveSimulatorOptions& options)
     : scenario_(Validated(scenario, options)),
+      dynamics_(options.dynamics),
       step_s_(1.0 / options.step_hz),
       world_(BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed))),
       odometry_(scenario.sensors.odometry, scenario.vehicle, seed),
@@ -78,15 +105,26 @@ const VehicleState& LiveSimulator::Step(double speed_command_mps,
                                         double road_wheel_angle_command_rad,
                                         std::vector<SensorEvent>* events) {
   const RouteConfig& limits = scenario_.route;
+  // The command that acts now: the latest whose delay has passed.
+  pending_.push_back({state_.t_ns + FromSeconds(dynamics_.actuator_delay_s), speed_command_mps,
+                      road_wheel_angle_command_rad});
+  while (!pending_.empty() && pending_.front().acts_at_ns <= state_.t_ns) {
+    acting_ = pending_.front();
+    pending_.pop_front();
+  }
+  double speed_target = acting_.speed_mps;
+  if (dynamics_.speed_lag_s > 0.0) {
+    speed_target = state_.speed_mps + (acting_.speed_mps - state_.speed_mps) *
+                                          (1.0 - std::exp(-step_s_ / dynamics_.speed_lag_s));
+  }
   const double speed_mps =
-      LimitSpeed(state_.speed_mps, speed_command_mps, limits.max_accel_mps2 * step_s_,
+      LimitSpeed(state_.speed_mps, speed_target, limits.max_accel_mps2 * step_s_,
                  (max_decel_mps2_ > 0.0 ? max_decel_mps2_ : limits.max_decel_mps2) * step_s_);
-  const double angle_rad = LimitSteering(state_.road_wheel_angle_rad,
-                                         road_wheel_angle_command_rad, step_s_,
-                                         scenario_.vehicle);
+  const double angle_rad =
+      LimitSteering(state_.road_wheel_angle_rad, acting_.angle_rad, step_s_, scenario_.vehicle);
   step_start_ = state_;
   ++step_index_;
-  state_ = StepBicycle(step_start_, speed_mps, angle_rad, step_s_, scenario_.vehicle);
+  state_ = Move(step_start_, speed_mps, angle_rad, step_s_);
   state_.t_ns = FromSeconds(static_cast<double>(step_index_) * step_s_);
 
   // Emit the due samples earliest first; ties in the order of Sensor.
@@ -114,10 +152,33 @@ void LiveSimulator::Teleport(const SE2& T_map_vehicle) {
 VehicleState LiveSimulator::StateAt(TimeNs t_ns) const {
   if (t_ns >= state_.t_ns) return state_;
   if (t_ns <= step_start_.t_ns) return step_start_;
-  VehicleState s = StepBicycle(step_start_, state_.speed_mps, state_.road_wheel_angle_rad,
-                               ToSeconds(t_ns - step_start_.t_ns), scenario_.vehicle);
+  VehicleState s = Move(step_start_, state_.speed_mps, state_.road_wheel_angle_rad,
+                        ToSeconds(t_ns - step_start_.t_ns));
   s.t_ns = t_ns;
   return s;
+}
+
+VehicleState LiveSimulator::Move(const VehicleState& start, double speed_mps, double angle_rad,
+                                 double dt_s) const {
+  const VehicleParameters& vehicle = scenario_.vehicle;
+  if (dynamics_.understeer_gradient_rad_per_mps2 == 0.0 && dynamics_.sideslip_rad_per_mps2 == 0.0) {
+    return StepBicycle(start, speed_mps, angle_rad, dt_s, vehicle);
+  }
+  // Lateral acceleration of the kinematic turn, v^2 tan(delta) / L; the
+  // angle that acts is smaller by the understeer (never past straight).
+  const double lateral_mps2 = speed_mps * speed_mps * std::tan(angle_rad) / vehicle.wheelbase_m;
+  const double lost = dynamics_.understeer_gradient_rad_per_mps2 * std::abs(lateral_mps2);
+  const double acting = angle_rad > 0.0 ? std::max(0.0, angle_rad - lost)
+                                        : std::min(0.0, angle_rad + lost);
+  VehicleState next = StepBicycle(start, speed_mps, acting, dt_s, vehicle);
+  // The body moves outwards of its heading: the displacement turns by the
+  // sideslip angle, away from the turn's centre.
+  const double sideslip = -dynamics_.sideslip_rad_per_mps2 * speed_mps * next.yaw_rate_radps;
+  const Eigen::Vector2d moved = next.T_map_vehicle.translation() - start.T_map_vehicle.translation();
+  const Eigen::Vector2d slipped = Eigen::Rotation2Dd(sideslip) * moved;
+  next.T_map_vehicle = SE2(start.T_map_vehicle.translation() + slipped, next.T_map_vehicle.yaw());
+  next.road_wheel_angle_rad = angle_rad;  // what the steering sensor reads
+  return next;
 }
 
 SensorEvent LiveSimulator::Measure(Sensor sensor, const VehicleState& true_state) {

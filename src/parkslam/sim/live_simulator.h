@@ -2,6 +2,7 @@
 #define PARKSLAM_SIM_LIVE_SIMULATOR_H_
 
 #include <cstdint>
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,34 @@
 
 namespace parkslam::sim {
 
+// What lies between a controller's commands and the road on a real car
+// (all zero: the ideal kinematic bicycle that obeys at once):
+//   a command acts actuator_delay_s after it is given (the CAN bus, the
+//     steering and brake controllers);
+//   the speed follows the delayed command as a first-order lag of time
+//     constant speed_lag_s (the speed controller), within the route's
+//     acceleration limits; the road wheels turn at most at the vehicle's
+//     max_road_wheel_rate_radps (as always);
+//   in a turn, the tyres slip: the road-wheel angle that acts is smaller by
+//     understeer_gradient_rad_per_mps2 per m/s^2 of lateral acceleration,
+//     and the body moves sideslip_rad_per_mps2 per m/s^2 outwards of its
+//     heading (the rear drifts out).
+struct VehicleDynamics {
+  double actuator_delay_s = 0.0;
+  double speed_lag_s = 0.0;
+  double understeer_gradient_rad_per_mps2 = 0.0;
+  double sideslip_rad_per_mps2 = 0.0;
+
+  bool IsValid(std::string* error) const;
+};
+
+// A passenger car's: 0.15 s delay, 0.5 s speed lag, understeer 0.004 rad
+// and sideslip 0.005 rad per m/s^2 (about 0.2 and 0.3 degrees per m/s^2).
+VehicleDynamics RealisticDynamics();
+
 struct LiveSimulatorOptions {
   double step_hz = 100.0;  // rate of Step(); the bicycle integrates 1 / step_hz
+  VehicleDynamics dynamics;
 
   bool IsValid(std::string* error) const;
 };
@@ -41,8 +68,10 @@ class LiveSimulator {
   LiveSimulator(const ScenarioConfig& scenario, std::uint64_t seed,
                 const SE2& T_map_vehicle_start, const LiveSimulatorOptions& options = {});
 
-  // Advances one step of 1 / step_hz. The speed moves towards
-  // speed_command_mps by at most route.max_accel_mps2 per second while its
+  // Advances one step of 1 / step_hz. With options.dynamics, the commands
+  // act late, the speed lags and the tyres slip (VehicleDynamics); then the
+  // speed moves towards speed_command_mps by at most route.max_accel_mps2
+  // per second while its
   // magnitude grows and route.max_decel_mps2 while it shrinks (stopping at
   // zero before reversing); the road-wheel angle moves towards its command
   // by at most vehicle.max_road_wheel_rate_radps per second, within
@@ -89,9 +118,22 @@ class LiveSimulator {
   // The true state at t_ns within the current step: the previous state
   // moved on by the speed and road-wheel angle held over the step.
   VehicleState StateAt(TimeNs t_ns) const;
+  // `start` moved on for dt_s at speed_mps with the road wheels at
+  // angle_rad, the tyres slipping as options.dynamics says.
+  VehicleState Move(const VehicleState& start, double speed_mps, double angle_rad,
+                    double dt_s) const;
   SensorEvent Measure(Sensor sensor, const VehicleState& true_state);
 
   ScenarioConfig scenario_;
+  VehicleDynamics dynamics_;
+  // Commands waiting for their time to act (actuator delay), and the one
+  // acting.
+  struct Command {
+    TimeNs acts_at_ns = 0;
+    double speed_mps = 0.0, angle_rad = 0.0;
+  };
+  std::deque<Command> pending_;
+  Command acting_;
   double step_s_ = 0.0;
   World world_;
   OdometrySensorModel odometry_;

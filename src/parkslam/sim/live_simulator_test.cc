@@ -311,5 +311,43 @@ TEST(LiveSimulatorTest, InvalidStepRateThrows) {
   EXPECT_NO_THROW(LiveSimulator(DefaultScenario(), 1, kStart, options));
 }
 
+// A realistic vehicle (VehicleDynamics): commands act late, the speed lags,
+// the tyres slip in turns.
+TEST(LiveSimulatorTest, RealisticDynamicsDelayLagAndSlip) {
+  LiveSimulatorOptions realistic;
+  realistic.dynamics = RealisticDynamics();
+  std::vector<SensorEvent> events;
+  // Delay: a speed command given at t = 0 moves the car only after 0.15 s.
+  LiveSimulator delayed(DefaultScenario(), 1, kStart, realistic);
+  Drive(delayed, 15, 0.2, 0.0, &events);
+  EXPECT_EQ(delayed.state().speed_mps, 0.0);
+  Drive(delayed, 1, 0.2, 0.0, &events);
+  EXPECT_GT(delayed.state().speed_mps, 0.0);
+  // Lag: 0.5 s after the command acts the speed is 1 - 1/e of the way (the
+  // route's acceleration limit would allow 0.25 m/s).
+  Drive(delayed, 49, 0.2, 0.0, &events);
+  EXPECT_NEAR(delayed.state().speed_mps, 0.2 * (1.0 - std::exp(-1.0)), 0.003);
+
+  // Slip: at 3 m/s on a steady turn the yaw rate is below the kinematic
+  // bicycle's, and the car's track is wider than the ideal car's.
+  LiveSimulator ideal(DefaultScenario(), 1, kStart);
+  LiveSimulator slipping(DefaultScenario(), 1, kStart, realistic);
+  const double angle = 0.2;
+  Drive(ideal, 800, 3.0, angle, &events);
+  Drive(slipping, 800, 3.0, angle, &events);
+  const double kinematic = 3.0 * std::tan(angle) / DefaultScenario().vehicle.wheelbase_m;
+  EXPECT_NEAR(ideal.state().yaw_rate_radps, kinematic, 1e-9);
+  EXPECT_LT(slipping.state().yaw_rate_radps, 0.99 * kinematic);
+  EXPECT_GT(slipping.state().yaw_rate_radps, 0.9 * kinematic);
+  EXPECT_DOUBLE_EQ(slipping.state().road_wheel_angle_rad, angle);  // what the sensor reads
+  // The gyro measures the yaw rate the car really turns at.
+  const std::vector<ImuSample> imu = EventsOf<ImuSample>(events);
+  EXPECT_NEAR(imu.back().yaw_rate_radps, slipping.state().yaw_rate_radps, 0.03);
+
+  LiveSimulatorOptions bad;
+  bad.dynamics.actuator_delay_s = -0.1;
+  EXPECT_THROW(LiveSimulator(DefaultScenario(), 1, kStart, bad), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace parkslam::sim
