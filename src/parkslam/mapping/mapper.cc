@@ -77,8 +77,8 @@ bool MapperOptions::IsValid(std::string* error) const {
     return fail("mixture weights must be in (0, 1] and null_chi2 positive");
   if (!(merge_distance_m >= 0 && min_observations >= 1 && id_min_votes > 0))
     return fail("slot management thresholds out of range");
-  if (!(window_keyframes >= 2 && online_iterations >= 1 && batch_window_every >= 1 &&
-        final_iterations >= 1 && final_rounds >= 1))
+  if (!(window_keyframes >= 2 && window_history_observations >= 0 && online_iterations >= 1 &&
+        batch_window_every >= 1 && final_iterations >= 1 && final_rounds >= 1))
     return fail("solver settings out of range");
   // Ceres refuses a first radius outside its own bounds (min 1e-32, max
   // 1e16) and would leave the map unsolved without a word.
@@ -283,6 +283,7 @@ void Mapper::AssociateSlot(int keyframe, const SlotObservation& obs) {
   SlotLandmark& slot = slots_[record.chosen];
   for (const IdHypothesis& h : hypotheses) slot.votes[h.id] += h.probability;
   ++slot.observations;
+  for (int j = 0; j < kSlotCorners; ++j) slot.corner_observations[j] += obs.corner_observed[j];
   slot_records_.push_back(std::move(record));
   UpdateIdOwner(slot_records_.back().chosen);
 }
@@ -307,6 +308,7 @@ int Mapper::CreateSlot(int keyframe, const SlotObservation& obs) {
     slot.votes[h.id] += h.probability;
   }
   slot.observations = 1;
+  for (int j = 0; j < kSlotCorners; ++j) slot.corner_observations[j] = obs.corner_observed[j];
   slots_.push_back(slot);
   ++stats_.slots_created;
   const int index = static_cast<int>(slots_.size()) - 1;
@@ -384,11 +386,27 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
   if (count == 1) add_pose(0);
 
   // Slot observations: one block per observation over all its candidates.
-  // Slots seen in the window are free; all their observations enter (older
-  // poses held fixed), so a revisited slot keeps its earlier evidence.
+  // Slots seen in the window are free; their older observations enter too
+  // (older poses held fixed), so a revisited slot keeps its earlier
+  // evidence: outside the final solve, only the latest
+  // window_history_observations of each, so that the update stays bounded.
   std::set<int> free_slots;
   for (const SlotRecord& record : slot_records_) {
     if (record.keyframe >= first_free) free_slots.insert(record.candidates.begin(), record.candidates.end());
+  }
+  const int history = final ? 0 : options_.window_history_observations;
+  std::vector<char> old_record_used(slot_records_.size(), history == 0);
+  if (history > 0) {
+    std::map<int, int> taken;  // free slot -> older observations taken
+    for (size_t r = slot_records_.size(); r-- > 0;) {
+      const SlotRecord& record = slot_records_[r];
+      if (record.keyframe >= first_free) continue;
+      for (int s : record.candidates) {
+        if (free_slots.count(s) > 0 && taken[s] < history) old_record_used[r] = true;
+      }
+      if (!old_record_used[r]) continue;
+      for (int s : record.candidates) ++taken[s];
+    }
   }
   struct MixtureBlock {
     size_t record;
@@ -401,7 +419,7 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
     const SlotRecord& record = slot_records_[r];
     const bool touches_free = std::any_of(record.candidates.begin(), record.candidates.end(),
                                           [&](int s) { return free_slots.count(s) > 0; });
-    if (record.keyframe < first_free && !touches_free) continue;
+    if (record.keyframe < first_free && (!touches_free || !old_record_used[r])) continue;
     std::vector<CornerMeasurement> measurements;
     for (int j = 0; j < kSlotCorners; ++j) {
       measurements.push_back({record.observation.corners_vehicle[j],
@@ -435,8 +453,20 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
   for (const TagRecord& record : tag_records_) {
     if (record.keyframe >= first_free) free_tags.insert(record.tag);
   }
-  for (const TagRecord& record : tag_records_) {
+  std::vector<char> old_tag_record_used(tag_records_.size(), history == 0);
+  if (history > 0) {
+    std::map<int, int> taken;  // free tag -> older observations taken
+    for (size_t r = tag_records_.size(); r-- > 0;) {
+      const TagRecord& record = tag_records_[r];
+      if (record.keyframe < first_free && free_tags.count(record.tag) > 0) {
+        old_tag_record_used[r] = taken[record.tag]++ < history;
+      }
+    }
+  }
+  for (size_t r = 0; r < tag_records_.size(); ++r) {
+    const TagRecord& record = tag_records_[r];
     if (free_tags.count(record.tag) == 0) continue;
+    if (record.keyframe < first_free && !old_tag_record_used[r]) continue;
     double* tag_block = tags_[record.tag].pose.data();
     if (!problem.HasParameterBlock(tag_block)) {
       problem.AddParameterBlock(tag_block, 3, &pose_manifold);
@@ -449,6 +479,10 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
         nullptr, add_pose(record.keyframe), tag_block);
   }
 
+  if (!final) {
+    stats_.max_window_residual_blocks =
+        std::max(stats_.max_window_residual_blocks, problem.NumResidualBlocks());
+  }
   ceres::Solver::Options solver_options;
   solver_options.max_num_iterations = max_iterations;
   solver_options.num_threads = 1;
@@ -467,17 +501,46 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
     stats_.final_cost = summary.final_cost;
   }
 
-  // Which component each mixture picked at the solution.
+  // Which component each mixture picked at the solution. A record that
+  // changed its slot moves its evidence from one to the other (the final
+  // solve recounts everything; counting every record after every windowed
+  // solve grew with the drive).
   bool changed = false;
   for (const MixtureBlock& m : mixtures) {
     const int component = m.factor->ChosenComponent(m.blocks.data());
     SlotRecord& record = slot_records_[m.record];
     const int chosen = component < 0 ? -1 : record.candidates[component];
-    changed |= chosen != record.chosen;
+    if (chosen == record.chosen) continue;
+    changed = true;
+    if (!final) {
+      MoveEvidence(record, record.chosen, -1.0);
+      MoveEvidence(record, chosen, 1.0);
+    }
     record.chosen = chosen;
   }
-  if (changed) RecomputeSlotEvidence();
+  if (changed && final) RecomputeSlotEvidence();
+  if (changed && !final) {
+    id_owner_.clear();
+    for (int s = 0; s < static_cast<int>(slots_.size()); ++s) {
+      if (slots_[s].alive) UpdateIdOwner(s);
+    }
+  }
   distance_since_solve_m_ = 0.0;
+}
+
+void Mapper::MoveEvidence(const SlotRecord& record, int slot_index, double sign) {
+  if (slot_index < 0) return;
+  SlotLandmark& slot = slots_[slot_index];
+  const int step = sign > 0 ? 1 : -1;
+  slot.observations += step;
+  for (int j = 0; j < kSlotCorners; ++j) {
+    slot.corner_observations[j] += step * static_cast<int>(record.observation.corner_observed[j]);
+  }
+  for (const IdHypothesis& h : FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
+    double& votes = slot.votes[h.id];
+    votes += sign * h.probability;
+    if (votes < 1e-9) slot.votes.erase(h.id);
+  }
 }
 
 void Mapper::RecomputeSlotEvidence() {

@@ -33,6 +33,10 @@ struct MapperStats {
   int slots_merged = 0;
   int tag_observations = 0;
   std::vector<double> keyframe_update_ms;  // per keyframe: association and update
+  // The most residual blocks (odometry, observations, slot shapes) one
+  // windowed (online) solve took: what bounds its time however long the
+  // drive.
+  int max_window_residual_blocks = 0;
   double final_solve_ms = 0.0;
   int final_iterations = 0;
   double final_cost = 0.0;
@@ -113,6 +117,9 @@ class Mapper {
   void UpdateIdOwner(int slot);
   void Solve(int first_free_keyframe, int max_iterations, bool final);
   void RecomputeSlotEvidence();
+  // Adds (sign +1) or removes (-1) what one record says of slot_index
+  // (observation count, corners seen, ID votes); nothing for -1.
+  void MoveEvidence(const SlotRecord& record, int slot_index, double sign);
   void MergeDuplicates();
   void AssignIds();
   void AfterKeyframe();

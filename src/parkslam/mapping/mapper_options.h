@@ -62,6 +62,12 @@ struct MapperOptions {
 
   // Solver.
   int window_keyframes = 30;          // online: free keyframes per update
+  // A landmark seen in the window brings at most this many of its older
+  // observations (the latest; their poses held fixed) into the windowed
+  // solve: enough to hold it where its history put it, and a bounded
+  // update however often the car comes back (docs/robustness.md, "Soak").
+  // The final solve takes every observation. 0: all of them.
+  int window_history_observations = 40;
   int online_iterations = 5;
   int batch_window_every = 10;        // batch: a windowed solve every n keyframes
   int final_iterations = 50;
