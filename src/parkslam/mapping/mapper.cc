@@ -284,6 +284,7 @@ void Mapper::AssociateSlot(int keyframe, const SlotObservation& obs) {
   for (const IdHypothesis& h : hypotheses) slot.votes[h.id] += h.probability;
   ++slot.observations;
   for (int j = 0; j < kSlotCorners; ++j) slot.corner_observations[j] += obs.corner_observed[j];
+  IndexSlotRecord(record);
   slot_records_.push_back(std::move(record));
   UpdateIdOwner(slot_records_.back().chosen);
 }
@@ -321,6 +322,7 @@ int Mapper::CreateSlot(int keyframe, const SlotObservation& obs) {
   record.candidates = {index};
   record.weights = {1.0};
   record.chosen = index;
+  IndexSlotRecord(record);
   slot_records_.push_back(std::move(record));
   UpdateIdOwner(index);
   return index;
@@ -349,6 +351,8 @@ void Mapper::AddTag(int keyframe, const TagObservation& obs) {
     it = tag_index_.emplace(obs.tag_id, static_cast<int>(tags_.size()) - 1).first;
   }
   ++tags_[it->second].observations;
+  if (tag_record_index_.size() < tags_.size()) tag_record_index_.resize(tags_.size());
+  tag_record_index_[static_cast<size_t>(it->second)].push_back(tag_records_.size());
   tag_records_.push_back({keyframe, obs, it->second});
 }
 
@@ -390,23 +394,39 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
   // (older poses held fixed), so a revisited slot keeps its earlier
   // evidence: outside the final solve, only the latest
   // window_history_observations of each, so that the update stays bounded.
-  std::set<int> free_slots;
-  for (const SlotRecord& record : slot_records_) {
-    if (record.keyframe >= first_free) free_slots.insert(record.candidates.begin(), record.candidates.end());
-  }
   const int history = final ? 0 : options_.window_history_observations;
-  std::vector<char> old_record_used(slot_records_.size(), history == 0);
-  if (history > 0) {
-    std::map<int, int> taken;  // free slot -> older observations taken
-    for (size_t r = slot_records_.size(); r-- > 0;) {
-      const SlotRecord& record = slot_records_[r];
-      if (record.keyframe >= first_free) continue;
-      for (int s : record.candidates) {
-        if (free_slots.count(s) > 0 && taken[s] < history) old_record_used[r] = true;
-      }
-      if (!old_record_used[r]) continue;
-      for (int s : record.candidates) ++taken[s];
+  std::set<int> free_slots;
+  std::vector<size_t> slot_records_in_play;
+  if (history == 0) {
+    for (const SlotRecord& record : slot_records_) {
+      if (record.keyframe >= first_free) free_slots.insert(record.candidates.begin(), record.candidates.end());
     }
+    for (size_t r = 0; r < slot_records_.size(); ++r) {
+      const SlotRecord& record = slot_records_[r];
+      const bool touches_free = std::any_of(record.candidates.begin(), record.candidates.end(),
+                                            [&](int c) { return free_slots.count(c) > 0; });
+      if (record.keyframe >= first_free || touches_free) slot_records_in_play.push_back(r);
+    }
+  } else {
+    // Records come in keyframe order: the window's are the last ones. Each
+    // free slot adds its latest older ones from its own list, so the work
+    // does not grow with the drive.
+    for (size_t r = slot_records_.size(); r-- > 0 && slot_records_[r].keyframe >= first_free;) {
+      free_slots.insert(slot_records_[r].candidates.begin(), slot_records_[r].candidates.end());
+      slot_records_in_play.push_back(r);
+    }
+    for (int free : free_slots) {
+      const std::vector<size_t>& own = slot_record_index_[static_cast<size_t>(free)];
+      int taken = 0;
+      for (size_t i = own.size(); i-- > 0 && taken < history;) {
+        if (slot_records_[own[i]].keyframe >= first_free) continue;
+        slot_records_in_play.push_back(own[i]);
+        ++taken;
+      }
+    }
+    std::sort(slot_records_in_play.begin(), slot_records_in_play.end());
+    slot_records_in_play.erase(std::unique(slot_records_in_play.begin(), slot_records_in_play.end()),
+                               slot_records_in_play.end());
   }
   struct MixtureBlock {
     size_t record;
@@ -415,11 +435,8 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
   };
   std::vector<MixtureBlock> mixtures;
   std::set<int> fixed_slots;
-  for (size_t r = 0; r < slot_records_.size(); ++r) {
+  for (const size_t r : slot_records_in_play) {
     const SlotRecord& record = slot_records_[r];
-    const bool touches_free = std::any_of(record.candidates.begin(), record.candidates.end(),
-                                          [&](int s) { return free_slots.count(s) > 0; });
-    if (record.keyframe < first_free && (!touches_free || !old_record_used[r])) continue;
     std::vector<CornerMeasurement> measurements;
     for (int j = 0; j < kSlotCorners; ++j) {
       measurements.push_back({record.observation.corners_vehicle[j],
@@ -450,23 +467,34 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
         slot.corners[3].data());
   }
   std::set<int> free_tags;
-  for (const TagRecord& record : tag_records_) {
-    if (record.keyframe >= first_free) free_tags.insert(record.tag);
-  }
-  std::vector<char> old_tag_record_used(tag_records_.size(), history == 0);
-  if (history > 0) {
-    std::map<int, int> taken;  // free tag -> older observations taken
-    for (size_t r = tag_records_.size(); r-- > 0;) {
-      const TagRecord& record = tag_records_[r];
-      if (record.keyframe < first_free && free_tags.count(record.tag) > 0) {
-        old_tag_record_used[r] = taken[record.tag]++ < history;
+  std::vector<size_t> tag_records_in_play;
+  if (history == 0) {
+    for (const TagRecord& record : tag_records_) {
+      if (record.keyframe >= first_free) free_tags.insert(record.tag);
+    }
+    for (size_t r = 0; r < tag_records_.size(); ++r) {
+      if (free_tags.count(tag_records_[r].tag) > 0) tag_records_in_play.push_back(r);
+    }
+  } else {
+    for (size_t r = tag_records_.size(); r-- > 0 && tag_records_[r].keyframe >= first_free;) {
+      free_tags.insert(tag_records_[r].tag);
+      tag_records_in_play.push_back(r);
+    }
+    for (int free : free_tags) {
+      const std::vector<size_t>& own = tag_record_index_[static_cast<size_t>(free)];
+      int taken = 0;
+      for (size_t i = own.size(); i-- > 0 && taken < history;) {
+        if (tag_records_[own[i]].keyframe >= first_free) continue;
+        tag_records_in_play.push_back(own[i]);
+        ++taken;
       }
     }
+    std::sort(tag_records_in_play.begin(), tag_records_in_play.end());
+    tag_records_in_play.erase(std::unique(tag_records_in_play.begin(), tag_records_in_play.end()),
+                              tag_records_in_play.end());
   }
-  for (size_t r = 0; r < tag_records_.size(); ++r) {
+  for (const size_t r : tag_records_in_play) {
     const TagRecord& record = tag_records_[r];
-    if (free_tags.count(record.tag) == 0) continue;
-    if (record.keyframe < first_free && !old_tag_record_used[r]) continue;
     double* tag_block = tags_[record.tag].pose.data();
     if (!problem.HasParameterBlock(tag_block)) {
       problem.AddParameterBlock(tag_block, 3, &pose_manifold);
@@ -526,6 +554,13 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
     }
   }
   distance_since_solve_m_ = 0.0;
+}
+
+void Mapper::IndexSlotRecord(const SlotRecord& record) {
+  if (slot_record_index_.size() < slots_.size()) slot_record_index_.resize(slots_.size());
+  for (int c : record.candidates) {
+    slot_record_index_[static_cast<size_t>(c)].push_back(slot_records_.size());
+  }
 }
 
 void Mapper::MoveEvidence(const SlotRecord& record, int slot_index, double sign) {

@@ -120,6 +120,8 @@ class Mapper {
   // Adds (sign +1) or removes (-1) what one record says of slot_index
   // (observation count, corners seen, ID votes); nothing for -1.
   void MoveEvidence(const SlotRecord& record, int slot_index, double sign);
+  // Files the record about to be appended under each of its candidates.
+  void IndexSlotRecord(const SlotRecord& record);
   void MergeDuplicates();
   void AssignIds();
   void AfterKeyframe();
@@ -133,6 +135,10 @@ class Mapper {
   std::map<int, int> tag_index_;  // tag ID -> index
   std::vector<SlotRecord> slot_records_;
   std::vector<TagRecord> tag_records_;
+  // Per slot (tag): the indices of the records that name it as a candidate
+  // (observe it), oldest first, for windowed solves that stay bounded. Not
+  // updated by the final merge, after which no windowed solve runs.
+  std::vector<std::vector<size_t>> slot_record_index_, tag_record_index_;
   // The slot currently holding most votes for each ID, and those votes.
   std::map<std::string, std::pair<int, double>> id_owner_;
   double distance_since_solve_m_ = 0.0;
