@@ -68,6 +68,9 @@ expect nonzero "truncated.json" -- "$PARKSLAM" render "$tmp/truncated.json" --ou
 # A number beyond a double is refused by the JSON parser without a position.
 printf '{"format": "parkslam-map", "version": 1, "frame": "map", "units": {"length": "m", "angle": "rad"}, "metadata": {}, "slots": [], "tags": [{"id": 7, "x": 1e999, "y": 0, "yaw": 0, "size_m": 0.488, "obstacle": -1}], "obstacles": []}' > "$tmp/overflow.json"
 expect nonzero "overflow.json: tags\[0\]\.x: invalid JSON.*1e999" -- "$PARKSLAM" eval-map --map "$tmp/overflow.json" --truth "$tmp/d/groundtruth/map.json"
+# A finite number beyond its plausible range (docs/plausible_ranges.md).
+sed '0,/"corners": \[\[[^,]*/s//"corners": [[1e308/' "$tmp/m.json" > "$tmp/far.json"
+expect nonzero 'far.json: slots\[0\]\.corners\[0\]\[0\]: 1e\+308 is beyond the plausible 100000 m' -- "$PARKSLAM" render "$tmp/far.json" --out "$tmp/far.svg"
 
 # Localizing on the map and following the trace in closed loop.
 expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --global
@@ -120,6 +123,7 @@ expect 0 '"repeat_std_m"' -- "$PARKSLAM" follow --map "$tmp/m.json" --runs 1 --s
 # Bad inputs name the file and what is wrong.
 expect nonzero "missing|dataset.yaml" -- "$PARKSLAM" odometry "$tmp/none" --out "$tmp/o2.tum"
 expect nonzero "init" -- "$PARKSLAM" odometry "$tmp/d" --out "$tmp/o2.tum" --init 1,2
+expect nonzero "--init: x 1e\+308 is beyond the plausible 100000 m" -- "$PARKSLAM" odometry "$tmp/d" --out "$tmp/o2.tum" --init 1e308,2,0
 printf '0 0 0 0 0 0 0 1\n1 nan 0 0 0 0 0 1\n' > "$tmp/nan.tum"
 expect nonzero "nan.tum:2" -- "$PARKSLAM" eval-traj --truth "$tmp/nan.tum" --estimate "$tmp/o.tum"
 printf '0 0 0 0 0 0 0 1\n0 1 0 0 0 0 0 1\n' > "$tmp/order.tum"
@@ -181,6 +185,7 @@ expect nonzero "initial-trust-region.*1e-32 to 1e16" -- "$PARKSLAM" map "$tmp/g"
 
 # Seeds are whole numbers in range, never wrapped around.
 expect nonzero "a seed is a whole number.*'-1'" -- "$PARKSLAM" simulate --seed -1 --out "$tmp/s1"
+expect nonzero "a seed is a whole number.*'-1'" -- "$PARKSLAM" make-training-set --seed -1 --count 1 --out "$tmp/ts_neg"
 expect nonzero "a seed is a whole number.*'18446744073709551616'" -- "$PARKSLAM" simulate --seed 18446744073709551616 --out "$tmp/s1"
 expect nonzero "a seed is a whole number" -- "$PARKSLAM" demo --seed 1.5 --out "$tmp/s1"
 [ ! -e "$tmp/s1" ] && pass || fail "a refused seed left a folder"

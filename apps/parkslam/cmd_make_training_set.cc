@@ -213,7 +213,9 @@ void AddMakeTrainingSetCommand(CLI::App& app) {
       "painted slot IDs with ids/labels.csv. Deterministic by --seed (on one set of fonts).");
   cmd->add_option("--out", options->out, "Folder to write (must be empty unless --force)")->required();
   cmd->add_option("--count", options->count, "Number of scenes")->check(CLI::Range(1, 10000000))->capture_default_str();
-  cmd->add_option("--seed", options->seed, "Seed of the set->check(SeedValidator()); scene i uses MixSeed(seed, i)")->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Seed of the set; scene i uses MixSeed(seed, i)")
+      ->check(SeedValidator())
+      ->capture_default_str();
   cmd->add_option("--kind", options->kind, "top-view or ids")->capture_default_str();
   cmd->add_option("--threads", options->threads, "Worker threads (0: one per core)")
       ->check(CLI::Range(0, 256))->capture_default_str();

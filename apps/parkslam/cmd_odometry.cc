@@ -1,6 +1,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/tum.h"
@@ -24,7 +25,7 @@ void AddOdometryCommand(CLI::App& app) {
   cmd->add_option("DIR", options->dataset, "Dataset folder")->required();
   cmd->add_option("--out", options->out, "TUM trajectory to write")->required();
   cmd->add_option("--rate-hz", options->rate_hz, "Output pose rate")
-      ->check(CLI::Range(0.1, 1000.0))
+      ->check(CLI::Range(0.1, kMaxSensorRate_hz))
       ->capture_default_str();
   cmd->add_option("--init", options->init,
                   "Known start pose x,y,yaw in the map frame (metres, radians)");

@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "image_files.h"
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/rig_yaml.h"
 #include "parkslam/perception/tag_detector.h"
 
@@ -30,6 +31,7 @@ void AddTagsCommand(CLI::App& app) {
   cmd->add_option("--camera-name", options->camera_name, "Camera of the rig file to use");
   cmd->add_option("--tag-size-m", options->tag_size_m, "Edge of the tags' black square")
       ->check(CLI::PositiveNumber)
+      ->check(CLI::Range(0.0, kMaxTagSize_m))
       ->capture_default_str();
   cmd->add_flag("--json", options->json, "Print one JSON object");
   cmd->callback([options] {

@@ -1,7 +1,10 @@
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "commands.h"
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/scenario_yaml.h"
 
 namespace parkslam::app {
@@ -74,6 +77,20 @@ SE2 ParsePose(const std::string& text, const std::string& option_name) {
                                   text + "'");
     }
     start = end + 1;
+  }
+  // The limits of common/plausible_ranges.h, as for a pose read from a file.
+  const char* const kNames[3] = {"x", "y", "yaw"};
+  const double kLimits[3] = {kMaxCoordinate_m, kMaxCoordinate_m, kMaxAngle_rad};
+  const char* const kUnits[3] = {"m", "m", "rad"};
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(values[i]) > kLimits[i]) {
+      char value[32];
+      *std::to_chars(value, value + sizeof value - 1, values[i]).ptr = '\0';
+      char limit[32];
+      std::snprintf(limit, sizeof limit, "%g", kLimits[i]);
+      throw std::invalid_argument(option_name + ": " + kNames[i] + " " + value +
+                                  " is beyond the plausible " + limit + " " + kUnits[i]);
+    }
   }
   return SE2(values[0], values[1], values[2]);
 }

@@ -8,6 +8,7 @@
 #include <system_error>
 #include <vector>
 
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/json_util.h"
@@ -127,17 +128,17 @@ void WriteCsv(const fs::path& file, std::string_view header,
   WriteFileAtomically(file, out);
 }
 
-// Plausible magnitudes of the sensor values (docs/dataset_format.md): a car
-// in a parking lot, generously. A value beyond is a broken recording, and
-// would otherwise drive the filters to infinities far from its file.
-constexpr double kMaxWheelSpeedMps = 60.0;      // 216 km/h
-constexpr double kMaxSteeringWheelRad = 30.0;   // almost 5 turns
-constexpr double kMaxYawRateRadps = 20.0;
-constexpr double kMaxHeadingRad = 1e4;          // unwrapped headings allowed
+// The plausible magnitude of a column's values (common/plausible_ranges.h):
+// a value beyond is a broken recording, and would otherwise drive the
+// filters to infinities far from its file.
+struct Magnitude {
+  double max_abs;
+  const char* unit;
+};
 
 template <std::size_t kValues, typename Sample, typename MakeSample>
 std::vector<Sample> ReadCsv(const fs::path& file, std::string_view header,
-                            const std::array<double, kValues>& max_abs, MakeSample make_sample) {
+                            const std::array<Magnitude, kValues>& limits, MakeSample make_sample) {
   const auto names = ColumnNames<kValues>(header);
   const std::string source = file.string();
   const std::string content = ReadTextFile(file);
@@ -172,11 +173,9 @@ std::vector<Sample> ReadCsv(const fs::path& file, std::string_view header,
     }
     for (std::size_t c = 0; c < kValues; ++c) {
       values[c] = text::ParseFiniteDouble(fields[c + 1], source, n, names[c + 1]);
-      if (std::abs(values[c]) > max_abs[c]) {
-        std::string limit;
-        text::AppendDouble(&limit, max_abs[c]);
+      if (std::abs(values[c]) > limits[c].max_abs) {
         ThrowIoError(source, n, names[c + 1],
-                     "implausible " + text::Quoted(fields[c + 1]) + " (at most " + limit + " in magnitude)");
+                     text::BeyondPlausible(values[c], limits[c].max_abs, limits[c].unit));
       }
     }
     samples.push_back(make_sample(*t_ns, values));
@@ -387,12 +386,11 @@ SlotObservation ParseSlot(const Json& j, const JsonReader& r, const JsonPath& pa
   for (std::size_t c = 0; c < static_cast<std::size_t>(kSlotCorners); ++c) {
     const JsonPath corner = corners.Index(c);
     const JsonPath flag = observed.Index(c);
-    slot.corners_vehicle[c] = r.Point(corners_json[c], corner);
+    slot.corners_vehicle[c] = r.Point(corners_json[c], corner, kMaxObservationRange_m, "m");
     slot.corner_observed[c] = r.Bool(observed_json[c], flag);
   }
-  const JsonPath sigma = path.Key("sigma_m");
-  slot.corner_sigma_m = r.Number(j["sigma_m"], sigma);
-  if (slot.corner_sigma_m < 0.0) r.Fail(sigma, "must not be negative");
+  slot.corner_sigma_m =
+      r.NumberIn(j["sigma_m"], path.Key("sigma_m"), 0.0, kMaxPositionSigma_m, "m");
   slot.detection_confidence = Probability(j["confidence"], r, path.Key("confidence"));
   slot.id = ParseSlotId(j["id"], r, path.Key("id"));
   return slot;
@@ -427,22 +425,35 @@ TagObservation ParseTag(const Json& j, const JsonReader& r, const JsonPath& path
                            "cov", "yaw_sigma_rad"});
   TagObservation tag;
   tag.tag_id = r.Int(j["id"], path.Key("id"));
-  tag.p_vehicle = Eigen::Vector2d(r.Number(j["x_m"], path.Key("x_m")),
-                                  r.Number(j["y_m"], path.Key("y_m")));
-  tag.range_m = r.Number(j["range_m"], path.Key("range_m"));
-  tag.bearing_rad = r.Number(j["bearing_rad"], path.Key("bearing_rad"));
-  tag.yaw_vehicle_rad = r.Number(j["yaw_rad"], path.Key("yaw_rad"));
+  tag.p_vehicle =
+      Eigen::Vector2d(r.BoundedNumber(j["x_m"], path.Key("x_m"), kMaxObservationRange_m, "m"),
+                      r.BoundedNumber(j["y_m"], path.Key("y_m"), kMaxObservationRange_m, "m"));
+  // In magnitude only: a simulated range carries noise, and the tag's
+  // position is x_m, y_m.
+  tag.range_m = r.BoundedNumber(j["range_m"], path.Key("range_m"), kMaxObservationRange_m, "m");
+  tag.bearing_rad =
+      r.BoundedNumber(j["bearing_rad"], path.Key("bearing_rad"), kMaxAngle_rad, "rad");
+  tag.yaw_vehicle_rad =
+      r.BoundedNumber(j["yaw_rad"], path.Key("yaw_rad"), kMaxAngle_rad, "rad");
   const JsonPath cov = path.Key("cov");
   const Json& cov_json = j["cov"];
   r.ExpectArray(cov_json, cov, 3, "numbers [xx, xy, yy]");
-  const JsonPath xx = cov.Index(0);
-  const JsonPath xy = cov.Index(1);
-  const JsonPath yy = cov.Index(2);
-  tag.covariance_vehicle << r.Number(cov_json[0], xx), r.Number(cov_json[1], xy),
-      r.Number(cov_json[1], xy), r.Number(cov_json[2], yy);
-  const JsonPath yaw_sigma = path.Key("yaw_sigma_rad");
-  tag.yaw_sigma_rad = r.Number(j["yaw_sigma_rad"], yaw_sigma);
-  if (tag.yaw_sigma_rad < 0.0) r.Fail(yaw_sigma, "must not be negative");
+  const JsonPath xx_path = cov.Index(0);
+  const JsonPath xy_path = cov.Index(1);
+  const JsonPath yy_path = cov.Index(2);
+  constexpr double kMaxVariance_m2 = kMaxPositionSigma_m * kMaxPositionSigma_m;
+  const double xx = r.NumberIn(cov_json[0], xx_path, 0.0, kMaxVariance_m2, "m^2");
+  const double xy = r.BoundedNumber(cov_json[1], xy_path, kMaxVariance_m2, "m^2");
+  const double yy = r.NumberIn(cov_json[2], yy_path, 0.0, kMaxVariance_m2, "m^2");
+  // Positive semi-definite, as every covariance: a noise-free simulation
+  // writes zero, and a single noisy direction a singular one, whose xx yy
+  // may come out a rounding below xy^2.
+  if (xy * xy > xx * yy * (1.0 + 1e-9)) {
+    r.Fail(cov, "not a covariance: xy^2 exceeds xx yy");
+  }
+  tag.covariance_vehicle << xx, xy, xy, yy;
+  tag.yaw_sigma_rad =
+      r.NumberIn(j["yaw_sigma_rad"], path.Key("yaw_sigma_rad"), 0.0, kMaxAngleSigma_rad, "rad");
   return tag;
 }
 
@@ -650,6 +661,9 @@ Counts ReadManifest(const YAML::Node& root, const YamlReader& r, Dataset* datase
       Count(r, g["slot_label_frames"], "groundtruth.slot_label_frames");
   dataset->scenario = sim::DefaultScenario();
   yaml_util::ReadScenarioNode(r, root["scenario"], "scenario", &dataset->scenario);
+  // The commands take the vehicle and the sensor noise from here.
+  std::string error;
+  if (!dataset->scenario.IsValid(&error)) r.Fail(root["scenario"], "", "scenario." + error);
   return counts;
 }
 
@@ -722,13 +736,13 @@ Dataset ReadDataset(const fs::path& dir) {
 
   SensorLog& log = dataset.log;
   log.wheel_speeds = ReadCsv<1, WheelSpeed>(
-      dir / kWheelSpeedFile, kWheelSpeedHeader, {kMaxWheelSpeedMps},
+      dir / kWheelSpeedFile, kWheelSpeedHeader, {{{kMaxWheelSpeed_mps, "m/s"}}},
       [](TimeNs t, const std::array<double, 1>& v) { return WheelSpeed{t, v[0]}; });
   log.steering_angles = ReadCsv<1, SteeringAngle>(
-      dir / kSteeringFile, kSteeringHeader, {kMaxSteeringWheelRad},
+      dir / kSteeringFile, kSteeringHeader, {{{kMaxSteeringWheelAngle_rad, "rad"}}},
       [](TimeNs t, const std::array<double, 1>& v) { return SteeringAngle{t, v[0]}; });
   log.imu_samples = ReadCsv<2, ImuSample>(
-      dir / kImuFile, kImuHeader, {kMaxYawRateRadps, kMaxHeadingRad},
+      dir / kImuFile, kImuHeader, {{{kMaxYawRate_radps, "rad/s"}, {kMaxAngle_rad, "rad"}}},
       [](TimeNs t, const std::array<double, 2>& v) { return ImuSample{t, v[0], v[1]}; });
   log.slot_frames = ReadJsonl<SlotObservationFrame>(dir / kSlotsFile, ParseSlotFrame);
   log.tag_frames = ReadJsonl<TagObservationFrame>(dir / kTagsFile, ParseTagFrame);

@@ -303,10 +303,11 @@ TEST(DatasetTest, ImplausibleSensorValuesAreRefused) {
   EditFile(dir / "d/sensors/imu.csv", "0,0.01,-3.14159", "0,0.01,1e308");
   EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
             (dir / "d/sensors/imu.csv").string() +
-                ":2: heading_rad: implausible '1e308' (at most 10000 in magnitude)");
+                ":2: heading_rad: 1e+308 is beyond the plausible 10000 rad");
   WriteDataset(dir / "e", SampleDataset());
   EditFile(dir / "e/sensors/steering.csv", "-3.3", "-300");
-  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "e"); }), HasSubstr("steering.csv:3: steering_wheel_rad: implausible '-300'"));
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "e"); }),
+              HasSubstr("steering.csv:3: steering_wheel_rad: -300 is beyond the plausible 30 rad"));
 }
 
 TEST(DatasetTest, NonIncreasingFrameTimesAreReported) {
@@ -391,6 +392,59 @@ TEST(DatasetTest, NumberTooLargeForADoubleInJsonNamesFileLineAndField) {
               HasSubstr("groundtruth/slot_labels.jsonl:2: slots[0]: invalid JSON: "));
   EXPECT_THAT(ErrorReadingEdited("groundtruth/map.json", "5.3]", "1e999]"),
               HasSubstr("groundtruth/map.json: slots[0].corners[2][1]: invalid JSON: "));
+}
+
+// Observations beyond the limits of common/plausible_ranges.h, each named
+// by file, line and JSON path.
+TEST(DatasetTest, ImplausibleObservationsAreRefused) {
+  const std::string slots = "observations/slots.jsonl";
+  const std::string tags = "observations/tags.jsonl";
+  EXPECT_THAT(ErrorReadingEdited(slots, "[[1,1.5]", "[[1e308,1.5]"),
+              HasSubstr(slots +
+                        ":1: slots[0].corners[0][0]: 1e+308 is beyond the plausible 100 m"));
+  EXPECT_THAT(ErrorReadingEdited(slots, "[0.5,1.5]", "[0.5,-150]"),
+              HasSubstr(slots + ":2: slots[0].corners[0][1]: -150 is beyond the plausible 100 m"));
+  EXPECT_THAT(
+      ErrorReadingEdited(slots, "\"sigma_m\":0.031", "\"sigma_m\":50"),
+      HasSubstr(slots + ":1: slots[0].sigma_m: 50 is outside the plausible range [0, 10] m"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "\"x_m\":5.1", "\"x_m\":1e6"),
+              HasSubstr(tags + ":1: tags[0].x_m: 1e+06 is beyond the plausible 100 m"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "\"y_m\":-0.4", "\"y_m\":-101"),
+              HasSubstr(tags + ":1: tags[0].y_m: -101 is beyond the plausible 100 m"));
+  const std::string range = ErrorReadingEdited(tags, "\"range_m\":3.", "\"range_m\":-5003.");
+  EXPECT_THAT(range, HasSubstr(tags + ":1: tags[0].range_m: -5003."));
+  EXPECT_THAT(range, HasSubstr(" is beyond the plausible 100 m"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "\"bearing_rad\":-0.1234567890123",
+                                 "\"bearing_rad\":-1e5"),
+              HasSubstr(tags +
+                        ":1: tags[0].bearing_rad: -1e+05 is beyond the plausible 10000 rad"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "\"yaw_rad\":3,", "\"yaw_rad\":1e300,"),
+              HasSubstr(tags + ":1: tags[0].yaw_rad: 1e+300 is beyond the plausible 10000 rad"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[-4e-04,-1e-04,9e-04]"),
+              HasSubstr(tags + ":1: tags[0].cov[0]: -4e-04 is outside the plausible range "
+                               "[0, 100] m^2"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[4e-04,-1e-04,1e9]"),
+              HasSubstr(tags + ":1: tags[0].cov[2]: 1e+09 is outside the plausible range "
+                               "[0, 100] m^2"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[4e-04,-0.01,9e-04]"),
+              HasSubstr(tags + ":1: tags[0].cov: not a covariance: xy^2 exceeds xx yy"));
+  EXPECT_THAT(
+      ErrorReadingEdited(tags, "\"yaw_sigma_rad\":0.03", "\"yaw_sigma_rad\":4"),
+      HasSubstr(tags + ":1: tags[0].yaw_sigma_rad: 4 is outside the plausible range [0, "
+                       "3.14159] rad"));
+  // A noise-free simulation's covariance is zero, and a single noisy
+  // direction's singular: both are covariances.
+  EXPECT_EQ(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[0,0,0]"), "");
+  EXPECT_EQ(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[4e-04,-6e-04,9e-04]"), "");
+}
+
+// The commands take the vehicle and the sensor noise from the scenario in
+// dataset.yaml: it must be valid.
+TEST(DatasetTest, ImplausibleScenarioInDatasetYamlIsRefused) {
+  const std::string error =
+      ErrorReadingEdited("dataset.yaml", "max_x_m: 87.5", "max_x_m: 1e9");
+  EXPECT_THAT(error, HasSubstr("dataset.yaml:"));
+  EXPECT_THAT(error, HasSubstr(": scenario.world.hall: must be at most 100000 m in magnitude"));
 }
 
 TEST(DatasetTest, UnknownTopLevelKeyInDatasetYamlIsRejected) {

@@ -1,13 +1,18 @@
 #include "parkslam/io/homography_rig.h"
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
+#include <cstdio>
 #include <string>
 #include <system_error>
 
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
+#include "parkslam/io/text_util.h"
 #include "parkslam/io/yaml_util.h"
 
 namespace parkslam::io {
@@ -68,22 +73,61 @@ camera::HomographyCamera LoadCamera(const std::filesystem::path& path, camera::S
   const Eigen::MatrixXd H = ReadMatrix(root, r, "project_matrix", 3, 3);
   const Eigen::MatrixXd scale = ReadMatrix(root, r, "scale_xy", 2, 1);
   const Eigen::MatrixXd shift = ReadMatrix(root, r, "shift_xy", 2, 1);
-  if (!(resolution(0, 0) >= 16 && resolution(1, 0) >= 16 && resolution(0, 0) <= 16384 &&
-        resolution(1, 0) <= 16384)) {
-    ThrowIoError(file, 0, "resolution", "must lie between 16x16 and 16384x16384");
+  // The limits of common/plausible_ranges.h, each named by its matrix
+  // element as the file holds it (row by row).
+  const auto check = [&](const char* key, int index, double value, double min, double max,
+                         const char* unit) {
+    if (!(value >= min && value <= max)) {
+      r.Fail(root[key]["data"][static_cast<std::size_t>(index)],
+             yaml_util::IndexKey(std::string(key) + ".data", static_cast<std::size_t>(index)),
+             text::OutsidePlausible(value, min, max, unit));
+    }
+  };
+  for (int i = 0; i < 2; ++i) {
+    check("resolution", i, resolution(i, 0), kMinImageSide_px, kMaxImageSide_px, "px");
+  }
+  const auto width = static_cast<int>(resolution(0, 0));
+  const auto height = static_cast<int>(resolution(1, 0));
+  if (static_cast<long long>(width) * height > kMaxImagePixels) {
+    r.Fail(root["resolution"], "resolution",
+           std::to_string(width) + " x " + std::to_string(height) +
+               " pixels, beyond the plausible " + std::to_string(kMaxImagePixels));
+  }
+  check("camera_matrix", 0, K(0, 0), kMinFocalLength_px, kMaxFocalLength_px, "px");
+  check("camera_matrix", 4, K(1, 1), kMinFocalLength_px, kMaxFocalLength_px, "px");
+  check("camera_matrix", 2, K(0, 2), -kPrincipalPointMargin * width,
+        (1.0 + kPrincipalPointMargin) * width, "px");
+  check("camera_matrix", 5, K(1, 2), -kPrincipalPointMargin * height,
+        (1.0 + kPrincipalPointMargin) * height, "px");
+  for (int i = 0; i < 4; ++i) {
+    check("dist_coeffs", i, D(i, 0), -kMaxDistortionCoefficient, kMaxDistortionCoefficient, "");
+  }
+  // Singular, the homography maps the undistorted image onto a line or a
+  // point: an all-zero or rank-deficient matrix is no calibration. The
+  // ratio does not change when H is scaled, as a homography may be.
+  const double norm = H.norm();
+  const double ratio = norm > 0.0 ? std::abs(H.determinant()) / (norm * norm * norm) : 0.0;
+  if (!(ratio >= kMinHomographyDeterminant)) {
+    char what[160];
+    std::snprintf(what, sizeof what,
+                  "singular: |det| / |H|^3 is %.3g, below the plausible %.3g (it maps the "
+                  "image onto a line)",
+                  ratio, kMinHomographyDeterminant);
+    r.Fail(root["project_matrix"], "project_matrix", what);
+  }
+  for (int i = 0; i < 2; ++i) {
+    check("scale_xy", i, scale(i, 0), kMinUndistortScale, kMaxUndistortScale, "");
+    check("shift_xy", i, shift(i, 0), -kMaxImageSide_px, kMaxImageSide_px, "px");
   }
   camera::HomographyCamera cam;
   cam.side = side;
   cam.intrinsics.kind = camera::CameraKind::kFisheye;
-  cam.intrinsics.width = static_cast<int>(resolution(0, 0));
-  cam.intrinsics.height = static_cast<int>(resolution(1, 0));
+  cam.intrinsics.width = width;
+  cam.intrinsics.height = height;
   cam.intrinsics.fx = K(0, 0);
   cam.intrinsics.fy = K(1, 1);
   cam.intrinsics.cx = K(0, 2);
   cam.intrinsics.cy = K(1, 2);
-  if (!(cam.intrinsics.fx > 0 && cam.intrinsics.fy > 0)) {
-    ThrowIoError(file, 0, "camera_matrix", "focal lengths must be positive");
-  }
   for (int i = 0; i < 4; ++i) cam.intrinsics.distortion[i] = D(i, 0);
   cam.scale_xy = {scale(0, 0), scale(1, 0)};
   cam.shift_xy = {shift(0, 0), shift(1, 0)};

@@ -17,15 +17,27 @@ using ::testing::HasSubstr;
 using testing::ErrorOf;
 using testing::TempDir;
 
+// The matrices of a camera file, as in the real sample.
+struct CameraFile {
+  cv::Mat camera_matrix =
+      (cv::Mat_<double>(3, 3) << 302.5, 0, 496.6, 0, 320.7, 331.2, 0, 0, 1);
+  cv::Mat dist_coeffs = (cv::Mat_<double>(4, 1) << -0.04, 0.02, -0.03, 0.008);
+  cv::Mat resolution = (cv::Mat_<int>(2, 1) << 960, 640);
+  cv::Mat project_matrix =
+      (cv::Mat_<double>(3, 3) << -0.7, -2.55, 708, -0.3, -2.5, 635, 0, -0.004, 1);
+  cv::Mat scale_xy = (cv::Mat_<float>(2, 1) << 0.7f, 0.8f);
+  cv::Mat shift_xy = (cv::Mat_<float>(2, 1) << -150.f, -100.f);
+};
+
 // A camera file as OpenCV's FileStorage writes it.
-void WriteCamera(const std::filesystem::path& path) {
+void WriteCamera(const std::filesystem::path& path, const CameraFile& c = CameraFile()) {
   cv::FileStorage out(path.string(), cv::FileStorage::WRITE);
-  out << "camera_matrix" << (cv::Mat_<double>(3, 3) << 302.5, 0, 496.6, 0, 320.7, 331.2, 0, 0, 1);
-  out << "dist_coeffs" << (cv::Mat_<double>(4, 1) << -0.04, 0.02, -0.03, 0.008);
-  out << "resolution" << (cv::Mat_<int>(2, 1) << 960, 640);
-  out << "project_matrix" << (cv::Mat_<double>(3, 3) << -0.7, -2.55, 708, -0.3, -2.5, 635, 0, -0.004, 1);
-  out << "scale_xy" << (cv::Mat_<float>(2, 1) << 0.7f, 0.8f);
-  out << "shift_xy" << (cv::Mat_<float>(2, 1) << -150.f, -100.f);
+  out << "camera_matrix" << c.camera_matrix;
+  out << "dist_coeffs" << c.dist_coeffs;
+  out << "resolution" << c.resolution;
+  out << "project_matrix" << c.project_matrix;
+  out << "scale_xy" << c.scale_xy;
+  out << "shift_xy" << c.shift_xy;
 }
 
 void WriteRig(const TempDir& dir) {
@@ -79,6 +91,65 @@ TEST(HomographyRigTest, CorruptFilesAreRejectedPromptlyWithFileAndField) {
   dir.Write("right.yaml", text);
   EXPECT_THAT(ErrorOf([&] { LoadHomographyRig(dir.path()); }),
               HasSubstr("right.yaml:18: resolution.dt: expected d, f or i"));
+}
+
+// The message of loading a rig whose left camera is `left`.
+std::string ErrorWithLeft(const CameraFile& left) {
+  TempDir dir;
+  WriteRig(dir);
+  WriteCamera(dir / "left.yaml", left);
+  return ErrorOf([&] { LoadHomographyRig(dir.path()); });
+}
+
+// Values beyond the limits of common/plausible_ranges.h, named by file, line
+// and matrix element (row by row, as the file holds them).
+TEST(HomographyRigTest, ImplausibleValuesAreRejectedNamingLineAndElement) {
+  CameraFile c;
+  c.camera_matrix.at<double>(0, 0) = 1e308;
+  EXPECT_THAT(ErrorWithLeft(c),
+              HasSubstr("left.yaml:7: camera_matrix.data[0]: 1e+308 is outside the plausible "
+                        "range [1, 100000] px"));
+  c = CameraFile();
+  c.camera_matrix.at<double>(1, 1) = -320.7;
+  EXPECT_THAT(ErrorWithLeft(c), HasSubstr("camera_matrix.data[4]: -320.7 is outside the "
+                                          "plausible range [1, 100000] px"));
+  c = CameraFile();
+  c.camera_matrix.at<double>(1, 2) = 5000;
+  EXPECT_THAT(ErrorWithLeft(c), HasSubstr("camera_matrix.data[5]: 5000 is outside the plausible "
+                                          "range [-320, 960] px"));
+  c = CameraFile();
+  c.dist_coeffs.at<double>(3) = -1e9;
+  EXPECT_THAT(ErrorWithLeft(c), HasSubstr("dist_coeffs.data[3]: -1e+09 is outside the "
+                                          "plausible range [-100, 100]"));
+  c = CameraFile();
+  c.resolution.at<int>(1) = 100000;
+  EXPECT_THAT(ErrorWithLeft(c), HasSubstr("resolution.data[1]: 1e+05 is outside the plausible "
+                                          "range [16, 16384] px"));
+  c = CameraFile();
+  c.resolution = (cv::Mat_<int>(2, 1) << 16000, 16000);
+  EXPECT_THAT(ErrorWithLeft(c), HasSubstr("resolution: 16000 x 16000 pixels, beyond the "
+                                          "plausible 64000000"));
+  c = CameraFile();
+  c.scale_xy.at<float>(0) = 0.f;
+  EXPECT_THAT(ErrorWithLeft(c), HasSubstr("scale_xy.data[0]: 0 is outside the plausible range "
+                                          "[0.01, 100]"));
+  c = CameraFile();
+  c.shift_xy.at<float>(1) = 1e7f;
+  EXPECT_THAT(ErrorWithLeft(c), HasSubstr("shift_xy.data[1]: 1e+07 is outside the plausible "
+                                          "range [-16384, 16384] px"));
+}
+
+TEST(HomographyRigTest, SingularProjectMatrixIsRejected) {
+  CameraFile c;
+  c.project_matrix = cv::Mat::zeros(3, 3, CV_64F);
+  EXPECT_THAT(ErrorWithLeft(c), HasSubstr("left.yaml:20: project_matrix: singular"));
+  // Rank 2: the third row repeats the first.
+  c.project_matrix =
+      (cv::Mat_<double>(3, 3) << -0.7, -2.55, 708, -0.3, -2.5, 635, -0.7, -2.55, 708);
+  EXPECT_THAT(ErrorWithLeft(c), HasSubstr("left.yaml:20: project_matrix: singular"));
+  // A homography is defined up to scale: a tiny multiple is still one.
+  c.project_matrix = CameraFile().project_matrix * 1e-6;
+  EXPECT_EQ(ErrorWithLeft(c), "");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <string>
 
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/io_error.h"
 
 namespace parkslam::io {
@@ -95,12 +96,12 @@ void CheckImageSize(const std::filesystem::path& path) {
   in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   bytes.resize(static_cast<size_t>(in.gcount()));
   const cv::Size size = ImageSizeFromHeader(bytes, path.string());
-  if (size.width > kMaxImageSide || size.height > kMaxImageSide ||
+  if (size.width > kMaxImageSide_px || size.height > kMaxImageSide_px ||
       static_cast<long long>(size.width) * size.height > kMaxImagePixels) {
     ThrowIoError(path.string(), 0, "",
                  "an image of " + std::to_string(size.width) + " x " + std::to_string(size.height) +
-                     " pixels; at most " + std::to_string(kMaxImageSide) + " a side and 64 million "
-                     "pixels are read");
+                     " pixels; at most " + std::to_string(kMaxImageSide_px) + " a side and " +
+                     std::to_string(kMaxImagePixels) + " pixels are read");
   }
 }
 

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "parkslam/io/io_error.h"
+#include "parkslam/io/text_util.h"
 
 namespace parkslam::io::json_util {
 namespace {
@@ -254,11 +255,27 @@ const std::string& JsonReader::String(const Json& j, const JsonPath& path) const
   return j.get_ref<const std::string&>();
 }
 
-Eigen::Vector2d JsonReader::Point(const Json& j, const JsonPath& path) const {
+double JsonReader::BoundedNumber(const Json& j, const JsonPath& path, double max_abs,
+                                 std::string_view unit) const {
+  const double value = Number(j, path);
+  if (std::abs(value) > max_abs) Fail(path, text::BeyondPlausible(value, max_abs, unit));
+  return value;
+}
+
+double JsonReader::NumberIn(const Json& j, const JsonPath& path, double min, double max,
+                            std::string_view unit) const {
+  const double value = Number(j, path);
+  if (value < min || value > max) Fail(path, text::OutsidePlausible(value, min, max, unit));
+  return value;
+}
+
+Eigen::Vector2d JsonReader::Point(const Json& j, const JsonPath& path, double max_abs,
+                                  std::string_view unit) const {
   ExpectArray(j, path, 2, "coordinates [x, y]");
   const JsonPath x_path = path.Index(0);
   const JsonPath y_path = path.Index(1);
-  return Eigen::Vector2d(Number(j[0], x_path), Number(j[1], y_path));
+  return Eigen::Vector2d(BoundedNumber(j[0], x_path, max_abs, unit),
+                         BoundedNumber(j[1], y_path, max_abs, unit));
 }
 
 Json ParseJson(std::string_view text, std::string_view source, int line) {

@@ -61,7 +61,16 @@ class JsonReader {
   int Int(const Json& j, const JsonPath& path) const;
   bool Bool(const Json& j, const JsonPath& path) const;
   const std::string& String(const Json& j, const JsonPath& path) const;
-  Eigen::Vector2d Point(const Json& j, const JsonPath& path) const;  // [x, y]
+
+  // Number() with |value| <= max_abs, or within [min, max]: a limit of
+  // common/plausible_ranges.h, in `unit` ("m", "rad"; "" for none).
+  double BoundedNumber(const Json& j, const JsonPath& path, double max_abs,
+                       std::string_view unit) const;
+  double NumberIn(const Json& j, const JsonPath& path, double min, double max,
+                  std::string_view unit) const;
+  // [x, y], both coordinates bounded as BoundedNumber().
+  Eigen::Vector2d Point(const Json& j, const JsonPath& path, double max_abs,
+                        std::string_view unit) const;
 
  private:
   [[noreturn]] void FailType(const Json& j, const JsonPath& path,

@@ -4,8 +4,10 @@
 #include <map>
 #include <vector>
 
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/json_util.h"
+#include "parkslam/io/text_util.h"
 
 namespace parkslam::io {
 namespace {
@@ -131,10 +133,10 @@ MapSlot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path) {
     const JsonPath corner = corners.Index(i);
     const JsonPath flag = observed.Index(i);
     const JsonPath sigma = sigmas.Index(i);
-    slot.corners_map[i] = r.Point(j["corners"][i], corner);
+    slot.corners_map[i] = r.Point(j["corners"][i], corner, kMaxCoordinate_m, "m");
     slot.corner_observed[i] = r.Bool(j["corner_observed"][i], flag);
-    slot.corner_sigma_m[i] = r.Number(j["corner_sigma_m"][i], sigma);
-    if (slot.corner_sigma_m[i] < 0.0) r.Fail(sigma, "must not be negative");
+    slot.corner_sigma_m[i] =
+        r.NumberIn(j["corner_sigma_m"][i], sigma, 0.0, kMaxPositionSigma_m, "m");
   }
   const JsonPath count = path.Key("observations");
   slot.observation_count = r.Int(j["observations"], count);
@@ -149,12 +151,15 @@ MapTag ReadTag(const Json& j, const JsonReader& r, const JsonPath& path,
   const JsonPath id = path.Key("id");
   tag.tag_id = r.Int(j["id"], id);
   if (tag.tag_id < 0) r.Fail(id, "must not be negative");
-  tag.p_map = Eigen::Vector2d(r.Number(j["x"], path.Key("x")),
-                              r.Number(j["y"], path.Key("y")));
-  tag.yaw_map_rad = r.Number(j["yaw"], path.Key("yaw"));
+  tag.p_map = Eigen::Vector2d(r.BoundedNumber(j["x"], path.Key("x"), kMaxCoordinate_m, "m"),
+                              r.BoundedNumber(j["y"], path.Key("y"), kMaxCoordinate_m, "m"));
+  tag.yaw_map_rad = r.BoundedNumber(j["yaw"], path.Key("yaw"), kMaxAngle_rad, "rad");
   const JsonPath size = path.Key("size_m");
   tag.size_m = r.Number(j["size_m"], size);
   if (tag.size_m <= 0.0) r.Fail(size, "must be positive");
+  if (tag.size_m > kMaxTagSize_m) {
+    r.Fail(size, text::BeyondPlausible(tag.size_m, kMaxTagSize_m, "m"));
+  }
   const JsonPath obstacle = path.Key("obstacle");
   tag.obstacle_index = r.Int(j["obstacle"], obstacle);
   if (tag.obstacle_index < -1 ||
@@ -183,7 +188,7 @@ MapObstacle ReadObstacle(const Json& j, const JsonReader& r, const JsonPath& pat
   }
   for (std::size_t i = 0; i < j["points"].size(); ++i) {
     const JsonPath point = points.Index(i);
-    obstacle.points_map.push_back(r.Point(j["points"][i], point));
+    obstacle.points_map.push_back(r.Point(j["points"][i], point, kMaxCoordinate_m, "m"));
   }
   return obstacle;
 }

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <limits>
 
 #include "parkslam/io/io_error.h"
@@ -198,6 +199,42 @@ TEST(MapJsonTest, RejectsAnUnknownSlotKind) {
   j["slots"][0]["kind"] = "diagonal";
   EXPECT_THAT(ErrorOf([&] { MapFromJson(j, "map.json"); }),
               HasSubstr("map.json: slots[0].kind: expected perpendicular"));
+}
+
+// Values beyond the limits of common/plausible_ranges.h, named by path: a
+// map with a corner at 1e308 once rendered to an SVG of infinities.
+TEST(MapJsonTest, RejectsImplausibleValuesNamingTheirPath) {
+  const auto error_with = [](const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json j = SampleJson();
+    edit(j);
+    return ErrorOf([&] { MapFromJson(j, "map.json"); });
+  };
+  EXPECT_EQ(error_with([](nlohmann::json& j) { j["slots"][0]["corners"][0][0] = 1e308; }),
+            "map.json: slots[0].corners[0][0]: 1e+308 is beyond the plausible 100000 m");
+  EXPECT_EQ(error_with([](nlohmann::json& j) { j["slots"][2]["corners"][3][1] = -100001.0; }),
+            "map.json: slots[2].corners[3][1]: -100001 is beyond the plausible 100000 m");
+  EXPECT_EQ(error_with([](nlohmann::json& j) { j["slots"][1]["corner_sigma_m"][2] = 11.0; }),
+            "map.json: slots[1].corner_sigma_m[2]: 11 is outside the plausible range [0, 10] m");
+  EXPECT_EQ(error_with([](nlohmann::json& j) { j["slots"][1]["corner_sigma_m"][0] = -0.5; }),
+            "map.json: slots[1].corner_sigma_m[0]: -0.5 is outside the plausible range [0, 10] m");
+  EXPECT_EQ(error_with([](nlohmann::json& j) { j["tags"][1]["x"] = 2e5; }),
+            "map.json: tags[1].x: 2e+05 is beyond the plausible 100000 m");
+  EXPECT_EQ(error_with([](nlohmann::json& j) { j["tags"][2]["y"] = -1e300; }),
+            "map.json: tags[2].y: -1e+300 is beyond the plausible 100000 m");
+  EXPECT_EQ(error_with([](nlohmann::json& j) { j["tags"][0]["yaw"] = 1e20; }),
+            "map.json: tags[0].yaw: 1e+20 is beyond the plausible 10000 rad");
+  EXPECT_EQ(error_with([](nlohmann::json& j) { j["tags"][0]["size_m"] = 6.0; }),
+            "map.json: tags[0].size_m: 6 is beyond the plausible 5 m");
+  EXPECT_EQ(error_with([](nlohmann::json& j) { j["obstacles"][1]["points"][1][0] = 1e6; }),
+            "map.json: obstacles[1].points[1][0]: 1e+06 is beyond the plausible 100000 m");
+  // At the limits themselves, still a map.
+  EXPECT_EQ(error_with([](nlohmann::json& j) {
+              j["slots"][0]["corners"][0][0] = -100000.0;
+              j["slots"][1]["corner_sigma_m"][2] = 10.0;
+              j["tags"][0]["yaw"] = 10000.0;
+              j["tags"][0]["size_m"] = 5.0;
+            }),
+            "");
 }
 
 TEST(MapJsonTest, ReadingMalformedJsonNamesTheFile) {

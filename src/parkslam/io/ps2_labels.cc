@@ -6,6 +6,7 @@
 #include <system_error>
 #include <vector>
 
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/json_util.h"
@@ -42,7 +43,9 @@ Ps2MarkingPoint ReadMark(const Json& j, const JsonReader& r, const JsonPath& pat
   double values[kMarkFields];
   for (std::size_t k = 0; k < kMarkFields; ++k) {
     const JsonPath field = path.Index(k);
-    values[k] = r.Number(j[k], field);
+    // Pixels but for the shape, checked below.
+    values[k] = k < 4 ? r.BoundedNumber(j[k], field, kMaxPixelCoordinate_px, "px")
+                      : r.Number(j[k], field);
   }
   const Eigen::Vector2d p(values[0], values[1]);
   const Eigen::Vector2d along(values[2], values[3]);
@@ -84,7 +87,7 @@ Ps2Slot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path,
   slot.b = ReadMarkIndex(j[1], r, b_path, mark_count);
   // Not used, but a label is read whole or not at all.
   r.Number(j[2], type_path);
-  r.Number(j[3], angle_path);
+  r.BoundedNumber(j[3], angle_path, kMaxAngle_deg, "deg");
   if (slot.a == slot.b) {
     r.Fail(path, "both ends of the entrance are mark " + std::to_string(slot.a + 1));
   }

@@ -18,9 +18,10 @@
 // ("slots": [2, 1, 1, 90]) rather than a list of one list.
 //
 // Reading is strict: both keys and nothing else, every mark 5 finite
-// numbers, shape 0 or 1, a separating-line point distinct from its marking
-// point, every slot 4 numbers with integral indices in range and two
-// different ends.
+// numbers, its pixels within kMaxPixelCoordinate_px and its shape 0 or 1, a
+// separating-line point distinct from its marking point, every slot 4
+// numbers with integral indices in range, two different ends and an angle
+// within kMaxAngle_deg (common/plausible_ranges.h).
 
 #include <Eigen/Core>
 #include <filesystem>

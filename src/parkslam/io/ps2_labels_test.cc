@@ -182,6 +182,21 @@ TEST(Ps2LabelsTest, RejectsNonFiniteNumbers) {
               HasSubstr("doc.json: slots[0][3]: not a finite number"));
 }
 
+// Pixels beyond kMaxPixelCoordinate_px and slot angles beyond kMaxAngle_deg
+// (common/plausible_ranges.h); a mark may still lie off its image.
+TEST(Ps2LabelsTest, RejectsImplausiblePixelsAndAngles) {
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1, 2, 3, 4, 0], [1e308, 2, 3, 4, 0]], "slots": []})"),
+              HasSubstr(": marks[1][0]: 1e+308 is beyond the plausible 32768 px"));
+  EXPECT_THAT(ErrorReading(R"({"marks": [[1, 2, 3, -40000, 0]], "slots": []})"),
+              HasSubstr(": marks[0][3]: -40000 is beyond the plausible 32768 px"));
+  const std::string marks = R"({"marks": [[1, 2, 3, 4, 0], [101, 2, 103, 4, 0]], "slots": )";
+  EXPECT_THAT(ErrorReading(marks + "[[1, 2, 1, 1e9]]}"),
+              HasSubstr(": slots[0][3]: 1e+09 is beyond the plausible 360 deg"));
+  const TempDir dir;
+  EXPECT_NO_THROW(ReadPs2Labels(
+      dir.Write("off.json", R"({"marks": [[-20, 610.5, 30, 640, 1]], "slots": []})")));
+}
+
 TEST(Ps2LabelsTest, MissingFileIsNamed) {
   const TempDir dir;
   const std::string message = ErrorOf([&] { ReadPs2Labels(dir / "absent.json"); });

@@ -5,8 +5,10 @@
 #include <numbers>
 #include <set>
 
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
+#include "parkslam/io/text_util.h"
 #include "parkslam/io/yaml_util.h"
 
 namespace parkslam::io {
@@ -42,6 +44,42 @@ Eigen::Matrix3d Rotation(double yaw, double pitch_down, double roll) {
   return R;
 }
 
+// The limits of common/plausible_ranges.h on what a camera entry holds.
+
+int ImageSide(const YamlReader& r, const YAML::Node& node, const std::string& path) {
+  const int side = r.Int(node, path);
+  if (side < kMinImageSide_px || side > kMaxImageSide_px) {
+    r.Fail(node, path, text::OutsidePlausible(side, kMinImageSide_px, kMaxImageSide_px, "px"));
+  }
+  return side;
+}
+
+double FocalLength(const YamlReader& r, const YAML::Node& node, const std::string& path) {
+  return r.DoubleIn(node, path, kMinFocalLength_px, kMaxFocalLength_px, "px");
+}
+
+// cx or cy of an image `size` pixels wide or high.
+double PrincipalPoint(const YamlReader& r, const YAML::Node& node, const std::string& path,
+                      int size) {
+  return r.DoubleIn(node, path, -kPrincipalPointMargin * size,
+                    (1.0 + kPrincipalPointMargin) * size, "px");
+}
+
+// Above the ground the cameras look at (a top view from a camera at or below
+// it is empty), below any ceiling.
+double CameraHeight(const YamlReader& r, const YAML::Node& node, const std::string& path) {
+  const double z_m = r.Double(node, path);
+  if (!(z_m > 0.0)) {
+    std::string value;
+    text::AppendDouble(&value, z_m);
+    r.Fail(node, path, value + " puts the camera on or under the ground (z is up)");
+  }
+  if (z_m > kMaxCameraHeight_m) {
+    r.Fail(node, path, text::BeyondPlausible(z_m, kMaxCameraHeight_m, "m"));
+  }
+  return z_m;
+}
+
 }  // namespace
 
 camera::CameraRig RigFromYaml(const std::string& text, const std::string& source) {
@@ -68,29 +106,42 @@ camera::CameraRig RigFromYaml(const std::string& text, const std::string& source
     }
     camera::CameraIntrinsics& in = c.intrinsics;
     in.kind = model == "fisheye" ? camera::CameraKind::kFisheye : camera::CameraKind::kPinhole;
-    in.width = r.Int(n["width"], JoinKey(path, "width"));
-    in.height = r.Int(n["height"], JoinKey(path, "height"));
-    if (in.width < 16 || in.height < 16 || in.width > 8192 || in.height > 8192) {
-      ThrowIoError(source, 0, JoinKey(path, "width"), "image size must be in [16, 8192]");
+    in.width = ImageSide(r, n["width"], JoinKey(path, "width"));
+    in.height = ImageSide(r, n["height"], JoinKey(path, "height"));
+    const long long pixels = static_cast<long long>(in.width) * in.height;
+    if (pixels > kMaxImagePixels) {
+      r.Fail(n["height"], JoinKey(path, "height"),
+             std::to_string(in.width) + " x " + std::to_string(in.height) + " is " +
+                 std::to_string(pixels) + " pixels, beyond the plausible " +
+                 std::to_string(kMaxImagePixels));
     }
-    in.fx = r.Double(n["fx"], JoinKey(path, "fx"));
-    in.fy = r.Double(n["fy"], JoinKey(path, "fy"));
-    if (!(in.fx > 0 && in.fy > 0)) ThrowIoError(source, 0, JoinKey(path, "fx"), "must be positive");
-    in.cx = r.Double(n["cx"], JoinKey(path, "cx"));
-    in.cy = r.Double(n["cy"], JoinKey(path, "cy"));
+    in.fx = FocalLength(r, n["fx"], JoinKey(path, "fx"));
+    in.fy = FocalLength(r, n["fy"], JoinKey(path, "fy"));
+    in.cx = PrincipalPoint(r, n["cx"], JoinKey(path, "cx"), in.width);
+    in.cy = PrincipalPoint(r, n["cy"], JoinKey(path, "cy"), in.height);
     const YAML::Node d = n["distortion"];
     r.ExpectSequence(d, JoinKey(path, "distortion"));
     if (d.size() != 4) ThrowIoError(source, 0, JoinKey(path, "distortion"), "expected 4 numbers");
-    for (int k = 0; k < 4; ++k) in.distortion[k] = r.Double(d[k], IndexKey(JoinKey(path, "distortion"), k));
+    for (int k = 0; k < 4; ++k) {
+      in.distortion[k] = r.BoundedDouble(d[k], IndexKey(JoinKey(path, "distortion"), k),
+                                         kMaxDistortionCoefficient, "");
+    }
     const YAML::Node p = n["position_m"];
     r.ExpectSequence(p, JoinKey(path, "position_m"));
     if (p.size() != 3) ThrowIoError(source, 0, JoinKey(path, "position_m"), "expected [x, y, z]");
     Eigen::Vector3d position;
-    for (int k = 0; k < 3; ++k) position[k] = r.Double(p[k], IndexKey(JoinKey(path, "position_m"), k));
-    const double yaw = r.Double(n["yaw_deg"], JoinKey(path, "yaw_deg")) * kDeg;
-    const double pitch = r.Double(n["pitch_down_deg"], JoinKey(path, "pitch_down_deg")) * kDeg;
-    const double roll = r.Double(n["roll_deg"], JoinKey(path, "roll_deg")) * kDeg;
-    c.T_vehicle_camera.linear() = Rotation(yaw, pitch, roll);
+    for (int k = 0; k < 2; ++k) {
+      position[k] = r.BoundedDouble(p[k], IndexKey(JoinKey(path, "position_m"), k),
+                                    kMaxCameraOffset_m, "m");
+    }
+    position.z() = CameraHeight(r, p[2], IndexKey(JoinKey(path, "position_m"), 2));
+    const double yaw =
+        r.BoundedDouble(n["yaw_deg"], JoinKey(path, "yaw_deg"), kMaxAngle_deg, "deg");
+    const double pitch = r.BoundedDouble(n["pitch_down_deg"], JoinKey(path, "pitch_down_deg"),
+                                         kMaxAngle_deg, "deg");
+    const double roll =
+        r.BoundedDouble(n["roll_deg"], JoinKey(path, "roll_deg"), kMaxAngle_deg, "deg");
+    c.T_vehicle_camera.linear() = Rotation(yaw * kDeg, pitch * kDeg, roll * kDeg);
     c.T_vehicle_camera.translation() = position;
     rig.cameras.push_back(c);
   }

@@ -318,6 +318,58 @@ TEST(ScenarioYamlTest, LoadScenarioFileRejectsAnInvalidScenario) {
               HasSubstr(file.string() + ": world.rows[0].count: "));
 }
 
+// Physical quantities beyond the limits of common/plausible_ranges.h, each
+// named by file and field.
+TEST(ScenarioYamlTest, LoadScenarioFileRejectsImplausibleQuantities) {
+  const TempDir dir;
+  const auto error_of = [&](const std::string& yaml) {
+    const auto file = dir.Write("s.yaml", yaml);
+    const std::string message = ErrorOf([&] { LoadScenarioFile(file); });
+    EXPECT_THAT(message, HasSubstr(file.string() + ": ")) << yaml;
+    return message;
+  };
+  EXPECT_THAT(error_of("world:\n  hall: {min_x_m: 0, min_y_m: 0, max_x_m: 1e308, max_y_m: 50}\n"),
+              HasSubstr("world.hall: must be at most 100000 m in magnitude"));
+  EXPECT_THAT(error_of("world:\n  hall: {min_x_m: 0, min_y_m: 0, max_x_m: 5000, max_y_m: 50}\n"),
+              HasSubstr("world.hall: must be in [10, 1000] m (max_x_m - min_x_m)"));
+  EXPECT_THAT(error_of("world:\n  corridor_length_m: 1e6\n"),
+              HasSubstr("world.corridor_length_m: must be in (0, 1000] m"));
+  EXPECT_THAT(error_of("world:\n  tag_size_m: 6\n"),
+              HasSubstr("world.tag_size_m: must be in (0, 5] m"));
+  EXPECT_THAT(error_of("world:\n  tag_regions: [{min_x_m: -1e9, min_y_m: 0, max_x_m: 1, "
+                       "max_y_m: 1}]\n"),
+              HasSubstr("world.tag_regions[0]: must be at most 100000 m in magnitude"));
+  EXPECT_THAT(error_of("world:\n  rows:\n    - origin_m: [1e300, 0]\n"),
+              HasSubstr("world.rows[0].origin_m: must be at most 100000 m in magnitude"));
+  EXPECT_THAT(error_of("world:\n  rows:\n    - direction_deg: 720\n"),
+              HasSubstr("world.rows[0].direction_deg: must be at most 360 deg in magnitude"));
+  EXPECT_THAT(error_of("route:\n  loop_m: [[0, 0], [1e6, 0]]\n"),
+              HasSubstr("route.loop_m[1]: must be at most 100000 m in magnitude"));
+  EXPECT_THAT(error_of("route:\n  max_accel_mps2: 50\n"),
+              HasSubstr("route.max_accel_mps2: must be in (0, 10] m/s^2"));
+  EXPECT_THAT(error_of("vehicle:\n  length_m: 30\n"),
+              HasSubstr("vehicle: length_m must be in (0, 20]"));
+  EXPECT_THAT(error_of("vehicle:\n  max_road_wheel_rate_radps: 1e9\n"),
+              HasSubstr("vehicle: max_road_wheel_rate_radps must be in (0, 10]"));
+  EXPECT_THAT(error_of("sensors:\n  odometry:\n    wheel_speed_sigma_mps: 100\n"),
+              HasSubstr("sensors.odometry.wheel_speed_sigma_mps: must be in [0, 60] m/s"));
+  EXPECT_THAT(error_of("sensors:\n  odometry:\n    heading_sigma_rad: 7\n"),
+              HasSubstr("sensors.odometry.heading_sigma_rad: must be in [0, 3.14159] rad"));
+  EXPECT_THAT(error_of("sensors:\n  slots:\n    view_length_m: 80\n"),
+              HasSubstr("sensors.slots.view_length_m: must be in [2, 50] m"));
+  EXPECT_THAT(error_of("sensors:\n  slots:\n    corner_sigma_m: 9.95\n"),
+              HasSubstr("sensors.slots.corner_sigma_m: grows beyond 10 m across the view"));
+  EXPECT_THAT(error_of("sensors:\n  tags:\n    camera_x_m: 25\n"),
+              HasSubstr("sensors.tags.camera_x_m: must be at most 20 m in magnitude"));
+  EXPECT_THAT(error_of("sensors:\n  tags:\n    max_range_m: 99\n"),
+              HasSubstr("sensors.tags.max_range_m: reaches beyond 100 m from the vehicle"));
+  EXPECT_THAT(error_of("sensors:\n  tags:\n    yaw_sigma_per_m: 1\n"),
+              HasSubstr("sensors.tags.yaw_sigma_rad: grows beyond 3.14159 rad at max_range_m"));
+  EXPECT_THAT(error_of("sensors:\n  tags:\n    bearing_sigma_rad: 1\n"),
+              HasSubstr("sensors.tags.bearing_sigma_rad: gives more than 10 m across the line "
+                        "of sight at max_range_m"));
+}
+
 TEST(ScenarioYamlTest, LoadScenarioFileOfAMissingFileNamesIt) {
   const TempDir dir;
   EXPECT_THAT(ErrorOf([&] { LoadScenarioFile(dir / "absent.yaml"); }),

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <system_error>
 
 #include "parkslam/io/io_error.h"
@@ -26,6 +27,22 @@ std::optional<T> ParseWhole(std::string_view text) {
   const auto [ptr, ec] = std::from_chars(text.data(), end, value);
   if (ec != std::errc() || ptr != end) return std::nullopt;
   return value;
+}
+
+// A limit as people write it: "100000", "0.01", "1e-15" (6 significant
+// digits; the value beside it is exact).
+std::string Limit(double limit) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", limit);
+  return buffer;
+}
+
+std::string WithUnit(std::string text, std::string_view unit) {
+  if (!unit.empty()) {
+    text.push_back(' ');
+    text.append(unit);
+  }
+  return text;
 }
 
 }  // namespace
@@ -80,6 +97,20 @@ std::string Quoted(std::string_view text) {
   if (text.size() > kMaxShown) quoted.append("...");
   quoted.push_back('\'');
   return quoted;
+}
+
+std::string BeyondPlausible(double value, double max_abs, std::string_view unit) {
+  std::string message;
+  AppendDouble(&message, value);
+  return WithUnit(message + " is beyond the plausible " + Limit(max_abs), unit);
+}
+
+std::string OutsidePlausible(double value, double min, double max, std::string_view unit) {
+  std::string message;
+  AppendDouble(&message, value);
+  return WithUnit(message + " is outside the plausible range [" + Limit(min) + ", " +
+                      Limit(max) + "]",
+                  unit);
 }
 
 std::string_view Trim(std::string_view text) {

@@ -33,6 +33,13 @@ double ParseFiniteDouble(std::string_view text, std::string_view file, int line,
 // `text` in single quotes for messages, shortened when long.
 std::string Quoted(std::string_view text);
 
+// The messages for a value beyond a limit of common/plausible_ranges.h, the
+// value exact and the limit readable, `unit` after it ("" for none):
+//   "1e+308 is beyond the plausible 100000 m"        (a limit on |value|)
+//   "-2 is outside the plausible range [0, 10] m"
+std::string BeyondPlausible(double value, double max_abs, std::string_view unit);
+std::string OutsidePlausible(double value, double min, double max, std::string_view unit);
+
 std::string_view Trim(std::string_view text);
 
 // Walks the lines of a text, numbered from 1, without the '\n' and without a

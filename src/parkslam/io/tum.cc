@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/text_util.h"
@@ -115,6 +116,14 @@ TimedPose ParseLine(std::string_view line, const std::string& source, int line_n
   std::array<double, kColumns> values{};
   for (int c = 1; c < kColumns; ++c) {
     values[c] = text::ParseFiniteDouble(fields[c], source, line_number, kColumnNames[c]);
+  }
+  // The position in the map frame; z is dropped (the trajectory is planar)
+  // and the quaternion normalized below.
+  for (int c = 1; c <= 2; ++c) {
+    if (std::abs(values[c]) > kMaxCoordinate_m) {
+      ThrowIoError(source, line_number, kColumnNames[c],
+                   text::BeyondPlausible(values[c], kMaxCoordinate_m, "m"));
+    }
   }
   const double qx = values[4], qy = values[5], qz = values[6], qw = values[7];
   const double norm2 = qx * qx + qy * qy + qz * qz + qw * qw;

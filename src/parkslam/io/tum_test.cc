@@ -125,6 +125,16 @@ TEST(TumTest, RejectsNaNAndInfinity) {
             "t.tum:1: t: not a finite number");
 }
 
+// Positions beyond kMaxCoordinate_m (common/plausible_ranges.h); z is
+// dropped, and not checked.
+TEST(TumTest, RejectsImplausiblePositionsNamingLineAndField) {
+  EXPECT_EQ(ErrorOf([] { ParseTum("0 0 0 0 0 0 0 1\n1 1e308 0 0 0 0 0 1\n", "t.tum"); }),
+            "t.tum:2: x: 1e+308 is beyond the plausible 100000 m");
+  EXPECT_EQ(ErrorOf([] { ParseTum("# t x y z qx qy qz qw\n0 5 -100000.5 0 0 0 0 1\n", "t.tum"); }),
+            "t.tum:2: y: -100000.5 is beyond the plausible 100000 m");
+  EXPECT_EQ(ErrorOf([] { ParseTum("0 -100000 100000 1e300 0 0 0 1\n", "t.tum"); }), "");
+}
+
 TEST(TumTest, RejectsTimestampsThatDoNotIncrease) {
   const std::string error =
       ErrorOf([] { ParseTum("1.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n", "t.tum"); });

@@ -112,6 +112,22 @@ double YamlReader::Double(const YAML::Node& node, const std::string& path) const
   return *value;
 }
 
+double YamlReader::BoundedDouble(const YAML::Node& node, const std::string& path,
+                                 double max_abs, std::string_view unit) const {
+  const double value = Double(node, path);
+  if (std::abs(value) > max_abs) Fail(node, path, text::BeyondPlausible(value, max_abs, unit));
+  return value;
+}
+
+double YamlReader::DoubleIn(const YAML::Node& node, const std::string& path, double min,
+                            double max, std::string_view unit) const {
+  const double value = Double(node, path);
+  if (value < min || value > max) {
+    Fail(node, path, text::OutsidePlausible(value, min, max, unit));
+  }
+  return value;
+}
+
 std::int64_t YamlReader::Int64(const YAML::Node& node, const std::string& path) const {
   const std::string text = Scalar(node, path, "an integer");
   const std::optional<std::int64_t> value = text::ParseInt64(text);

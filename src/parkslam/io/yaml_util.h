@@ -37,6 +37,12 @@ class YamlReader {
                          std::string_view what) const;
 
   double Double(const YAML::Node& node, const std::string& path) const;  // finite
+  // Double() with |value| <= max_abs, or within [min, max]: a limit of
+  // common/plausible_ranges.h, in `unit` ("m", "px"; "" for none).
+  double BoundedDouble(const YAML::Node& node, const std::string& path, double max_abs,
+                       std::string_view unit) const;
+  double DoubleIn(const YAML::Node& node, const std::string& path, double min, double max,
+                  std::string_view unit) const;
   std::int64_t Int64(const YAML::Node& node, const std::string& path) const;
   int Int(const YAML::Node& node, const std::string& path) const;
   std::uint64_t Uint64(const YAML::Node& node, const std::string& path) const;

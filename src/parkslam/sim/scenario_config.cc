@@ -1,22 +1,33 @@
 #include "parkslam/sim/scenario_config.h"
 
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <sstream>
 
+#include "parkslam/common/angles.h"
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/map/semantic_map.h"
 
 namespace parkslam::sim {
 namespace {
 
-// Collects the first failed check with the name of its field.
+// A limit as written in messages: "1.5", "10", "1e+05".
+std::string Limit(double limit) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g", limit);
+  return buffer;
+}
+
+// Collects the first failed check with the name of its field. The ranges
+// of physical quantities are those of common/plausible_ranges.h.
 class Checker {
  public:
   explicit Checker(std::string* error) : error_(error) {}
 
   bool ok() const { return ok_; }
 
-  void Require(bool condition, const std::string& field, const char* what) {
+  void Require(bool condition, const std::string& field, const std::string& what) {
     if (!ok_ || condition) return;
     ok_ = false;
     if (error_ != nullptr) *error_ = field + ": " + what;
@@ -32,22 +43,53 @@ class Checker {
     Require(std::isfinite(value) && value >= 0.0, field,
             "must be non-negative");
   }
+  // value in [min, max]; unit after the limits in the message ("" for none).
+  void InRange(double value, double min, double max, const std::string& field,
+               const char* unit) {
+    if (!ok_ || (value >= min && value <= max)) return;
+    Require(false, field, "must be in [" + Limit(min) + ", " + Limit(max) + "]" + Unit(unit));
+  }
+  // value in (0, max].
+  void PositiveAtMost(double value, double max, const std::string& field, const char* unit) {
+    if (!ok_ || (value > 0.0 && value <= max)) return;
+    Require(false, field, "must be in (0, " + Limit(max) + "]" + Unit(unit));
+  }
+  // |value| <= max_abs.
+  void Magnitude(double value, double max_abs, const std::string& field, const char* unit) {
+    if (!ok_ || std::abs(value) <= max_abs) return;
+    Require(false, field, "must be at most " + Limit(max_abs) + Unit(unit) + " in magnitude");
+  }
+  void Point(const Eigen::Vector2d& p, const std::string& field) {
+    Magnitude(p.x(), kMaxCoordinate_m, field, "m");
+    Magnitude(p.y(), kMaxCoordinate_m, field, "m");
+  }
 
  private:
+  static std::string Unit(const char* unit) {
+    return *unit == '\0' ? std::string() : std::string(" ") + unit;
+  }
+
   std::string* error_;
   bool ok_ = true;
 };
 
+void CheckRegion(const RegionConfig& r, const std::string& field, Checker& c) {
+  c.Point({r.min_x_m, r.min_y_m}, field);
+  c.Point({r.max_x_m, r.max_y_m}, field);
+}
+
 void CheckWorld(const WorldConfig& w, Checker& c) {
   c.Require(!w.name.empty(), "world.name", "must not be empty");
   c.Require(w.seed >= 0, "world.seed", "must be non-negative");
-  c.Require(w.hall.max_x_m - w.hall.min_x_m >= 10.0 &&
-                w.hall.max_y_m - w.hall.min_y_m >= 10.0,
-            "world.hall", "must be at least 10 m x 10 m");
+  CheckRegion(w.hall, "world.hall", c);
+  c.InRange(w.hall.max_x_m - w.hall.min_x_m, kMinHallSide_m, kMaxHallSide_m,
+            "world.hall", "m (max_x_m - min_x_m)");
+  c.InRange(w.hall.max_y_m - w.hall.min_y_m, kMinHallSide_m, kMaxHallSide_m,
+            "world.hall", "m (max_y_m - min_y_m)");
   if (w.corridor) {
-    c.Positive(w.corridor_length_m, "world.corridor_length_m");
-    c.Require(w.corridor_width_m >= 2.0 && w.corridor_width_m <= 20.0,
-              "world.corridor_width_m", "must be in [2, 20]");
+    c.PositiveAtMost(w.corridor_length_m, kMaxHallSide_m, "world.corridor_length_m", "m");
+    c.InRange(w.corridor_width_m, kMinCorridorWidth_m, kMaxCorridorWidth_m,
+              "world.corridor_width_m", "m");
     c.Require(w.corridor_center_y_m - w.corridor_width_m / 2 > w.hall.min_y_m &&
                   w.corridor_center_y_m + w.corridor_width_m / 2 < w.hall.max_y_m,
               "world.corridor_center_y_m", "corridor must meet the west wall");
@@ -58,17 +100,16 @@ void CheckWorld(const WorldConfig& w, Checker& c) {
     c.Require(SlotKindFromString(r.kind).has_value(), p + "kind",
               "must be perpendicular, angled or parallel");
     c.Require(r.count >= 1 && r.count <= 1000, p + "count", "must be in [1, 1000]");
-    c.Require(r.width_m >= 1.5 && r.width_m <= 10.0, p + "width_m", "must be in [1.5, 10]");
-    c.Require(r.depth_m >= 1.5 && r.depth_m <= 10.0, p + "depth_m", "must be in [1.5, 10]");
-    c.Require(r.angle_deg >= 30.0 && r.angle_deg <= 150.0, p + "angle_deg",
-              "must be in [30, 150]");
+    c.InRange(r.width_m, kMinSlotSide_m, kMaxSlotSide_m, p + "width_m", "m");
+    c.InRange(r.depth_m, kMinSlotSide_m, kMaxSlotSide_m, p + "depth_m", "m");
+    c.InRange(r.angle_deg, kMinSlotAngle_deg, kMaxSlotAngle_deg, p + "angle_deg", "deg");
+    c.Magnitude(r.direction_deg, kMaxAngle_deg, p + "direction_deg", "deg");
     c.Require(r.group_size >= 0, p + "group_size", "must be non-negative");
-    c.NonNegative(r.group_gap_m, p + "group_gap_m");
+    c.InRange(r.group_gap_m, 0.0, kMaxHallSide_m, p + "group_gap_m", "m");
     c.Require(r.first_id >= 0 && r.id_step >= 0, p + "first_id",
               "IDs must be non-negative");
     c.Require(r.id_digits >= 1 && r.id_digits <= 4, p + "id_digits", "must be in [1, 4]");
-    c.Require(std::isfinite(r.origin_m.x()) && std::isfinite(r.origin_m.y()),
-              p + "origin_m", "must be finite");
+    c.Point(r.origin_m, p + "origin_m");
   }
   // Painted IDs must be unique across rows: the map keys slots by them.
   std::set<std::string> painted;
@@ -85,60 +126,102 @@ void CheckWorld(const WorldConfig& w, Checker& c) {
       if (!c.ok()) break;
     }
   }
-  c.Positive(w.pillar_size_m, "world.pillar_size_m");
+  c.PositiveAtMost(w.pillar_size_m, kMaxHallSide_m, "world.pillar_size_m", "m");
   c.Require(w.tag_count >= 0 && w.tag_count <= 587, "world.tag_count",
             "must be in [0, 587] (the tag36h11 family)");
-  c.Positive(w.tag_size_m, "world.tag_size_m");
-  c.Require(w.tag_spacing_m >= 0.5, "world.tag_spacing_m", "must be at least 0.5");
+  c.PositiveAtMost(w.tag_size_m, kMaxTagSize_m, "world.tag_size_m", "m");
+  c.InRange(w.tag_spacing_m, 0.5, kMaxHallSide_m, "world.tag_spacing_m", "m");
+  for (size_t i = 0; i < w.tag_regions.size(); ++i) {
+    CheckRegion(w.tag_regions[i], "world.tag_regions[" + std::to_string(i) + "]", c);
+  }
   c.Rate(w.id_missing_rate, "world.id_missing_rate");
   c.Rate(w.id_worn_rate, "world.id_worn_rate");
+}
+
+void CheckWaypoints(const std::vector<Eigen::Vector2d>& points, const std::string& field,
+                    Checker& c) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    c.Point(points[i], field + "[" + std::to_string(i) + "]");
+  }
 }
 
 void CheckRoute(const RouteConfig& r, Checker& c) {
   c.Require(r.approach_m.size() + r.loop_m.size() + r.finish_m.size() >= 2,
             "route", "needs at least two waypoints");
+  CheckWaypoints(r.approach_m, "route.approach_m", c);
+  CheckWaypoints(r.loop_m, "route.loop_m", c);
+  CheckWaypoints(r.finish_m, "route.finish_m", c);
   c.Require(r.laps >= 0 && r.laps <= 1000, "route.laps", "must be in [0, 1000]");
   c.Require(r.laps == 0 || r.loop_m.size() >= 2, "route.loop_m",
             "needs at least two waypoints when laps > 0");
-  c.Require(r.cruise_speed_kmh > 0.5 && r.cruise_speed_kmh <= 40.0,
-            "route.cruise_speed_kmh", "must be in (0.5, 40]");
-  c.Require(r.turn_speed_kmh > 0.5 && r.turn_speed_kmh <= r.cruise_speed_kmh,
-            "route.turn_speed_kmh", "must be in (0.5, cruise_speed_kmh]");
-  c.Positive(r.max_accel_mps2, "route.max_accel_mps2");
-  c.Positive(r.max_decel_mps2, "route.max_decel_mps2");
-  c.Require(r.lookahead_m >= 1.0, "route.lookahead_m", "must be at least 1");
-  c.NonNegative(r.lateral_wander_m, "route.lateral_wander_m");
-  c.Require(r.sample_rate_hz >= 20.0 && r.sample_rate_hz <= 1000.0,
-            "route.sample_rate_hz", "must be in [20, 1000]");
+  c.Require(r.cruise_speed_kmh > kMinDriveSpeed_kmh && r.cruise_speed_kmh <= kMaxDriveSpeed_kmh,
+            "route.cruise_speed_kmh",
+            "must be in (" + Limit(kMinDriveSpeed_kmh) + ", " + Limit(kMaxDriveSpeed_kmh) + "]");
+  c.Require(r.turn_speed_kmh > kMinDriveSpeed_kmh && r.turn_speed_kmh <= r.cruise_speed_kmh,
+            "route.turn_speed_kmh",
+            "must be in (" + Limit(kMinDriveSpeed_kmh) + ", cruise_speed_kmh]");
+  c.PositiveAtMost(r.max_accel_mps2, kMaxAcceleration_mps2, "route.max_accel_mps2", "m/s^2");
+  c.PositiveAtMost(r.max_decel_mps2, kMaxAcceleration_mps2, "route.max_decel_mps2", "m/s^2");
+  c.InRange(r.lookahead_m, 1.0, kMaxHallSide_m, "route.lookahead_m", "m");
+  c.InRange(r.lateral_wander_m, 0.0, kMaxHallSide_m, "route.lateral_wander_m", "m");
+  c.InRange(r.sample_rate_hz, kMinRouteSampleRate_hz, kMaxSensorRate_hz,
+            "route.sample_rate_hz", "Hz");
 }
 
 void CheckSensors(const SensorConfig& s, Checker& c) {
   const OdometrySensorConfig& o = s.odometry;
-  c.Require(o.wheel_rate_hz >= 1 && o.wheel_rate_hz <= 1000, "sensors.odometry.wheel_rate_hz", "must be in [1, 1000]");
-  c.Require(o.steering_rate_hz >= 1 && o.steering_rate_hz <= 1000, "sensors.odometry.steering_rate_hz", "must be in [1, 1000]");
-  c.Require(o.imu_rate_hz >= 1 && o.imu_rate_hz <= 1000, "sensors.odometry.imu_rate_hz", "must be in [1, 1000]");
-  c.NonNegative(o.wheel_speed_sigma_mps, "sensors.odometry.wheel_speed_sigma_mps");
-  c.NonNegative(o.wheel_speed_scale_sigma, "sensors.odometry.wheel_speed_scale_sigma");
-  c.NonNegative(o.steering_wheel_sigma_rad, "sensors.odometry.steering_wheel_sigma_rad");
-  c.NonNegative(o.gyro_sigma_radps, "sensors.odometry.gyro_sigma_radps");
-  c.NonNegative(o.gyro_bias_sigma_radps, "sensors.odometry.gyro_bias_sigma_radps");
-  c.NonNegative(o.gyro_bias_walk_radps_per_sqrt_s, "sensors.odometry.gyro_bias_walk_radps_per_sqrt_s");
-  c.NonNegative(o.heading_sigma_rad, "sensors.odometry.heading_sigma_rad");
-  c.NonNegative(o.heading_bias_sigma_rad, "sensors.odometry.heading_bias_sigma_rad");
-  c.NonNegative(o.heading_bias_walk_rad_per_sqrt_s, "sensors.odometry.heading_bias_walk_rad_per_sqrt_s");
+  const std::string odometry = "sensors.odometry.";
+  c.InRange(o.wheel_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz, odometry + "wheel_rate_hz",
+            "Hz");
+  c.InRange(o.steering_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz,
+            odometry + "steering_rate_hz", "Hz");
+  c.InRange(o.imu_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz, odometry + "imu_rate_hz", "Hz");
+  // A noise no larger than the plausible magnitude of what it disturbs.
+  c.InRange(o.wheel_speed_sigma_mps, 0.0, kMaxWheelSpeed_mps,
+            odometry + "wheel_speed_sigma_mps", "m/s");
+  c.InRange(o.wheel_speed_scale_sigma, 0.0, kMaxRelativeSigma,
+            odometry + "wheel_speed_scale_sigma", "");
+  c.InRange(o.steering_wheel_sigma_rad, 0.0, kMaxSteeringWheelAngle_rad,
+            odometry + "steering_wheel_sigma_rad", "rad");
+  c.InRange(o.gyro_sigma_radps, 0.0, kMaxYawRate_radps, odometry + "gyro_sigma_radps", "rad/s");
+  c.InRange(o.gyro_bias_sigma_radps, 0.0, kMaxYawRate_radps,
+            odometry + "gyro_bias_sigma_radps", "rad/s");
+  c.InRange(o.gyro_bias_walk_radps_per_sqrt_s, 0.0, kMaxYawRate_radps,
+            odometry + "gyro_bias_walk_radps_per_sqrt_s", "rad/s/sqrt(s)");
+  c.InRange(o.heading_sigma_rad, 0.0, kMaxAngleSigma_rad, odometry + "heading_sigma_rad", "rad");
+  c.InRange(o.heading_bias_sigma_rad, 0.0, kMaxAngleSigma_rad,
+            odometry + "heading_bias_sigma_rad", "rad");
+  c.InRange(o.heading_bias_walk_rad_per_sqrt_s, 0.0, kMaxAngleSigma_rad,
+            odometry + "heading_bias_walk_rad_per_sqrt_s", "rad/sqrt(s)");
 
   const SlotSensorConfig& sl = s.slots;
-  c.Require(sl.rate_hz >= 1 && sl.rate_hz <= 100, "sensors.slots.rate_hz", "must be in [1, 100]");
-  c.Require(sl.view_length_m >= 2 && sl.view_width_m >= 2, "sensors.slots.view_length_m", "view must be at least 2 m x 2 m");
+  c.InRange(sl.rate_hz, kMinSensorRate_hz, kMaxCameraRate_hz, "sensors.slots.rate_hz", "Hz");
+  c.InRange(sl.view_length_m, kMinTopViewSide_m, kMaxTopViewSide_m,
+            "sensors.slots.view_length_m", "m");
+  c.InRange(sl.view_width_m, kMinTopViewSide_m, kMaxTopViewSide_m,
+            "sensors.slots.view_width_m", "m");
+  c.Magnitude(sl.view_center_x_m, kMaxTopViewSide_m / 2, "sensors.slots.view_center_x_m", "m");
   c.NonNegative(sl.corner_sigma_m, "sensors.slots.corner_sigma_m");
-  c.NonNegative(sl.corner_sigma_per_m, "sensors.slots.corner_sigma_per_m");
+  c.InRange(sl.corner_sigma_per_m, 0.0, kMaxRelativeSigma, "sensors.slots.corner_sigma_per_m",
+            "");
+  // The sigma of a corner anywhere in the view, as observations carry it.
+  c.Require(sl.corner_sigma_m + sl.corner_sigma_per_m * std::hypot(sl.view_length_m,
+                                                                   sl.view_width_m) <=
+                kMaxPositionSigma_m,
+            "sensors.slots.corner_sigma_m",
+            "grows beyond " + Limit(kMaxPositionSigma_m) +
+                " m across the view (corner_sigma_m + corner_sigma_per_m * view diagonal)");
   c.Rate(sl.miss_rate, "sensors.slots.miss_rate");
   c.Require(sl.false_per_frame >= 0 && sl.false_per_frame <= 5, "sensors.slots.false_per_frame", "must be in [0, 5]");
   c.Rate(sl.far_corner_observed_rate, "sensors.slots.far_corner_observed_rate");
-  c.Positive(sl.standard_depth_m, "sensors.slots.standard_depth_m");
-  c.Positive(sl.parallel_min_entrance_m, "sensors.slots.parallel_min_entrance_m");
-  c.Positive(sl.parallel_depth_m, "sensors.slots.parallel_depth_m");
-  c.NonNegative(sl.far_direction_sigma_deg, "sensors.slots.far_direction_sigma_deg");
+  c.InRange(sl.standard_depth_m, kMinSlotSide_m, kMaxSlotSide_m, "sensors.slots.standard_depth_m",
+            "m");
+  c.InRange(sl.parallel_min_entrance_m, kMinSlotSide_m, kMaxSlotSide_m,
+            "sensors.slots.parallel_min_entrance_m", "m");
+  c.InRange(sl.parallel_depth_m, kMinSlotSide_m, kMaxSlotSide_m, "sensors.slots.parallel_depth_m",
+            "m");
+  c.InRange(sl.far_direction_sigma_deg, 0.0, RadToDeg(kMaxAngleSigma_rad),
+            "sensors.slots.far_direction_sigma_deg", "deg");
 
   const IdSensorConfig& id = s.ids;
   c.Rate(id.confusion_rate, "sensors.ids.confusion_rate");
@@ -149,9 +232,17 @@ void CheckSensors(const SensorConfig& s, Checker& c) {
   c.Rate(id.true_digit_second_rate, "sensors.ids.true_digit_second_rate");
 
   const TagSensorConfig& t = s.tags;
-  c.Require(t.rate_hz >= 1 && t.rate_hz <= 100, "sensors.tags.rate_hz", "must be in [1, 100]");
+  c.InRange(t.rate_hz, kMinSensorRate_hz, kMaxCameraRate_hz, "sensors.tags.rate_hz", "Hz");
+  c.Magnitude(t.camera_x_m, kMaxCameraOffset_m, "sensors.tags.camera_x_m", "m");
+  c.Magnitude(t.camera_y_m, kMaxCameraOffset_m, "sensors.tags.camera_y_m", "m");
+  c.Magnitude(t.camera_yaw_deg, kMaxAngle_deg, "sensors.tags.camera_yaw_deg", "deg");
   c.Require(t.horizontal_fov_deg > 1 && t.horizontal_fov_deg < 180, "sensors.tags.horizontal_fov_deg", "must be in (1, 180)");
   c.Require(t.min_range_m >= 0 && t.max_range_m > t.min_range_m, "sensors.tags.max_range_m", "must exceed min_range_m");
+  // Tags are reported in the vehicle frame: camera position plus range.
+  c.Require(std::hypot(t.camera_x_m, t.camera_y_m) + t.max_range_m <= kMaxObservationRange_m,
+            "sensors.tags.max_range_m",
+            "reaches beyond " + Limit(kMaxObservationRange_m) +
+                " m from the vehicle (camera position + max_range_m)");
   c.Require(t.max_incidence_deg > 0 && t.max_incidence_deg < 90, "sensors.tags.max_incidence_deg", "must be in (0, 90)");
   c.Rate(t.miss_rate, "sensors.tags.miss_rate");
   c.Rate(t.miss_rate_at_max_range, "sensors.tags.miss_rate_at_max_range");
@@ -161,6 +252,21 @@ void CheckSensors(const SensorConfig& s, Checker& c) {
   c.NonNegative(t.bearing_sigma_per_m, "sensors.tags.bearing_sigma_per_m");
   c.NonNegative(t.yaw_sigma_rad, "sensors.tags.yaw_sigma_rad");
   c.NonNegative(t.yaw_sigma_per_m, "sensors.tags.yaw_sigma_per_m");
+  // The noise at the farthest range, as observations carry it: along and
+  // across the line of sight, and of the tag's yaw.
+  const double range_sigma_m = t.range_sigma_m + t.range_sigma_per_m * t.max_range_m;
+  const double across_sigma_m =
+      t.max_range_m * (t.bearing_sigma_rad + t.bearing_sigma_per_m * t.max_range_m);
+  const double yaw_sigma_rad = t.yaw_sigma_rad + t.yaw_sigma_per_m * t.max_range_m;
+  c.Require(range_sigma_m <= kMaxPositionSigma_m, "sensors.tags.range_sigma_m",
+            "grows beyond " + Limit(kMaxPositionSigma_m) +
+                " m at max_range_m (range_sigma_m + range_sigma_per_m * max_range_m)");
+  c.Require(across_sigma_m <= kMaxPositionSigma_m, "sensors.tags.bearing_sigma_rad",
+            "gives more than " + Limit(kMaxPositionSigma_m) +
+                " m across the line of sight at max_range_m");
+  c.Require(yaw_sigma_rad <= kMaxAngleSigma_rad, "sensors.tags.yaw_sigma_rad",
+            "grows beyond " + Limit(kMaxAngleSigma_rad) +
+                " rad at max_range_m (yaw_sigma_rad + yaw_sigma_per_m * max_range_m)");
 }
 
 SlotRowConfig Row(const char* kind, double x, double y, bool far_side_left,
