@@ -56,6 +56,36 @@ bool PlausibleSlot(const SlotObservation& obs) {
          (obs.corners_vehicle[3] - obs.corners_vehicle[0]).norm() > kMinSideM;
 }
 
+// The records a bounded windowed solve takes (MapperOptions::
+// window_history_observations), in order: the window's, which are the last
+// ones since records come in keyframe order, and for each landmark they
+// name (added to *free) its latest `history` older ones, from `index`
+// (landmark -> its records, oldest first). The work does not grow with the
+// drive.
+template <typename Record, typename Landmarks>
+std::vector<size_t> BoundedWindowRecords(const std::vector<Record>& records,
+                                         const std::vector<std::vector<size_t>>& index,
+                                         int first_free, int history, Landmarks landmarks_of,
+                                         std::set<int>* free) {
+  std::vector<size_t> in_play;
+  for (size_t r = records.size(); r-- > 0 && records[r].keyframe >= first_free;) {
+    for (int landmark : landmarks_of(records[r])) free->insert(landmark);
+    in_play.push_back(r);
+  }
+  for (int landmark : *free) {
+    const std::vector<size_t>& own = index[static_cast<size_t>(landmark)];
+    int taken = 0;
+    for (size_t i = own.size(); i-- > 0 && taken < history;) {
+      if (records[own[i]].keyframe >= first_free) continue;
+      in_play.push_back(own[i]);
+      ++taken;
+    }
+  }
+  std::sort(in_play.begin(), in_play.end());
+  in_play.erase(std::unique(in_play.begin(), in_play.end()), in_play.end());
+  return in_play;
+}
+
 }  // namespace
 
 bool MapperOptions::IsValid(std::string* error) const {
@@ -408,25 +438,9 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
       if (record.keyframe >= first_free || touches_free) slot_records_in_play.push_back(r);
     }
   } else {
-    // Records come in keyframe order: the window's are the last ones. Each
-    // free slot adds its latest older ones from its own list, so the work
-    // does not grow with the drive.
-    for (size_t r = slot_records_.size(); r-- > 0 && slot_records_[r].keyframe >= first_free;) {
-      free_slots.insert(slot_records_[r].candidates.begin(), slot_records_[r].candidates.end());
-      slot_records_in_play.push_back(r);
-    }
-    for (int free : free_slots) {
-      const std::vector<size_t>& own = slot_record_index_[static_cast<size_t>(free)];
-      int taken = 0;
-      for (size_t i = own.size(); i-- > 0 && taken < history;) {
-        if (slot_records_[own[i]].keyframe >= first_free) continue;
-        slot_records_in_play.push_back(own[i]);
-        ++taken;
-      }
-    }
-    std::sort(slot_records_in_play.begin(), slot_records_in_play.end());
-    slot_records_in_play.erase(std::unique(slot_records_in_play.begin(), slot_records_in_play.end()),
-                               slot_records_in_play.end());
+    slot_records_in_play = BoundedWindowRecords(
+        slot_records_, slot_record_index_, first_free, history,
+        [](const SlotRecord& record) { return record.candidates; }, &free_slots);
   }
   struct MixtureBlock {
     size_t record;
@@ -476,22 +490,9 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
       if (free_tags.count(tag_records_[r].tag) > 0) tag_records_in_play.push_back(r);
     }
   } else {
-    for (size_t r = tag_records_.size(); r-- > 0 && tag_records_[r].keyframe >= first_free;) {
-      free_tags.insert(tag_records_[r].tag);
-      tag_records_in_play.push_back(r);
-    }
-    for (int free : free_tags) {
-      const std::vector<size_t>& own = tag_record_index_[static_cast<size_t>(free)];
-      int taken = 0;
-      for (size_t i = own.size(); i-- > 0 && taken < history;) {
-        if (tag_records_[own[i]].keyframe >= first_free) continue;
-        tag_records_in_play.push_back(own[i]);
-        ++taken;
-      }
-    }
-    std::sort(tag_records_in_play.begin(), tag_records_in_play.end());
-    tag_records_in_play.erase(std::unique(tag_records_in_play.begin(), tag_records_in_play.end()),
-                              tag_records_in_play.end());
+    tag_records_in_play = BoundedWindowRecords(
+        tag_records_, tag_record_index_, first_free, history,
+        [](const TagRecord& record) { return std::vector<int>{record.tag}; }, &free_tags);
   }
   for (const size_t r : tag_records_in_play) {
     const TagRecord& record = tag_records_[r];
