@@ -236,8 +236,6 @@ void Mapper::AssociateSlot(int keyframe, const SlotObservation& obs) {
     double weight, chi2, cost, entrance_distance_m;
   };
   std::vector<Candidate> candidates;
-  const std::vector<IdHypothesis> hypotheses =
-      FullIdHypotheses(obs.id, options_.id_hypothesis_min);
   for (int s = 0; s < static_cast<int>(slots_.size()); ++s) {
     const SlotLandmark& slot = slots_[s];
     if (!slot.alive) continue;
@@ -310,10 +308,7 @@ void Mapper::AssociateSlot(int keyframe, const SlotObservation& obs) {
     record.chosen = candidates.front().slot;
     if (record.candidates.size() > 1) ++stats_.mixture_observations;
   }
-  SlotLandmark& slot = slots_[record.chosen];
-  for (const IdHypothesis& h : hypotheses) slot.votes[h.id] += h.probability;
-  ++slot.observations;
-  for (int j = 0; j < kSlotCorners; ++j) slot.corner_observations[j] += obs.corner_observed[j];
+  MoveEvidence(record, record.chosen, +1);
   IndexSlotRecord(record);
   slot_records_.push_back(std::move(record));
   UpdateIdOwner(slot_records_.back().chosen);
@@ -335,11 +330,6 @@ int Mapper::CreateSlot(int keyframe, const SlotObservation& obs) {
   slot.width_m = entrance.norm();
   slot.depth_m = side.norm();
   slot.temporary_number = next_temporary_number_++;
-  for (const IdHypothesis& h : FullIdHypotheses(obs.id, options_.id_hypothesis_min)) {
-    slot.votes[h.id] += h.probability;
-  }
-  slot.observations = 1;
-  for (int j = 0; j < kSlotCorners; ++j) slot.corner_observations[j] = obs.corner_observed[j];
   slots_.push_back(slot);
   ++stats_.slots_created;
   const int index = static_cast<int>(slots_.size()) - 1;
@@ -352,6 +342,7 @@ int Mapper::CreateSlot(int keyframe, const SlotObservation& obs) {
   record.candidates = {index};
   record.weights = {1.0};
   record.chosen = index;
+  MoveEvidence(record, index, +1);
   IndexSlotRecord(record);
   slot_records_.push_back(std::move(record));
   UpdateIdOwner(index);
@@ -542,18 +533,13 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
     if (chosen == record.chosen) continue;
     changed = true;
     if (!final) {
-      MoveEvidence(record, record.chosen, -1.0);
-      MoveEvidence(record, chosen, 1.0);
+      MoveEvidence(record, record.chosen, -1);
+      MoveEvidence(record, chosen, +1);
     }
     record.chosen = chosen;
   }
   if (changed && final) RecomputeSlotEvidence();
-  if (changed && !final) {
-    id_owner_.clear();
-    for (int s = 0; s < static_cast<int>(slots_.size()); ++s) {
-      if (slots_[s].alive) UpdateIdOwner(s);
-    }
-  }
+  if (changed && !final) RebuildIdOwners();
   distance_since_solve_m_ = 0.0;
 }
 
@@ -564,18 +550,24 @@ void Mapper::IndexSlotRecord(const SlotRecord& record) {
   }
 }
 
-void Mapper::MoveEvidence(const SlotRecord& record, int slot_index, double sign) {
+void Mapper::MoveEvidence(const SlotRecord& record, int slot_index, int sign) {
   if (slot_index < 0) return;
   SlotLandmark& slot = slots_[slot_index];
-  const int step = sign > 0 ? 1 : -1;
-  slot.observations += step;
+  slot.observations += sign;
   for (int j = 0; j < kSlotCorners; ++j) {
-    slot.corner_observations[j] += step * static_cast<int>(record.observation.corner_observed[j]);
+    slot.corner_observations[j] += sign * static_cast<int>(record.observation.corner_observed[j]);
   }
   for (const IdHypothesis& h : FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
     double& votes = slot.votes[h.id];
     votes += sign * h.probability;
-    if (votes < 1e-9) slot.votes.erase(h.id);
+    if (votes < 1e-9) slot.votes.erase(h.id);  // what a removal leaves of a vote
+  }
+}
+
+void Mapper::RebuildIdOwners() {
+  id_owner_.clear();
+  for (int s = 0; s < static_cast<int>(slots_.size()); ++s) {
+    if (slots_[s].alive) UpdateIdOwner(s);
   }
 }
 
@@ -585,21 +577,8 @@ void Mapper::RecomputeSlotEvidence() {
     slot.observations = 0;
     slot.corner_observations = {};
   }
-  for (const SlotRecord& record : slot_records_) {
-    if (record.chosen < 0) continue;
-    SlotLandmark& slot = slots_[record.chosen];
-    ++slot.observations;
-    for (int j = 0; j < kSlotCorners; ++j) {
-      slot.corner_observations[j] += record.observation.corner_observed[j];
-    }
-    for (const IdHypothesis& h : FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
-      slot.votes[h.id] += h.probability;
-    }
-  }
-  id_owner_.clear();
-  for (int s = 0; s < static_cast<int>(slots_.size()); ++s) {
-    if (slots_[s].alive) UpdateIdOwner(s);
-  }
+  for (const SlotRecord& record : slot_records_) MoveEvidence(record, record.chosen, +1);
+  RebuildIdOwners();
 }
 
 void Mapper::MergeDuplicates() {

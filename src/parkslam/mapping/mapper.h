@@ -118,8 +118,10 @@ class Mapper {
   void Solve(int first_free_keyframe, int max_iterations, bool final);
   void RecomputeSlotEvidence();
   // Adds (sign +1) or removes (-1) what one record says of slot_index
-  // (observation count, corners seen, ID votes); nothing for -1.
-  void MoveEvidence(const SlotRecord& record, int slot_index, double sign);
+  // (observation count, corners seen, ID votes); nothing for slot -1.
+  void MoveEvidence(const SlotRecord& record, int slot_index, int sign);
+  // The owner of each ID from the alive slots' votes.
+  void RebuildIdOwners();
   // Files the record about to be appended under each of its candidates.
   void IndexSlotRecord(const SlotRecord& record);
   void MergeDuplicates();

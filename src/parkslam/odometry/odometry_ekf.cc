@@ -146,9 +146,9 @@ void OdometryEkf::PredictTo(TimeNs t_ns) {
   t_ns_ = t_ns;
 }
 
-void OdometryEkf::Update(double innovation, const RowVector& h, double r) {
-  const double s = (h * P_ * h.transpose())(0, 0) + r;
-  const StateVector k = P_ * h.transpose() / s;
+void OdometryEkf::Update(double innovation, const RowVector& h, double r, const StateVector& Ph,
+                         double s) {
+  const StateVector k = Ph / s;
   x_ += k * innovation;
   x_[kYaw] = NormalizeAngle(x_[kYaw]);
   // Joseph form keeps P symmetric and positive definite.
@@ -160,10 +160,11 @@ void OdometryEkf::GatedUpdate(int channel, double innovation, const RowVector& h
                               int reset_state, double reset_sigma) {
   const OdometryEkfOptions& o = options_;
   const bool gating = ToSeconds(t_ns_ - initialized_at_ns_) >= o.gate_after_s;
-  const double s = (h * P_ * h.transpose())(0, 0) + r;
+  StateVector Ph = P_ * h.transpose();
+  double s = h.dot(Ph) + r;
   if (!gating || innovation * innovation <= o.innovation_gate_chi2 * s) {
     rejecting_since_ns_[channel] = -1;
-    Update(innovation, h, r);
+    Update(innovation, h, r, Ph, s);
     return;
   }
   if (rejecting_since_ns_[channel] < 0) rejecting_since_ns_[channel] = t_ns_;
@@ -181,7 +182,9 @@ void OdometryEkf::GatedUpdate(int channel, double innovation, const RowVector& h
       std::max({kept, Square(reset_sigma), Square(innovation / std::max(std::abs(h[reset_state]), 1e-9))});
   ++stats_.resets[channel];
   rejecting_since_ns_[channel] = -1;
-  Update(innovation, h, r);
+  Ph = P_ * h.transpose();
+  s = h.dot(Ph) + r;
+  Update(innovation, h, r, Ph, s);
 }
 
 void OdometryEkf::NoteSample(int channel) {

@@ -134,8 +134,10 @@ class OdometryEkf {
 
  private:
   void Predict(double dt_s);
-  // Scalar update: innovation y, Jacobian row h, variance r.
-  void Update(double innovation, const Eigen::Matrix<double, 1, kStateSize>& h, double r);
+  // Scalar update: innovation y, Jacobian row h, variance r, with Ph = P h^T
+  // and s = h P h^T + r as the gate computed them.
+  void Update(double innovation, const Eigen::Matrix<double, 1, kStateSize>& h, double r,
+              const StateVector& Ph, double s);
   // Update through the fault gate of `channel`; `reset_state` is the state
   // whose prior variance `reset_sigma` comes back when the fault persists.
   void GatedUpdate(int channel, double innovation, const Eigen::Matrix<double, 1, kStateSize>& h,
