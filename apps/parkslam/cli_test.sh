@@ -147,6 +147,13 @@ cmp -s "$tmp/ts/000001.jpg" "$tmp/ts2/000001.jpg" && cmp -s "$tmp/ts/000001.json
   fail "make-training-set is not deterministic by seed across thread counts"
 expect nonzero "not empty" -- "$PARKSLAM" make-training-set --out "$tmp/ts" --count 1
 expect nonzero "--kind" -- "$PARKSLAM" make-training-set --out "$tmp/ts3" --count 1 --kind faces
+expect nonzero "--fonts: $tmp/nofonts: not a folder" -- "$PARKSLAM" make-training-set --out "$tmp/ts4" --count 1 --fonts "$tmp/nofonts"
+# The fonts folder under another path renders the same scene.
+if [ -d /usr/share/fonts ]; then
+  mkdir -p "$tmp/fontcopy" && ln -s /usr/share/fonts "$tmp/fontcopy/fonts"
+  expect 0 "1 top views" -- "$PARKSLAM" make-training-set --out "$tmp/ts5" --count 1 --seed 5 --fonts "$tmp/fontcopy/fonts"
+  cmp -s "$tmp/ts/000000.jpg" "$tmp/ts5/000000.jpg" && pass || fail "make-training-set --fonts COPY renders another scene"
+fi
 expect 0 "ID crops" -- "$PARKSLAM" make-training-set --out "$tmp/ids" --count 6 --seed 3 --kind ids
 head -1 "$tmp/ids/ids/labels.csv" | grep -q "^file,text$" && pass || fail "ids/labels.csv lacks its header"
 

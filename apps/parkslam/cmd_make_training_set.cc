@@ -38,6 +38,7 @@ struct Options {
   std::string kind = "top-view";
   int threads = 0;
   double seven_segment_share = 0.0;
+  std::string fonts = "/usr/share/fonts";
   bool fisheyes = false, front = false, overlays = false, force = false;
 };
 
@@ -91,9 +92,11 @@ void Run(const Options& o) {
   fs::create_directories(out, ec);
   if (ec) throw std::runtime_error(o.out + ": cannot create the folder: " + ec.message());
 
-  const std::vector<fs::path> fonts = scene::FindFloorFonts();
+  if (!fs::is_directory(o.fonts, ec)) throw std::runtime_error("--fonts: " + o.fonts + ": not a folder");
+  const std::vector<fs::path> fonts = scene::FindFloorFonts(o.fonts);
   if (fonts.empty()) {
-    std::fprintf(stderr, "make-training-set: no font files under /usr/share/fonts; IDs use OpenCV's stroke fonts only\n");
+    std::fprintf(stderr, "make-training-set: no font files under %s; IDs use OpenCV's stroke fonts only\n",
+                 o.fonts.c_str());
   }
   // The workers are the parallelism: OpenCV's own threads would only contend.
   cv::setNumThreads(1);
@@ -223,6 +226,10 @@ void AddMakeTrainingSetCommand(CLI::App& app) {
                   "Share of slot rows whose IDs are digits in the default lot's seven-segment face "
                   "(0 leaves every scene as before)")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  cmd->add_option("--fonts", options->fonts,
+                  "Folder searched (recursively, in sorted order) for the floor's .ttf and .otf fonts; "
+                  "a copy of /usr/share/fonts that keeps its sub-folders gives the same scenes")
+      ->capture_default_str();
   cmd->add_flag("--fisheyes", options->fisheyes, "Also write the four fisheye images of each scene");
   cmd->add_flag("--front", options->front, "Also write the front camera's image");
   cmd->add_flag("--overlays", options->overlays, "Also write the labels drawn over each top view");

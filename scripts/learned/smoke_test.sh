@@ -20,6 +20,9 @@ trap 'rm -rf "$work"' EXIT
 mkdir "$work/models"
 "$python" "$here/train_marking_points.py" --train "$work/train" --val "$work/val" \
   --out "$work/models/marking_points.onnx" --epochs 1 --batch 2 --seed 1 --threads 1
+# The worker-process route (as trained on a GPU machine) reads and augments the same way.
+"$python" "$here/train_marking_points.py" --train "$work/train" --val "$work/val" \
+  --out "$work/models/workers.onnx" --epochs 1 --batch 2 --seed 1 --threads 1 --workers 2
 "$python" "$here/train_slot_ids.py" --train "$work/ids" --val "$work/ids" \
   --out "$work/models/slot_ids.onnx" --epochs 1 --batch 4 --seed 1 --threads 1
 for f in marking_points.onnx marking_points.onnx.json marking_points.reference.json \

@@ -9,9 +9,12 @@ data.
 """
 
 import argparse
+import copy
+import functools
 import glob
 import json
 import math
+import multiprocessing
 import os
 import sys
 import time
@@ -50,8 +53,16 @@ def read_marks(path):
     return out
 
 
-def load_folder(folder, size, limit, cache_dir):
-    """Images resized to size x size (uint8 BGR) and their marks."""
+def read_resized(path, size):
+    image = cv2.imread(path, cv2.IMREAD_COLOR)
+    if image is None or image.shape[:2] != (FULL_PX, FULL_PX):
+        common.fail(f"{path}: not a {FULL_PX} x {FULL_PX} image")
+    return cv2.resize(image, (size, size), interpolation=cv2.INTER_AREA)
+
+
+def load_folder(folder, size, limit, cache_dir, workers=0):
+    """Images resized to size x size (uint8 BGR) and their marks; read by
+    `workers` processes when above 0."""
     names = sorted(os.path.splitext(os.path.basename(p))[0]
                    for p in glob.glob(os.path.join(folder, "*.json")))
     names = [n for n in names if os.path.exists(os.path.join(folder, n + ".jpg"))]
@@ -70,14 +81,19 @@ def load_folder(folder, size, limit, cache_dir):
             if images.shape[0] == len(names):
                 return np.ascontiguousarray(images), marks
     images = np.empty((len(names), size, size, 3), np.uint8)
-    for i, n in enumerate(names):
-        path = os.path.join(folder, n + ".jpg")
-        image = cv2.imread(path, cv2.IMREAD_COLOR)
-        if image is None or image.shape[:2] != (FULL_PX, FULL_PX):
-            common.fail(f"{path}: not a {FULL_PX} x {FULL_PX} image")
-        images[i] = cv2.resize(image, (size, size), interpolation=cv2.INTER_AREA)
-        if (i + 1) % 2000 == 0:
-            common.log(f"  {folder}: {i + 1} of {len(names)} images read")
+    paths = [os.path.join(folder, n + ".jpg") for n in names]
+    if workers > 0:
+        with multiprocessing.Pool(workers) as pool:
+            for i, image in enumerate(pool.imap(functools.partial(read_resized, size=size), paths,
+                                                chunksize=64)):
+                images[i] = image
+                if (i + 1) % 10000 == 0:
+                    common.log(f"  {folder}: {i + 1} of {len(names)} images read")
+    else:
+        for i, path in enumerate(paths):
+            images[i] = read_resized(path, size)
+            if (i + 1) % 2000 == 0:
+                common.log(f"  {folder}: {i + 1} of {len(names)} images read")
     if cache:
         common.save_atomically(cache, lambda tmp: np.save(open(tmp, "wb"), images))
     return images, marks
@@ -148,8 +164,31 @@ def targets(batch_marks, size, grid):
     return torch.from_numpy(mask), torch.from_numpy(reg)
 
 
+class AugmentedViews(torch.utils.data.Dataset):
+    """The training views, augmented in DataLoader worker processes
+    (--workers above 0). Worker w of epoch e draws from the generator
+    seeded (seed, e, w), so a run is repeatable for a fixed worker count."""
+
+    def __init__(self, images, marks, size, grid, seed):
+        self.images, self.marks, self.size, self.grid, self.seed = images, marks, size, grid, seed
+        self.epoch = 0
+        self.rng = None
+
+    def __len__(self):
+        return len(self.images)
+
+    def __getitem__(self, i):
+        if self.rng is None:
+            info = torch.utils.data.get_worker_info()
+            self.rng = np.random.default_rng([self.seed, self.epoch, info.id if info else 0])
+        image, moved = augment(self.images[i], self.marks[i], self.rng, self.size)
+        mask, reg = targets([moved], self.size, self.grid)
+        return torch.from_numpy(image), mask[0], reg[0]
+
+
 def loss_of(raw, mask, reg):
-    conf = F.binary_cross_entropy_with_logits(raw[:, 0], mask, pos_weight=torch.tensor(2.0))
+    conf = F.binary_cross_entropy_with_logits(raw[:, 0], mask,
+                                              pos_weight=torch.tensor(2.0, device=raw.device))
     positives = mask.sum().clamp(min=1.0)
     m = mask.unsqueeze(1)
     offset = ((torch.sigmoid(raw[:, 1:3]) - reg[:, 0:2]) ** 2 * m).sum() / positives
@@ -198,12 +237,12 @@ def to_tensor(images):
     return torch.from_numpy(np.ascontiguousarray(images)).permute(0, 3, 1, 2).float()
 
 
-def validate(model, images, marks, thresholds=(0.3, 0.4, 0.5, 0.6, 0.7)):
+def validate(model, images, marks, device, thresholds=(0.3, 0.4, 0.5, 0.6, 0.7)):
     model.eval()
     counts = {t: [0, 0, 0] for t in thresholds}
     with torch.no_grad():
         for start in range(0, len(images), 64):
-            out = model(to_tensor(images[start:start + 64])).numpy()
+            out = model(to_tensor(images[start:start + 64]).to(device)).cpu().numpy()
             for k, cells in enumerate(out):
                 for t in thresholds:
                     c = match_counts(decode(cells, t), marks[start + k])
@@ -220,6 +259,7 @@ def write_outputs(model, args, size, training_images, validation_images, stopper
                   history, train_started):
     """The network (ONNX), its reference outputs and OUT.json, the record
     of how it was made."""
+    model = copy.deepcopy(model).cpu().eval()
     export_onnx(model, (1, 3, size, size), args.out, "cells")
     write_reference(args.out, (1, 3, size, size))
     common.write_json_atomically(args.out + ".json", {
@@ -228,10 +268,39 @@ def write_outputs(model, args, size, training_images, validation_images, stopper
         "outputs": ["confidence", "offset_x", "offset_y", "cos", "sin", "t_shape"],
         "command": " ".join(["scripts/learned/train_marking_points.py"] + sys.argv[1:]),
         "seed": args.seed, "torch": torch.__version__, "threads": torch.get_num_threads(),
+        "device": args.device, "workers": args.workers,
         "training_images": training_images, "validation_images": validation_images,
         "best_epoch": stopper.best_epoch, "validation": best_scores,
         "training_minutes": round((time.time() - train_started) / 60, 1), "history": history,
     })
+
+
+def batches(views, rng, epoch, args, steps):
+    """(images, mask, reg) batches of one epoch: augmented here, one view at
+    a time from `rng` (--workers 0, the committed CPU recipe), or by worker
+    processes."""
+    if args.workers == 0:
+        order = rng.permutation(len(views.images))
+        for step in range(steps):
+            idx = order[step * args.batch:(step + 1) * args.batch]
+            batch, batch_marks = [], []
+            for i in idx:
+                image, moved = augment(views.images[i], views.marks[i], rng, views.size)
+                batch.append(image)
+                batch_marks.append(moved)
+            mask, reg = targets(batch_marks, views.size, views.grid)
+            yield torch.from_numpy(np.stack(batch)), mask, reg
+        return
+    views.epoch, views.rng = epoch, None
+    sampler = torch.utils.data.RandomSampler(
+        views, generator=torch.Generator().manual_seed(args.seed * 1000 + epoch))
+    loader = torch.utils.data.DataLoader(views, batch_size=args.batch, sampler=sampler,
+                                         num_workers=args.workers, drop_last=True,
+                                         pin_memory=args.device != "cpu", persistent_workers=False)
+    for step, item in enumerate(loader):
+        if step >= steps:
+            break
+        yield item
 
 
 def main():
@@ -255,7 +324,14 @@ def main():
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--threads", type=int, default=0, help="torch threads (0: default)")
     parser.add_argument("--cache", default="", help="folder for decoded, resized images")
+    parser.add_argument("--device", default="cpu",
+                        help="torch device to train on: cpu (the documented route) or cuda")
+    parser.add_argument("--workers", type=int, default=0,
+                        help="processes that read and augment the views (0: in this process, "
+                             "as the committed CPU recipe)")
     args = parser.parse_args()
+    if args.device.startswith("cuda") and not torch.cuda.is_available():
+        common.fail(f"--device {args.device}: torch sees no CUDA device")
     if args.input_size % MarkingPointNet.STRIDE != 0:
         common.fail(f"--input-size: {args.input_size} is not a multiple of {MarkingPointNet.STRIDE}")
 
@@ -263,14 +339,16 @@ def main():
     common.set_threads(args.threads)
     size, grid = args.input_size, args.input_size // MarkingPointNet.STRIDE
     started = time.time()
-    parts = [load_folder(f, size, args.max_images, args.cache) for f in args.train]
+    parts = [load_folder(f, size, args.max_images, args.cache, args.workers) for f in args.train]
     images = np.concatenate([p[0] for p in parts])
     marks = [m for p in parts for m in p[1]]
-    val_images, val_marks = load_folder(args.val, size, args.max_images, args.cache)
+    val_images, val_marks = load_folder(args.val, size, args.max_images, args.cache, args.workers)
     common.log(f"{len(images)} training and {len(val_images)} validation images "
                f"({time.time() - started:.0f} s to read)")
 
-    model = MarkingPointNet(tuple(args.widths))
+    device = torch.device(args.device)
+    torch.backends.cudnn.benchmark = True
+    model = MarkingPointNet(tuple(args.widths)).to(device)
     optimizer = torch.optim.AdamW(model.parameters(), lr=args.lr, weight_decay=1e-4)
     steps_per_epoch = max(1, len(images) // args.batch)
     schedule = torch.optim.lr_scheduler.OneCycleLR(
@@ -279,19 +357,14 @@ def main():
     stopper = common.EarlyStopping(args.patience)
     best_state, best_scores, history = None, None, []
     train_started = time.time()
+    views = AugmentedViews(images, marks, size, grid, args.seed)
     for epoch in range(args.epochs):
         model.train()
-        order = rng.permutation(len(images))
         total = 0.0
-        for step in range(steps_per_epoch):
-            idx = order[step * args.batch:(step + 1) * args.batch]
-            batch, batch_marks = [], []
-            for i in idx:
-                image, moved = augment(images[i], marks[i], rng, size)
-                batch.append(image)
-                batch_marks.append(moved)
-            mask, reg = targets(batch_marks, size, grid)
-            loss = loss_of(model.raw(to_tensor(np.stack(batch))), mask, reg)
+        for step, (batch, mask, reg) in enumerate(batches(views, rng, epoch, args, steps_per_epoch)):
+            pixels = batch.to(device, non_blocking=True).permute(0, 3, 1, 2).float()
+            loss = loss_of(model.raw(pixels),
+                           mask.to(device, non_blocking=True), reg.to(device, non_blocking=True))
             optimizer.zero_grad()
             loss.backward()
             optimizer.step()
@@ -300,7 +373,7 @@ def main():
             if (step + 1) % 50 == 0:
                 common.log(f"  epoch {epoch + 1} step {step + 1}/{steps_per_epoch} "
                            f"loss {total / (step + 1):.4f}")
-        scores = validate(model, val_images, val_marks)
+        scores = validate(model, val_images, val_marks, device)
         threshold = max(scores, key=lambda t: scores[t]["f1"])
         best = scores[threshold]
         history.append({"epoch": epoch + 1, "loss": total / steps_per_epoch,

@@ -84,13 +84,13 @@ def to_tensor(images):
     return torch.from_numpy(np.ascontiguousarray(images)).permute(0, 3, 1, 2).float()
 
 
-def validate(model, images, codes):
+def validate(model, images, codes, device):
     """Share of crops whose whole text (or its absence) is read right."""
     model.eval()
     right = 0
     with torch.no_grad():
         for start in range(0, len(images), 256):
-            best = model(to_tensor(images[start:start + 256])).argmax(2).numpy()
+            best = model(to_tensor(images[start:start + 256]).to(device)).argmax(2).cpu().numpy()
             right += int((best == codes[start:start + 256]).all(axis=1).sum())
     return right / max(len(images), 1)
 
@@ -113,7 +113,12 @@ def main():
     parser.add_argument("--max-images", type=int, default=0, help="per folder (0: all)")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--threads", type=int, default=0)
+    parser.add_argument("--device", default="cpu",
+                        help="torch device to train on: cpu (the documented route) or cuda")
     args = parser.parse_args()
+    if args.device.startswith("cuda") and not torch.cuda.is_available():
+        common.fail(f"--device {args.device}: torch sees no CUDA device")
+    device = torch.device(args.device)
 
     common.seed_everything(args.seed)
     common.set_threads(args.threads)
@@ -123,7 +128,7 @@ def main():
     val_images, val_codes = load_folder(args.val, args.max_images)
     common.log(f"{len(images)} training and {len(val_images)} validation crops")
 
-    model = SlotIdNet(tuple(args.widths), args.hidden)
+    model = SlotIdNet(tuple(args.widths), args.hidden).to(device)
     optimizer = torch.optim.AdamW(model.parameters(), lr=args.lr, weight_decay=1e-4)
     steps = max(1, len(images) // args.batch)
     schedule = torch.optim.lr_scheduler.OneCycleLR(optimizer, max_lr=args.lr,
@@ -139,15 +144,15 @@ def main():
         for step in range(steps):
             idx = order[step * args.batch:(step + 1) * args.batch]
             batch = np.stack([augment(images[i], rng) for i in idx])
-            raw = model.raw(to_tensor(batch))
+            raw = model.raw(to_tensor(batch).to(device))
             loss = F.cross_entropy(raw.reshape(-1, model.classes),
-                                   torch.from_numpy(codes[idx]).reshape(-1))
+                                   torch.from_numpy(codes[idx]).reshape(-1).to(device))
             optimizer.zero_grad()
             loss.backward()
             optimizer.step()
             schedule.step()
             total += loss.item()
-        accuracy = validate(model, val_images, val_codes)
+        accuracy = validate(model, val_images, val_codes, device)
         history.append({"epoch": epoch + 1, "loss": total / steps, "accuracy": accuracy})
         common.log(f"epoch {epoch + 1}: loss {total / steps:.4f}, validation: "
                    f"{100 * accuracy:.2f} % of crops read right")
@@ -160,6 +165,7 @@ def main():
             common.log("time limit: stopping")
             break
     model.load_state_dict(best_state)
+    model = model.cpu().eval()
     export_onnx(model, (1, 3, HEIGHT, WIDTH), args.out, "chars")
     write_reference(args.out, (1, 3, HEIGHT, WIDTH))
     common.write_json_atomically(args.out + ".json", {
@@ -168,7 +174,7 @@ def main():
         "alphabet": ID_ALPHABET, "command": " ".join(
             ["scripts/learned/train_slot_ids.py"] + sys.argv[1:]),
         "seed": args.seed, "torch": torch.__version__, "threads": torch.get_num_threads(),
-        "training_crops": len(images), "validation_crops": len(val_images),
+        "device": args.device, "training_crops": len(images), "validation_crops": len(val_images),
         "best_epoch": stopper.best_epoch, "validation_accuracy": stopper.best,
         "training_minutes": round((time.time() - started) / 60, 1), "history": history,
     })
