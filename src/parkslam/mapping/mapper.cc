@@ -110,6 +110,10 @@ bool MapperOptions::IsValid(std::string* error) const {
   if (!(window_keyframes >= 2 && window_history_observations >= 0 && online_iterations >= 1 &&
         batch_window_every >= 1 && final_iterations >= 1 && final_rounds >= 1))
     return fail("solver settings out of range");
+  if (!(max_records_per_landmark >= 0 && retire_check_min_records >= 1 && online_merge_every_keyframes >= 0 &&
+        prune_unconfirmed_after_keyframes >= 0))
+    return fail("max_records_per_landmark, online_merge_every_keyframes and prune_unconfirmed_after_keyframes "
+                "must be >= 0, retire_check_min_records >= 1");
   // Ceres refuses a first radius outside its own bounds (min 1e-32, max
   // 1e16) and would leave the map unsolved without a word.
   if (!(initial_trust_region_radius >= 1e-32 && initial_trust_region_radius <= 1e16))
@@ -167,6 +171,8 @@ void Mapper::Process(const SensorEvent& event) {
   }
   if (same_time) return;  // these observations join the next solve
   AfterKeyframe();
+  RetireOldRecords();
+  MaybeMergeOnline();
   stats_.keyframe_update_ms.push_back(ElapsedMs(start));
 }
 
@@ -573,12 +579,196 @@ void Mapper::RebuildIdOwners() {
 
 void Mapper::RecomputeSlotEvidence() {
   for (SlotLandmark& slot : slots_) {
-    slot.votes.clear();
-    slot.observations = 0;
-    slot.corner_observations = {};
+    slot.votes = slot.retired_votes;
+    slot.observations = slot.retired_observations;
+    slot.corner_observations = slot.retired_corner_observations;
   }
   for (const SlotRecord& record : slot_records_) MoveEvidence(record, record.chosen, +1);
   RebuildIdOwners();
+}
+
+void Mapper::RetireOldRecords() {
+  const int cap = options_.max_records_per_landmark;
+  const size_t stored = slot_records_.size() + tag_records_.size();
+  if (stored >= static_cast<size_t>(options_.retire_check_min_records)) long_drive_ = true;
+  if (cap <= 0 || stored < std::max(retire_check_at_, static_cast<size_t>(options_.retire_check_min_records))) {
+    return;
+  }
+  // A landmark over the cap loses every second record outside the window:
+  // thinned evenly, it keeps observations from every pass, and with them
+  // what ties the passes (and the loops of the drive) together; retiring
+  // the oldest instead lets the map drift with the odometry (measured in
+  // SoakTest). Records come in keyframe order, so each list is oldest
+  // first and ends with the window's.
+  const int first_free = std::max(0, static_cast<int>(keyframes_.size()) - options_.window_keyframes);
+  auto thin = [&](const std::vector<std::vector<size_t>>& index, auto keyframe_of,
+                  std::vector<bool>* retire) {
+    for (const std::vector<size_t>& own : index) {
+      if (static_cast<int>(own.size()) <= cap) continue;
+      bool odd = false;
+      for (const size_t r : own) {
+        if (keyframe_of(r) >= first_free) break;
+        if ((*retire)[r]) continue;  // already retired through another candidate
+        if (odd) (*retire)[r] = true;
+        odd = !odd;
+      }
+    }
+  };
+  std::vector<bool> retire_slot(slot_records_.size(), false), retire_tag(tag_records_.size(), false);
+  thin(slot_record_index_, [&](size_t r) { return slot_records_[r].keyframe; }, &retire_slot);
+  thin(tag_record_index_, [&](size_t r) { return tag_records_[r].keyframe; }, &retire_tag);
+
+  // Compacted in place: storage that is reused, not reallocated, keeps the
+  // resident size from creeping with the allocator's leftovers.
+  size_t kept_slots = 0;
+  for (size_t r = 0; r < slot_records_.size(); ++r) {
+    SlotRecord& record = slot_records_[r];
+    if (!retire_slot[r]) {
+      if (kept_slots != r) slot_records_[kept_slots] = std::move(record);
+      ++kept_slots;
+      continue;
+    }
+    ++stats_.records_retired;
+    if (record.chosen < 0) continue;
+    // Its evidence is already counted in the slot it chose; keep it there.
+    SlotLandmark& slot = slots_[record.chosen];
+    ++slot.retired_observations;
+    for (int j = 0; j < kSlotCorners; ++j) {
+      slot.retired_corner_observations[j] += static_cast<int>(record.observation.corner_observed[j]);
+    }
+    for (const IdHypothesis& h : FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
+      slot.retired_votes[h.id] += h.probability;
+    }
+  }
+  slot_records_.resize(kept_slots);
+  size_t kept_tags = 0;
+  for (size_t r = 0; r < tag_records_.size(); ++r) {
+    if (retire_tag[r]) {
+      ++stats_.records_retired;
+    } else {
+      if (kept_tags != r) tag_records_[kept_tags] = tag_records_[r];
+      ++kept_tags;
+    }
+  }
+  tag_records_.resize(kept_tags);
+  CullKeyframes();
+  RebuildRecordIndexes();
+  retire_check_at_ = 2 * (slot_records_.size() + tag_records_.size());
+}
+
+void Mapper::CullKeyframes() {
+  const int n = static_cast<int>(keyframes_.size());
+  if (n == 0) return;
+  // The window's keyframes and the fixed one before it stay, and the first
+  // (the map's anchor), and every keyframe a record names.
+  std::vector<bool> keep(static_cast<size_t>(n), false);
+  keep[0] = true;
+  for (int k = std::max(0, n - options_.window_keyframes - 1); k < n; ++k) keep[static_cast<size_t>(k)] = true;
+  for (const SlotRecord& record : slot_records_) keep[static_cast<size_t>(record.keyframe)] = true;
+  for (const TagRecord& record : tag_records_) keep[static_cast<size_t>(record.keyframe)] = true;
+
+  // T_a_b = T_a_k T_k_b, and to first order, with e = (t, yaw) of a
+  // relative pose as the odometry factor takes it:
+  //   Sigma_a_b = J1 Sigma_a_k J1^T + J2 Sigma_k_b J2^T,
+  //   J1 = [I  R(yaw_a_k) [-y_k_b, x_k_b]^T; 0 0 1],  J2 = [R(yaw_a_k) 0; 0 1].
+  std::vector<int> new_index(static_cast<size_t>(n), -1);
+  size_t kept = 0;  // compacted in place, as the records
+  SE2 T_a_k;
+  Eigen::Matrix3d sigma_a_k = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < n; ++k) {
+    Keyframe keyframe = keyframes_[static_cast<size_t>(k)];
+    if (k > 0) {
+      const SE2& T_k_b = keyframe.T_previous_this;
+      const Eigen::Matrix2d R = T_a_k.rotation();
+      Eigen::Matrix3d J1 = Eigen::Matrix3d::Identity(), J2 = Eigen::Matrix3d::Identity();
+      J1.block<2, 1>(0, 2) = R * Eigen::Vector2d(-T_k_b.translation().y(), T_k_b.translation().x());
+      J2.block<2, 2>(0, 0) = R;
+      sigma_a_k = J1 * sigma_a_k * J1.transpose() + J2 * keyframe.covariance * J2.transpose();
+      T_a_k = T_a_k * T_k_b;
+    }
+    if (!keep[static_cast<size_t>(k)]) {
+      ++stats_.keyframes_culled;
+      continue;
+    }
+    if (k > 0) {
+      keyframe.T_previous_this = T_a_k;
+      keyframe.covariance = 0.5 * (sigma_a_k + sigma_a_k.transpose());
+    }
+    T_a_k = SE2();
+    sigma_a_k.setZero();
+    new_index[static_cast<size_t>(k)] = static_cast<int>(kept);
+    keyframes_[kept++] = keyframe;
+  }
+  if (static_cast<int>(kept) == n) return;
+  keyframes_.resize(kept);
+  for (SlotRecord& record : slot_records_) record.keyframe = new_index[static_cast<size_t>(record.keyframe)];
+  for (TagRecord& record : tag_records_) record.keyframe = new_index[static_cast<size_t>(record.keyframe)];
+}
+
+void Mapper::MaybeMergeOnline() {
+  const int every = options_.online_merge_every_keyframes;
+  if (!long_drive_ || every <= 0 || keyframes_.size() % static_cast<size_t>(every) != 0) return;
+  const int merged_before = stats_.slots_merged;
+  const bool pruned = PruneUnconfirmedSlots();
+  MergeDuplicates();
+  if (!pruned && stats_.slots_merged == merged_before) return;
+  RecomputeSlotEvidence();
+  RebuildRecordIndexes();
+}
+
+bool Mapper::PruneUnconfirmedSlots() {
+  const int after = options_.prune_unconfirmed_after_keyframes;
+  if (after <= 0) return false;
+  // The last keyframe that saw each slot (records come in keyframe order).
+  std::vector<int> last_seen(slots_.size(), -1);
+  for (const SlotRecord& record : slot_records_) {
+    for (int c : record.candidates) last_seen[static_cast<size_t>(c)] = record.keyframe;
+  }
+  const int before = static_cast<int>(keyframes_.size()) - after;
+  std::vector<bool> prune(slots_.size(), false);
+  bool any = false;
+  for (size_t s = 0; s < slots_.size(); ++s) {
+    const SlotLandmark& slot = slots_[s];
+    if (slot.alive && slot.observations < options_.min_observations && last_seen[s] < before) {
+      prune[s] = true;
+      any = true;
+    }
+  }
+  if (!any) return false;
+  size_t kept = 0;
+  for (SlotRecord& record : slot_records_) {
+    std::vector<int> candidates;
+    std::vector<double> weights;
+    for (size_t i = 0; i < record.candidates.size(); ++i) {
+      if (prune[static_cast<size_t>(record.candidates[i])]) continue;
+      candidates.push_back(record.candidates[i]);
+      weights.push_back(record.weights[i]);
+    }
+    if (candidates.empty()) continue;  // it only ever named pruned slots
+    if (record.chosen >= 0 && prune[static_cast<size_t>(record.chosen)]) record.chosen = candidates.front();
+    record.candidates = std::move(candidates);
+    record.weights = std::move(weights);
+    SlotRecord& into = slot_records_[kept++];
+    if (&into != &record) into = std::move(record);
+  }
+  slot_records_.resize(kept);  // in place, as in RetireOldRecords
+  for (size_t s = 0; s < slots_.size(); ++s) {
+    if (!prune[s]) continue;
+    slots_[s].alive = false;
+    ++stats_.slots_pruned;
+  }
+  return true;
+}
+
+void Mapper::RebuildRecordIndexes() {
+  slot_record_index_.assign(slots_.size(), {});
+  for (size_t r = 0; r < slot_records_.size(); ++r) {
+    for (int c : slot_records_[r].candidates) slot_record_index_[static_cast<size_t>(c)].push_back(r);
+  }
+  tag_record_index_.assign(tags_.size(), {});
+  for (size_t r = 0; r < tag_records_.size(); ++r) {
+    tag_record_index_[static_cast<size_t>(tag_records_[r].tag)].push_back(r);
+  }
 }
 
 void Mapper::MergeDuplicates() {
@@ -598,6 +788,14 @@ void Mapper::MergeDuplicates() {
       const int keep = keep_a ? a : b, drop = keep_a ? b : a;
       slots_[drop].alive = false;
       target[drop] = keep;
+      // The dropped slot's retired evidence stays with the records' new slot.
+      SlotLandmark& kept = slots_[keep];
+      const SlotLandmark& dropped = slots_[drop];
+      for (const auto& [id, votes] : dropped.retired_votes) kept.retired_votes[id] += votes;
+      kept.retired_observations += dropped.retired_observations;
+      for (int j = 0; j < kSlotCorners; ++j) {
+        kept.retired_corner_observations[j] += dropped.retired_corner_observations[j];
+      }
       ++stats_.slots_merged;
       if (drop == a) break;
     }

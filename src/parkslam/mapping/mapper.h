@@ -31,6 +31,9 @@ struct MapperStats {
   int mixture_observations = 0;   // with more than one component
   int slots_created = 0;
   int slots_merged = 0;
+  int records_retired = 0;  // slot and tag records (MapperOptions::max_records_per_landmark)
+  int slots_pruned = 0;     // unconfirmed (MapperOptions::prune_unconfirmed_after_keyframes)
+  int keyframes_culled = 0;  // no record left to name them (Mapper::CullKeyframes)
   int tag_observations = 0;
   std::vector<double> keyframe_update_ms;  // per keyframe: association and update
   // The most residual blocks (odometry, observations, slot shapes) one
@@ -60,6 +63,9 @@ class Mapper {
   void Finish();
 
   SemanticMap Map() const;
+  // The keyframes' poses. On a long drive (MapperOptions::
+  // retire_check_min_records) keyframes that no kept record names are
+  // culled, so the trajectory there is sparser.
   Trajectory KeyframeTrajectory() const;
   const MapperStats& stats() const { return stats_; }
   // What the dead reckoning saw of its inputs' faults (late events, gated
@@ -83,6 +89,11 @@ class Mapper {
     int observations = 0;
     std::array<int, kSlotCorners> corner_observations{};
     std::string id;  // empty: temporary
+    // What retired records said of it (MapperOptions::
+    // max_records_per_landmark), kept when the evidence is recounted.
+    std::map<std::string, double> retired_votes;
+    int retired_observations = 0;
+    std::array<int, kSlotCorners> retired_corner_observations{};
   };
   struct TagLandmark {
     int tag_id = 0;
@@ -106,6 +117,7 @@ class Mapper {
   const std::deque<Keyframe>& keyframes() const { return keyframes_; }
   const std::deque<SlotLandmark>& slots() const { return slots_; }
   const std::vector<SlotRecord>& slot_records() const { return slot_records_; }
+  const std::vector<TagRecord>& tag_records() const { return tag_records_; }
 
  private:
   bool MaybeAddKeyframe(TimeNs t_ns, bool has_observations);
@@ -124,6 +136,21 @@ class Mapper {
   void RebuildIdOwners();
   // Files the record about to be appended under each of its candidates.
   void IndexSlotRecord(const SlotRecord& record);
+  // Retires each landmark's records beyond MapperOptions::
+  // max_records_per_landmark (oldest first, never the window's) and
+  // compacts the storage; runs when the records have doubled since.
+  void RetireOldRecords();
+  void RebuildRecordIndexes();
+  // Drops the keyframes before the window that no record names any more,
+  // folding their odometry into the next keyframe's (the relative poses
+  // compounded, their covariances propagated): the same chain of
+  // constraints, one factor shorter.
+  void CullKeyframes();
+  // MapperOptions::online_merge_every_keyframes and
+  // prune_unconfirmed_after_keyframes.
+  void MaybeMergeOnline();
+  // Drops the unconfirmed slots of long ago and their records; true if any.
+  bool PruneUnconfirmedSlots();
   void MergeDuplicates();
   void AssignIds();
   void AfterKeyframe();
@@ -143,6 +170,8 @@ class Mapper {
   std::vector<std::vector<size_t>> slot_record_index_, tag_record_index_;
   // The slot currently holding most votes for each ID, and those votes.
   std::map<std::string, std::pair<int, double>> id_owner_;
+  size_t retire_check_at_ = 0;  // records stored when RetireOldRecords next looks
+  bool long_drive_ = false;     // retire_check_min_records were stored once
   double distance_since_solve_m_ = 0.0;
   int next_temporary_number_ = 1;
   MapperStats stats_;

@@ -68,6 +68,27 @@ struct MapperOptions {
   // update however often the car comes back (docs/robustness.md, "Soak").
   // The final solve takes every observation. 0: all of them.
   int window_history_observations = 40;
+  // Memory that does not grow with the drive: once the stored records
+  // (slot and tag observations) reach twice their count after the last
+  // check, and at least retire_check_min_records, each landmark keeps its
+  // latest max_records_per_landmark records outside the window; the older
+  // ones are retired: their ID votes and counts stay with the slot they
+  // chose, and they no longer enter any solve, the final one included. A
+  // drive that passes each slot a few times never reaches the cap, so its
+  // map is the same (docs/robustness.md, "Soak"). 0: keep every record.
+  int max_records_per_landmark = 200;
+  int retire_check_min_records = 16384;
+  // On such a long drive (once retire_check_min_records were stored), slots
+  // that the car made twice are merged every this many keyframes instead
+  // of only at the end, so that revisits do not pile up candidates and
+  // windowed work. 0: only at the end.
+  int online_merge_every_keyframes = 600;
+  // At the same times, a slot seen fewer than min_observations times, and
+  // last seen more than this many keyframes ago, is dropped with its
+  // records: a false detection, which would otherwise stay a landmark for
+  // good and, one every few seconds, slow every update (docs/robustness.md,
+  // "Soak").
+  int prune_unconfirmed_after_keyframes = 300;
   int online_iterations = 5;
   int batch_window_every = 10;        // batch: a windowed solve every n keyframes
   int final_iterations = 50;
