@@ -30,8 +30,7 @@ const Drive& DefaultDrive() {
   return drive;
 }
 
-mapping::Mapper FeedAll(mapping::MappingMode mode, mapping::TrustRegion region,
-                        double radius) {
+mapping::Mapper FeedAll(mapping::MappingMode mode, mapping::TrustRegion region, double radius) {
   const Drive& d = DefaultDrive();
   mapping::MapperOptions options;
   options.mode = mode;

@@ -84,7 +84,8 @@ void BM_PerceptionReadIds(benchmark::State& state) {
   for (auto _ : state) {
     for (const perception::DetectedSlot& s : f.detection.slots) {
       benchmark::DoNotOptimize(
-          f.reader.Read(f.top_view, {s.corners_px[0], s.corners_px[1], s.depth_dir_px}).digits.size());
+          f.reader.Read(f.top_view, {s.corners_px[0], s.corners_px[1], s.depth_dir_px})
+              .digits.size());
     }
   }
 }

@@ -86,9 +86,11 @@ Minute Summarize(const std::string& phase, int minute, const std::vector<double>
 }
 
 void PrintMinute(const Minute& m) {
-  std::printf("%-9s min %3d  %8.1f MB (heap %7.1f MB)  %6d updates  median %.3f ms  p99 %.3f ms  max %.2f ms\n",
-              m.phase.c_str(), m.minute, m.resident_mb, m.heap_mb, m.updates, m.median_ms, m.p99_ms,
-              m.max_ms);
+  std::printf(
+      "%-9s min %3d  %8.1f MB (heap %7.1f MB)  %6d updates  median %.3f ms  p99 %.3f ms  max %.2f "
+      "ms\n",
+      m.phase.c_str(), m.minute, m.resident_mb, m.heap_mb, m.updates, m.median_ms, m.p99_ms,
+      m.max_ms);
 }
 
 // Median and p99 over minutes [from, to) of a phase.
@@ -192,7 +194,8 @@ int main(int argc, char** argv) {
   }
   // The default route: about 120 s before the laps, 103 s a lap.
   sim::ScenarioConfig scenario = sim::DefaultScenario();
-  scenario.route.laps = std::max(1, static_cast<int>(std::lround((minutes * 60.0 - 120.0) / 103.3)));
+  scenario.route.laps =
+      std::max(1, static_cast<int>(std::lround((minutes * 60.0 - 120.0) / 103.3)));
   const auto t0 = std::chrono::steady_clock::now();
   const sim::Simulation drive = sim::Simulate(scenario, seed);
   const sim::Simulation second = sim::Simulate(scenario, seed + 1);
@@ -251,8 +254,8 @@ int main(int argc, char** argv) {
       const auto s = std::chrono::steady_clock::now();
       const bool estimated = localizer.Process(*event).has_value();
       if (estimated) {
-        ms.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s).count());
+        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s)
+                         .count());
       }
       const int now = static_cast<int>(ToSeconds(EventTime(*event) - start_ns) / 60.0);
       if (now > minute) {
@@ -278,18 +281,19 @@ int main(int argc, char** argv) {
     }
     const auto early = Window(table, phase, 1, 11);
     const auto late = Window(table, phase, last - 10, last + 1);
-    std::printf("%-10s memory %.1f -> %.1f MB (%+.1f MB per hour of drive), heap in use %.1f -> %.1f MB; "
-                "update median %.3f -> %.3f ms, p99 %.3f -> %.3f ms (first vs last ten minutes)\n",
-                phase, first_mb, last_mb, (last_mb - first_mb) / std::max(drive_min, 1.0) * 60.0,
-                first_heap, last_heap, early.first, late.first, early.second, late.second);
+    std::printf(
+        "%-10s memory %.1f -> %.1f MB (%+.1f MB per hour of drive), heap in use %.1f -> %.1f MB; "
+        "update median %.3f -> %.3f ms, p99 %.3f -> %.3f ms (first vs last ten minutes)\n",
+        phase, first_mb, last_mb, (last_mb - first_mb) / std::max(drive_min, 1.0) * 60.0,
+        first_heap, last_heap, early.first, late.first, early.second, late.second);
   }
   if (!out.empty()) {
     std::filesystem::create_directories(out);
     std::string csv = "phase,minute,resident_mb,heap_mb,updates,median_ms,p99_ms,max_ms\n";
     for (const Minute& m : table) {
       char line[160];
-      std::snprintf(line, sizeof line, "%s,%d,%.2f,%.2f,%d,%.4f,%.4f,%.3f\n", m.phase.c_str(), m.minute,
-                    m.resident_mb, m.heap_mb, m.updates, m.median_ms, m.p99_ms, m.max_ms);
+      std::snprintf(line, sizeof line, "%s,%d,%.2f,%.2f,%d,%.4f,%.4f,%.3f\n", m.phase.c_str(),
+                    m.minute, m.resident_mb, m.heap_mb, m.updates, m.median_ms, m.p99_ms, m.max_ms);
       csv += line;
     }
     io::WriteFileAtomically(std::filesystem::path(out) / "soak.csv", csv);

@@ -36,7 +36,8 @@ const Template& TheTemplate() {
   static const Template t = [] {
     Template r;
     r.dir = parkslam::fuzz::WriteTemplateDataset("dataset");
-    for (const std::string& f : GroupFiles()) r.originals.push_back(parkslam::io::ReadTextFile(r.dir / f));
+    for (const std::string& f : GroupFiles())
+      r.originals.push_back(parkslam::io::ReadTextFile(r.dir / f));
     return r;
   }();
   return t;
@@ -50,8 +51,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::size_t pick = data[0] % GroupFiles().size();
   const fs::path file = t.dir / GroupFiles()[pick];
   parkslam::fuzz::WriteBytes(file, parkslam::fuzz::AsText(data + 1, size - 1));
-  parkslam::fuzz::ExpectAcceptedOrNamedRejection(
-      [&] { (void)parkslam::io::ReadDataset(t.dir); }, GroupFiles()[pick]);
+  parkslam::fuzz::ExpectAcceptedOrNamedRejection([&] { (void)parkslam::io::ReadDataset(t.dir); },
+                                                 GroupFiles()[pick]);
   parkslam::fuzz::WriteBytes(file, t.originals[pick]);
   return 0;
 }

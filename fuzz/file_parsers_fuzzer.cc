@@ -80,8 +80,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } else if (kParser == "image_index") {
     const fs::path file = DatasetFolder() / "images" / "index.csv";
     WriteBytes(file, text);
-    ExpectAcceptedOrNamedRejection([&] { (void)io::ReadImageIndex(DatasetFolder()); },
-                                   "index.csv");
+    ExpectAcceptedOrNamedRejection([&] { (void)io::ReadImageIndex(DatasetFolder()); }, "index.csv");
   } else if (kParser == "image_header") {
     ExpectAcceptedOrNamedRejection([&] { (void)io::ImageSizeFromHeader(text, "image.png"); },
                                    "image.png");

@@ -52,17 +52,16 @@ int main(int argc, char** argv) {
   const fs::path dataset = parkslam::fuzz::WriteTemplateDataset("seeds");
   DatasetSeed(out, dataset, "fuzz_sensor_csv",
               {"sensors/wheel_speed.csv", "sensors/steering.csv", "sensors/imu.csv"});
-  DatasetSeed(out, dataset, "fuzz_observations_jsonl",
-              {"observations/slots.jsonl", "observations/tags.jsonl",
-               "groundtruth/slot_labels.jsonl"});
+  DatasetSeed(
+      out, dataset, "fuzz_observations_jsonl",
+      {"observations/slots.jsonl", "observations/tags.jsonl", "groundtruth/slot_labels.jsonl"});
   DatasetSeed(out, dataset, "fuzz_dataset_yaml", {"dataset.yaml"});
   DatasetSeed(out, dataset, "fuzz_groundtruth",
               {"groundtruth/trajectory.tum", "groundtruth/map.json"});
   Seed(out, "fuzz_map_json", "template", io::ReadTextFile(dataset / "groundtruth/map.json"));
   Seed(out, "fuzz_tum", "template", io::ReadTextFile(dataset / "groundtruth/trajectory.tum"));
   Seed(out, "fuzz_image_index", "template", io::ReadTextFile(dataset / "images/index.csv"));
-  Seed(out, "fuzz_scenario_yaml", "default",
-       io::ScenarioToYaml(parkslam::sim::DefaultScenario()));
+  Seed(out, "fuzz_scenario_yaml", "default", io::ScenarioToYaml(parkslam::sim::DefaultScenario()));
   Seed(out, "fuzz_rig_yaml", "default", io::RigToYaml(parkslam::camera::DefaultRig()));
 
   io::Ps2Labels labels;

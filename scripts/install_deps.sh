@@ -3,7 +3,8 @@
 # Safe to run again: with everything present it installs nothing.
 # --with-browser also installs Chromium, which the report's browser test
 # needs (scripts/test.sh asks for it; the demo does not); --with-fuzzer
-# installs Clang and its libFuzzer runtime (scripts/fuzz.sh).
+# installs Clang and its libFuzzer runtime (scripts/fuzz.sh); --with-format
+# installs clang-format (the format_check test, scripts/check_format.sh).
 set -euo pipefail
 
 packages=(
@@ -18,7 +19,8 @@ for option in "$@"; do
   case "$option" in
     --with-browser) packages+=(chromium) ;;
     --with-fuzzer) packages+=(clang libclang-rt-dev) ;;
-    *) echo "install_deps.sh: unknown option '$option' (--with-browser, --with-fuzzer)" >&2; exit 2 ;;
+    --with-format) packages+=(clang-format) ;;
+    *) echo "install_deps.sh: unknown option '$option' (--with-browser, --with-fuzzer, --with-format)" >&2; exit 2 ;;
   esac
 done
 

@@ -6,15 +6,15 @@
 
 #include "commands.h"
 #include "detection_scoring.h"
-#include "parkslam/io/numeric_csv.h"
+#include "parkslam/eval/map_metrics.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
+#include "parkslam/io/numeric_csv.h"
 #include "parkslam/io/tum.h"
-#include "parkslam/eval/map_metrics.h"
+#include "parkslam/localization/localizer.h"
 #include "parkslam/pipeline/odometry_consistency.h"
 #include "parkslam/pipeline/trace_following.h"
-#include "parkslam/localization/localizer.h"
 #include "parkslam/viz/map_svg.h"
 #include "progress.h"
 #include "steps.h"
@@ -60,16 +60,18 @@ nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint6
     std::filesystem::create_directories(dir);
     std::vector<std::uint8_t> bytes;
     cv::imencode(".jpg", it->overlay, bytes, {cv::IMWRITE_JPEG_QUALITY, 80});
-    io::WriteFileAtomically(dir / (std::string(name) + ".jpg"),
-                            std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
-    pictures.push_back({{"file", std::string("perception/") + name + ".jpg"},
-                        {"caption", caption},
-                        {"t_s", it->t_s},
-                        {"slots_true_positives", it->score.slots.true_positives},
-                        {"slots_false_positives", it->score.slots.false_positives},
-                        {"slots_false_negatives", it->score.slots.false_negatives},
-                        {"marking_points_false_positives", it->score.marking_points.false_positives},
-                        {"marking_points_false_negatives", it->score.marking_points.false_negatives}});
+    io::WriteFileAtomically(
+        dir / (std::string(name) + ".jpg"),
+        std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+    pictures.push_back(
+        {{"file", std::string("perception/") + name + ".jpg"},
+         {"caption", caption},
+         {"t_s", it->t_s},
+         {"slots_true_positives", it->score.slots.true_positives},
+         {"slots_false_positives", it->score.slots.false_positives},
+         {"slots_false_negatives", it->score.slots.false_negatives},
+         {"marking_points_false_positives", it->score.marking_points.false_positives},
+         {"marking_points_false_negatives", it->score.marking_points.false_negatives}});
   };
   pick("best", "the frame with the most slots found and no error",
        [&](const Sample& a, const Sample& b) {
@@ -78,10 +80,9 @@ nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint6
        });
   pick("worst", "the frame with the most errors (false and missed points and slots)",
        [&](const Sample& a, const Sample& b) { return a.score.errors() < b.score.errors(); });
-  pick("missed", "the frame that misses the most slots",
-       [&](const Sample& a, const Sample& b) {
-         return a.score.slots.false_negatives < b.score.slots.false_negatives;
-       });
+  pick("missed", "the frame that misses the most slots", [&](const Sample& a, const Sample& b) {
+    return a.score.slots.false_negatives < b.score.slots.false_negatives;
+  });
   nlohmann::json j = ToJson(scores);
   j.erase("time_ms_median");
   j.erase("time_ms_max_frame");
@@ -112,7 +113,9 @@ void AddDemoCommand(CLI::App& app) {
       "map, localize a second drive on it, follow the recorded drive autonomously, measure "
       "everything and draw it.");
   cmd->add_option("--out", options->out, "Output folder")->required();
-  cmd->add_option("--seed", options->seed, "Random seed")->check(SeedValidator())->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Random seed")
+      ->check(SeedValidator())
+      ->capture_default_str();
   cmd->add_option("--consistency-runs", options->consistency_runs,
                   "Monte-Carlo runs for the EKF consistency (NEES) check; 0 skips it")
       ->check(CLI::Range(0, 1000))
@@ -150,7 +153,9 @@ void AddDemoCommand(CLI::App& app) {
     const int steps = 7 + (options->consistency_runs > 0) + (options->follow_runs > 0) +
                       (options->perception_frames > 0) + !options->no_report - 1;
     int step = 0;
-    auto header = [&](const char* what) { std::fprintf(stderr, "[%d/%d] %s\n", ++step, steps, what); };
+    auto header = [&](const char* what) {
+      std::fprintf(stderr, "[%d/%d] %s\n", ++step, steps, what);
+    };
 
     header("simulating the drive");
     auto t0 = std::chrono::steady_clock::now();
@@ -173,8 +178,8 @@ void AddDemoCommand(CLI::App& app) {
                ? "semantic mapping on pixels (top view, slots, IDs, tags; Max-Mixture back-end)"
                : "semantic mapping (slots, IDs, tags; Max-Mixture back-end)");
     t0 = std::chrono::steady_clock::now();
-    const mapping::Mapper mapper = BuildMap(dataset, mapping::MapperOptions{},
-                                            dr.initial_pose, true, image_rate_hz, {}, perception);
+    const mapping::Mapper mapper = BuildMap(dataset, mapping::MapperOptions{}, dr.initial_pose,
+                                            true, image_rate_hz, {}, perception);
     metrics["mapping_s"] = SecondsSince(t0);
     const Trajectory mapped_trajectory = mapper.KeyframeTrajectory();
     io::WriteMap(out / "map.json", mapper.Map());
@@ -206,8 +211,7 @@ void AddDemoCommand(CLI::App& app) {
     header("localizing a second drive on the map (global start)");
     const io::Dataset second = SimulateDataset(scenario, options->seed + 500);
     io::WriteDataset(out / "second_drive", second);
-    const SE2 T_world_map =
-        eval::EvaluateMap(map, truth_map).T_truth_map;
+    const SE2 T_world_map = eval::EvaluateMap(map, truth_map).T_truth_map;
     localization::Localizer localizer(
         map, localization::LocalizerOptions{},
         pipeline::EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle));
@@ -234,9 +238,10 @@ void AddDemoCommand(CLI::App& app) {
         eval::EvaluateTrajectory(second.groundtruth_trajectory, localized, no_align);
     metrics["localization"] = MetricsToJson(loc_m);
     metrics["localization"]["frames_tracked"] = static_cast<int>(localized.size());
-    std::printf("localization of a second drive: %zu camera frames tracked, RMSE %.3f m, "
-                "%.2f deg (in the lot's frame)\n",
-                localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI);
+    std::printf(
+        "localization of a second drive: %zu camera frames tracked, RMSE %.3f m, "
+        "%.2f deg (in the lot's frame)\n",
+        localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI);
 
     pipeline::TraceFollowingResult follow;
     if (options->follow_runs > 0) {
@@ -256,11 +261,12 @@ void AddDemoCommand(CLI::App& app) {
       // The runs and their lateral offsets along the trace, for the report.
       std::filesystem::create_directories(out / "follow");
       WriteFollowRuns(out / "follow", dataset.groundtruth_trajectory, follow);
-      std::printf("trace following, %d runs at %.0f km/h: repeated-trace std %.3f m, lateral "
-                  "deviation mean %.3f m, max %.3f m, localization RMSE %.3f m\n",
-                  options->follow_runs, options->follow_speed_kmh, follow.metrics.repeat_std_m,
-                  follow.metrics.lateral_mean_all_m, follow.metrics.lateral_max_all_m,
-                  follow.localization_rmse_m);
+      std::printf(
+          "trace following, %d runs at %.0f km/h: repeated-trace std %.3f m, lateral "
+          "deviation mean %.3f m, max %.3f m, localization RMSE %.3f m\n",
+          options->follow_runs, options->follow_speed_kmh, follow.metrics.repeat_std_m,
+          follow.metrics.lateral_mean_all_m, follow.metrics.lateral_max_all_m,
+          follow.localization_rmse_m);
     }
 
     if (options->consistency_runs > 0) {
@@ -278,9 +284,10 @@ void AddDemoCommand(CLI::App& app) {
                                          {"mean_anees", c.mean_anees},
                                          {"band_95", {c.band_lower, c.band_upper}},
                                          {"share_inside_band", c.share_inside_band}};
-      std::printf("EKF consistency: average NEES %.2f (ideal 3; 95 %% band [%.2f, %.2f]), "
-                  "inside the band %.1f %% of the time over %d drives\n",
-                  c.mean_anees, c.band_lower, c.band_upper, 100 * c.share_inside_band, c.runs);
+      std::printf(
+          "EKF consistency: average NEES %.2f (ideal 3; 95 %% band [%.2f, %.2f]), "
+          "inside the band %.1f %% of the time over %d drives\n",
+          c.mean_anees, c.band_lower, c.band_upper, 100 * c.share_inside_band, c.runs);
     }
 
     if (options->perception_frames > 0) {
@@ -297,15 +304,15 @@ void AddDemoCommand(CLI::App& app) {
     viz::MapSvgOptions svg_options;
     svg_options.title = "parkslam demo: the map built from " + dataset.name +
                         " (temporary IDs in orange), with the driven trajectories";
-    const std::string svg = viz::RenderMapSvg(
-        map,
-        {{"ground truth", "#2a9d2a", dataset.groundtruth_trajectory},
-         {"dead reckoning (EKF)", "#d62728", odometry_trajectory},
-         {"mapper (optimized keyframes)", "#1f77b4", mapped_trajectory}},
-        svg_options);
+    const std::string svg =
+        viz::RenderMapSvg(map,
+                          {{"ground truth", "#2a9d2a", dataset.groundtruth_trajectory},
+                           {"dead reckoning (EKF)", "#d62728", odometry_trajectory},
+                           {"mapper (optimized keyframes)", "#1f77b4", mapped_trajectory}},
+                          svg_options);
     if (options->follow_runs > 0) {
-      std::vector<viz::SvgTrajectory> runs{{"recorded drive (the trace)", "#2a9d2a",
-                                            dataset.groundtruth_trajectory}};
+      std::vector<viz::SvgTrajectory> runs{
+          {"recorded drive (the trace)", "#2a9d2a", dataset.groundtruth_trajectory}};
       for (size_t i = 0; i < follow.runs.size(); ++i) {
         runs.push_back({i == 0 ? "autonomous runs (true paths)" : "", "#d62728",
                         Transformed(T_world_map.inverse(), follow.runs[i].truth_world)});
@@ -325,15 +332,17 @@ void AddDemoCommand(CLI::App& app) {
       WriteReport(out, {}, out / "report.html");
     }
 
-    std::printf("dead reckoning over %.0f m: ATE rmse %.2f m, max %.2f m; drift %.2f m per "
-                "100 m (%.2f %%)\n",
-                m.length_m, m.ate_rmse_m, m.ate_max_m, m.drift_per_100m_m, m.drift_percent);
+    std::printf(
+        "dead reckoning over %.0f m: ATE rmse %.2f m, max %.2f m; drift %.2f m per "
+        "100 m (%.2f %%)\n",
+        m.length_m, m.ate_rmse_m, m.ate_max_m, m.drift_per_100m_m, m.drift_percent);
     std::printf("map: %s\n", DescribeMapMetrics(map_m).c_str());
     std::printf("mapper trajectory: ATE rmse %.3f m\n", mapped_m.ate_rmse_m);
-    std::printf("wrote %s/{dataset/, odometry.tum, map.json, trajectory.tum, second_drive/, "
-                "second_drive_localized.tum, localization.csv, metrics.json, map.svg, traces.svg, "
-                "report.html}\n",
-                out.string().c_str());
+    std::printf(
+        "wrote %s/{dataset/, odometry.tum, map.json, trajectory.tum, second_drive/, "
+        "second_drive_localized.tum, localization.csv, metrics.json, map.svg, traces.svg, "
+        "report.html}\n",
+        out.string().c_str());
   });
 }
 

@@ -6,8 +6,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
-#include "parkslam/io/output_guard.h"
 #include "image_files.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/perception/slot_detector.h"
 #include "parkslam/perception/slot_id_reader.h"
 
@@ -48,8 +48,8 @@ cv::Mat DrawOverlay(const cv::Mat& image, const perception::SlotDetection& detec
     }
   }
   for (const perception::MarkingPoint& p : detection.marking_points) {
-    const cv::Scalar colour = p.shape == perception::MarkingShape::kT ? cv::Scalar(0, 0, 255)
-                                                                       : cv::Scalar(255, 0, 0);
+    const cv::Scalar colour =
+        p.shape == perception::MarkingShape::kT ? cv::Scalar(0, 0, 255) : cv::Scalar(255, 0, 0);
     cv::circle(overlay, ToCv(p.px), 6, colour, 2, cv::LINE_AA);
     const Eigen::Vector2d tip =
         p.px + 30.0 * Eigen::Vector2d(std::cos(p.direction_rad), std::sin(p.direction_rad));
@@ -86,8 +86,9 @@ void AddDetectCommand(CLI::App& app) {
     io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{options->image, "--image"}});
     const cv::Mat image = ReadImage(options->image, cv::IMREAD_UNCHANGED);
     if (image.cols < 64 || image.rows < 64) {
-      throw std::runtime_error(options->image + ": an image of " + std::to_string(image.cols) + " x " +
-                               std::to_string(image.rows) + " pixels; a top view needs at least 64 x 64");
+      throw std::runtime_error(options->image + ": an image of " + std::to_string(image.cols) +
+                               " x " + std::to_string(image.rows) +
+                               " pixels; a top view needs at least 64 x 64");
     }
     if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
       throw std::runtime_error(options->image + ": expected an 8-bit grey or colour image");
@@ -131,15 +132,14 @@ void AddDetectCommand(CLI::App& app) {
       const std::string id = ids[k].best();
       // A partial reading ("3?") is not an ID; it is reported as such.
       const bool full = !id.empty() && !ids[k].partial();
-      nlohmann::json entry = {
-          {"entrance_px",
-           {{slot.corners_px[0].x(), slot.corners_px[0].y()},
-            {slot.corners_px[1].x(), slot.corners_px[1].y()}}},
-          {"corners_px", corners},
-          {"corner_observed", slot.corner_observed},
-          {"confidence", slot.confidence},
-          {"id", full ? nlohmann::json(id) : nlohmann::json(nullptr)},
-          {"id_confidence", full ? ids[k].confidence() : 0.0}};
+      nlohmann::json entry = {{"entrance_px",
+                               {{slot.corners_px[0].x(), slot.corners_px[0].y()},
+                                {slot.corners_px[1].x(), slot.corners_px[1].y()}}},
+                              {"corners_px", corners},
+                              {"corner_observed", slot.corner_observed},
+                              {"confidence", slot.confidence},
+                              {"id", full ? nlohmann::json(id) : nlohmann::json(nullptr)},
+                              {"id_confidence", full ? ids[k].confidence() : 0.0}};
       if (ids[k].partial()) entry["partial_id"] = id;
       j["slots"].push_back(entry);
     }

@@ -9,10 +9,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
-#include "parkslam/io/output_guard.h"
 #include "detection_scoring.h"
 #include "image_files.h"
 #include "parkslam/eval/detection_metrics.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/ps2_labels.h"
 #include "parkslam/perception/learned_slot_detector.h"
 #include "parkslam/perception/slot_detector.h"
@@ -22,9 +22,7 @@
 #include "progress.h"
 
 namespace parkslam::app {
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 void AddEvalDetectCommand(CLI::App& app) {
   struct Options {
@@ -48,7 +46,9 @@ void AddEvalDetectCommand(CLI::App& app) {
       "for 10 m): on top views rendered along a simulated drive against the simulator's truth, "
       "or on labelled ps2.0 images (--ps2)");
   AddScenarioOptions(cmd, &options->scenario);
-  cmd->add_option("--seed", options->seed, "Drive seed")->check(SeedValidator())->capture_default_str();
+  cmd->add_option("--seed", options->seed, "Drive seed")
+      ->check(SeedValidator())
+      ->capture_default_str();
   cmd->add_option("--rate-hz", options->rate_hz, "Frames per second of the drive to score")
       ->check(CLI::Range(0.01, 30.0))
       ->capture_default_str();
@@ -56,9 +56,10 @@ void AddEvalDetectCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--ps2", options->ps2,
                   "Folder of ps2.0 images (*.jpg) with their labels (*.json) to score instead");
-  cmd->add_option("--out-dir", options->out_dir,
-                  "Write an overlay (truth green, detections red) of every image with an error, and for "
-                  "simulated frames the top view itself (N_top.png)");
+  cmd->add_option(
+      "--out-dir", options->out_dir,
+      "Write an overlay (truth green, detections red) of every image with an error, and for "
+      "simulated frames the top view itself (N_top.png)");
   cmd->add_flag("--json", options->json, "Print one JSON object");
   cmd->add_option("--detector", options->detector,
                   "Slot detector and ID reader: classical (lines and corners) or learned (the "
@@ -79,9 +80,10 @@ void AddEvalDetectCommand(CLI::App& app) {
                   "of 16; the network was trained at 256)")
       ->check(CLI::Range(64, 1024))
       ->capture_default_str();
-  cmd->add_option("--flips", options->flips,
-                  "With --detector learned: test-time flips of the marking-point network: 1 (none), "
-                  "2 (left-right) or 4 (left-right, up-down and both), averaged")
+  cmd->add_option(
+         "--flips", options->flips,
+         "With --detector learned: test-time flips of the marking-point network: 1 (none), "
+         "2 (left-right) or 4 (left-right, up-down and both), averaged")
       ->check(CLI::IsMember({1, 2, 4}))
       ->capture_default_str();
   cmd->add_option("--min-confidence", options->min_confidence,
@@ -114,7 +116,8 @@ void AddEvalDetectCommand(CLI::App& app) {
       std::unique_ptr<perception::LearnedSlotDetector> learned;
       if (perception_options.detector == pipeline::DetectorKind::kLearned) {
         perception::LearnedSlotDetectorOptions o = perception_options.learned_slots;
-        if (o.model_path.empty()) o.model_path = pipeline::DefaultModelDir() + "/marking_points.onnx";
+        if (o.model_path.empty())
+          o.model_path = pipeline::DefaultModelDir() + "/marking_points.onnx";
         learned = std::make_unique<perception::LearnedSlotDetector>(o);
       } else {
         classical = std::make_unique<perception::SlotDetector>();
@@ -125,14 +128,16 @@ void AddEvalDetectCommand(CLI::App& app) {
       const std::vector<std::string> names = io::ListPs2Images(options->ps2);
       if (names.empty()) throw std::runtime_error(options->ps2 + ": no labelled ps2.0 images");
       for (const std::string& name : names) {
-        const std::filesystem::path image_path = std::filesystem::path(options->ps2) / (name + ".jpg");
-        const io::Ps2Labels labels =
-            io::ReadPs2Labels(std::filesystem::path(image_path).replace_extension(".json").string());
+        const std::filesystem::path image_path =
+            std::filesystem::path(options->ps2) / (name + ".jpg");
+        const io::Ps2Labels labels = io::ReadPs2Labels(
+            std::filesystem::path(image_path).replace_extension(".json").string());
         const cv::Mat image = ReadImage(image_path.string(), cv::IMREAD_COLOR);
         const auto start = std::chrono::steady_clock::now();
         const perception::SlotDetection detection = detect(image);
         scores.slots_ms.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count());
         std::vector<eval::LabelledMarkingPoint> points;
         for (const io::Ps2MarkingPoint& p : labels.marking_points) {
           points.push_back({p.px, p.direction_rad, p.is_t});
@@ -149,7 +154,8 @@ void AddEvalDetectCommand(CLI::App& app) {
         }
       }
     } else {
-      const DriveScorer drive(ResolveScenario(options->scenario), options->seed, perception_options);
+      const DriveScorer drive(ResolveScenario(options->scenario), options->seed,
+                              perception_options);
       const Trajectory& truth = drive.truth();
       const TimeNs period = FromSeconds(1.0 / options->rate_hz);
       int total = static_cast<int>((truth.back().t_ns - truth.front().t_ns) / period) + 1;
@@ -164,8 +170,10 @@ void AddEvalDetectCommand(CLI::App& app) {
         scores.tags_ms.push_back(out.timing.tags_ms);
         scores.frame_ms.push_back(out.timing.total_ms());
         if (frame.score.any_error() && !options->out_dir.empty()) {
-          const std::filesystem::path base = std::filesystem::path(options->out_dir) / std::to_string(k);
-          WriteImage(base.string() + "_overlay.png", Overlay(out.top_view, frame.truth_points, out.detection));
+          const std::filesystem::path base =
+              std::filesystem::path(options->out_dir) / std::to_string(k);
+          WriteImage(base.string() + "_overlay.png",
+                     Overlay(out.top_view, frame.truth_points, out.detection));
           WriteImage(base.string() + "_top.png", out.top_view);
         }
         bar.Update(k + 1);

@@ -4,11 +4,11 @@
 #include <iostream>
 
 #include "commands.h"
-#include "parkslam/io/output_guard.h"
-#include "parkslam/io/numeric_csv.h"
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/map_json.h"
+#include "parkslam/io/numeric_csv.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
 #include "parkslam/pipeline/trace_following.h"
 #include "parkslam/sim/route.h"
@@ -31,7 +31,9 @@ std::string Index(int i) {
 nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& r,
                                     const pipeline::TraceFollowingOptions& o) {
   const eval::TraceFollowingMetrics& m = r.metrics;
-  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  auto number = [](double x) {
+    return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+  };
   nlohmann::json j;
   j["runs"] = static_cast<int>(r.runs.size());
   j["speed_kmh"] = o.speed_kmh;
@@ -50,14 +52,15 @@ nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& r,
   nlohmann::json per_run = nlohmann::json::array();
   for (size_t i = 0; i < r.runs.size(); ++i) {
     finished += r.runs[i].finished;
-    per_run.push_back({{"finished", r.runs[i].finished},
-                       {"duration_s", r.runs[i].duration_s},
-                       {"lateral_mean_m", number(i < m.lateral_mean_m.size() ? m.lateral_mean_m[i] : NAN)},
-                       {"lateral_max_m", number(i < m.lateral_max_m.size() ? m.lateral_max_m[i] : NAN)},
-                       {"localization_rmse_m", r.runs[i].localization_rmse_m},
-                       {"lost_frames", r.runs[i].lost_frames},
-                       {"safety_interventions", r.runs[i].safety_interventions},
-                       {"stopped_s", r.runs[i].stopped_s}});
+    per_run.push_back(
+        {{"finished", r.runs[i].finished},
+         {"duration_s", r.runs[i].duration_s},
+         {"lateral_mean_m", number(i < m.lateral_mean_m.size() ? m.lateral_mean_m[i] : NAN)},
+         {"lateral_max_m", number(i < m.lateral_max_m.size() ? m.lateral_max_m[i] : NAN)},
+         {"localization_rmse_m", r.runs[i].localization_rmse_m},
+         {"lost_frames", r.runs[i].lost_frames},
+         {"safety_interventions", r.runs[i].safety_interventions},
+         {"stopped_s", r.runs[i].stopped_s}});
   }
   j["runs_finished"] = finished;
   j["per_run"] = per_run;
@@ -112,7 +115,8 @@ void AddFollowCommand(CLI::App& app) {
   cmd->add_option("--speed-kmh", options->speed_kmh, "Cruise speed")
       ->check(CLI::Range(0.5, 30.0))
       ->capture_default_str();
-  cmd->add_option("--seed", options->seed, "Seed of the first run (run r uses seed + r); also "
+  cmd->add_option("--seed", options->seed,
+                  "Seed of the first run (run r uses seed + r); also "
                   "the seed of the recorded human drive")
       ->check(SeedValidator())
       ->capture_default_str();
@@ -135,10 +139,12 @@ void AddFollowCommand(CLI::App& app) {
       ->capture_default_str();
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
-    io::CheckOutputsSpareInputs({{options->out, "--out"}},
-                                {{options->map, "--map"}, {options->trace, "--trace"},
-                                 {options->scenario.world == "default" ? std::string() : options->scenario.world,
-                                  "--world"}});
+    io::CheckOutputsSpareInputs(
+        {{options->out, "--out"}},
+        {{options->map, "--map"},
+         {options->trace, "--trace"},
+         {options->scenario.world == "default" ? std::string() : options->scenario.world,
+          "--world"}});
     const std::filesystem::path out = options->out;
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     const SemanticMap map = io::ReadMap(options->map);
@@ -170,13 +176,14 @@ void AddFollowCommand(CLI::App& app) {
     follow.perception.detector = pipeline::ParseDetectorKind(options->detector);
     if (options->vehicle == "realistic") follow.vehicle_dynamics = sim::RealisticDynamics();
     Progress progress("  runs", options->runs);
-    const pipeline::TraceFollowingResult result = pipeline::FollowTrace(
-        scenario, map, T_map_world, trace_world, follow,
-        [&progress](int done, int) { progress.Update(done); });
+    const pipeline::TraceFollowingResult result =
+        pipeline::FollowTrace(scenario, map, T_map_world, trace_world, follow,
+                              [&progress](int done, int) { progress.Update(done); });
     progress.Finish();
 
     WriteFollowRuns(out, trace_world, result);
-    std::vector<viz::SvgTrajectory> drawn{{"trace", "#2a9d2a", Transformed(T_map_world, trace_world)}};
+    std::vector<viz::SvgTrajectory> drawn{
+        {"trace", "#2a9d2a", Transformed(T_map_world, trace_world)}};
     for (size_t i = 0; i < result.runs.size(); ++i) {
       drawn.push_back({i == 0 ? "autonomous runs (true)" : "", kRunColours[i % kRunColours.size()],
                        Transformed(T_map_world, result.runs[i].truth_world)});
@@ -184,9 +191,8 @@ void AddFollowCommand(CLI::App& app) {
     viz::MapSvgOptions svg;
     char title[256];
     std::snprintf(title, sizeof title,
-                  "%d autonomous runs at %.0f km/h, %s%s: repeated-trace std %.3f m",
-                  options->runs, options->speed_kmh,
-                  options->vehicle == "realistic" ? "realistic vehicle, " : "",
+                  "%d autonomous runs at %.0f km/h, %s%s: repeated-trace std %.3f m", options->runs,
+                  options->speed_kmh, options->vehicle == "realistic" ? "realistic vehicle, " : "",
                   options->odometry_only ? "dead reckoning only" : "localized on the map",
                   result.metrics.repeat_std_m);
     svg.title = title;
@@ -199,13 +205,14 @@ void AddFollowCommand(CLI::App& app) {
       std::cout << j.dump() << "\n";
       return;
     }
-    std::printf("%d of %zu runs finished; lateral deviation from the trace: mean %.3f m, max "
-                "%.3f m; repeated-trace std %.3f m (max %.3f m); localization RMSE %.3f m, "
-                "%.2f deg\n",
-                j["runs_finished"].get<int>(), result.runs.size(),
-                result.metrics.lateral_mean_all_m, result.metrics.lateral_max_all_m,
-                result.metrics.repeat_std_m, result.metrics.repeat_std_max_m,
-                result.localization_rmse_m, result.localization_yaw_rmse_rad * 180.0 / M_PI);
+    std::printf(
+        "%d of %zu runs finished; lateral deviation from the trace: mean %.3f m, max "
+        "%.3f m; repeated-trace std %.3f m (max %.3f m); localization RMSE %.3f m, "
+        "%.2f deg\n",
+        j["runs_finished"].get<int>(), result.runs.size(), result.metrics.lateral_mean_all_m,
+        result.metrics.lateral_max_all_m, result.metrics.repeat_std_m,
+        result.metrics.repeat_std_max_m, result.localization_rmse_m,
+        result.localization_yaw_rmse_rad * 180.0 / M_PI);
     std::printf("wrote %s/{trace.tum, run_*.tum, estimate_*.tum, metrics.json, traces.svg}\n",
                 out.string().c_str());
   });

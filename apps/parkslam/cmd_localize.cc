@@ -4,12 +4,12 @@
 #include <filesystem>
 
 #include "commands.h"
-#include "parkslam/io/output_guard.h"
+#include "parkslam/eval/map_metrics.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
 #include "parkslam/localization/localizer.h"
-#include "parkslam/eval/map_metrics.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/pipeline/kidnap.h"
 #include "progress.h"
@@ -33,9 +33,10 @@ void AddLocalizeCommand(CLI::App& app) {
   cmd->add_option("--map", options->map, "Map JSON")->required();
   cmd->add_option("DIR", options->dataset, "Dataset folder")->required();
   cmd->add_option("--out", options->out, "TUM trajectory to write")->required();
-  cmd->add_option("--log", options->log,
-                  "Also write the estimate at every camera frame beside the truth, in the lot's "
-                  "frame (localization.csv for `parkslam report`; needs the dataset's ground truth)");
+  cmd->add_option(
+      "--log", options->log,
+      "Also write the estimate at every camera frame beside the truth, in the lot's "
+      "frame (localization.csv for `parkslam report`; needs the dataset's ground truth)");
   AddPixelOptions(cmd, &options->pixels);
   cmd->add_option("--kidnap-trials", options->kidnap_trials,
                   "Also run this many kidnapped-robot trials on the drive: the belief is "
@@ -59,10 +60,10 @@ void AddLocalizeCommand(CLI::App& app) {
                                            dataset.scenario.vehicle));
     if (!options->init.empty()) {
       const Eigen::Vector3d sigma(0.5, 0.5, 0.1);
-      localizer.SetPose(ParsePose(options->init, "--init"),
-                        sigma.cwiseAbs2().asDiagonal());
+      localizer.SetPose(ParsePose(options->init, "--init"), sigma.cwiseAbs2().asDiagonal());
     }
-    if (!options->log.empty() && (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map)) {
+    if (!options->log.empty() &&
+        (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map)) {
       throw std::runtime_error(options->dataset + ": --log needs the dataset's ground truth");
     }
     std::vector<localization::LocalizationEstimate> estimates;
@@ -114,11 +115,12 @@ void AddLocalizeCommand(CLI::App& app) {
     }
     std::sort(update_ms.begin(), update_ms.end());
     const double duration_s = ToSeconds(trajectory.back().t_ns - trajectory.front().t_ns);
-    std::printf("%d camera frames, %d tracked (%.1f %%), %.1f Hz; lost %d times, "
-                "(re)localized %d times; update median %.3f ms, max %.3f ms\n",
-                frames, tracking, 100.0 * tracking / std::max(frames, 1),
-                duration_s > 0 ? (trajectory.size() - 1) / duration_s : 0.0, lost_events,
-                relocalizations, update_ms[update_ms.size() / 2], update_ms.back());
+    std::printf(
+        "%d camera frames, %d tracked (%.1f %%), %.1f Hz; lost %d times, "
+        "(re)localized %d times; update median %.3f ms, max %.3f ms\n",
+        frames, tracking, 100.0 * tracking / std::max(frames, 1),
+        duration_s > 0 ? (trajectory.size() - 1) / duration_s : 0.0, lost_events, relocalizations,
+        update_ms[update_ms.size() / 2], update_ms.back());
     const std::string stream_faults = stream.DescribeFaults();
     if (!stream_faults.empty()) std::printf("%s\n", stream_faults.c_str());
     const std::string odometry_faults = DescribeOdometryFaults(localizer.odometry_stats());
@@ -144,11 +146,11 @@ void AddLocalizeCommand(CLI::App& app) {
       trials.Finish();
       std::vector<double> times = k.recovery_s;
       std::sort(times.begin(), times.end());
-      std::printf("kidnapped-robot trials: %d of %d recovered within %.0f s of driving "
-                  "(%.1f %%); recovery median %.2f s, max %.2f s\n",
-                  k.successes, k.trials, kidnap.max_recovery_s, 100.0 * k.success_rate(),
-                  times.empty() ? 0.0 : times[times.size() / 2],
-                  times.empty() ? 0.0 : times.back());
+      std::printf(
+          "kidnapped-robot trials: %d of %d recovered within %.0f s of driving "
+          "(%.1f %%); recovery median %.2f s, max %.2f s\n",
+          k.successes, k.trials, kidnap.max_recovery_s, 100.0 * k.success_rate(),
+          times.empty() ? 0.0 : times[times.size() / 2], times.empty() ? 0.0 : times.back());
     }
   });
 }

@@ -19,8 +19,8 @@
 #include "commands.h"
 #include "image_files.h"
 #include "parkslam/camera/camera_model.h"
-#include "parkslam/io/atomic_file.h"
 #include "parkslam/common/seed_mix.h"
+#include "parkslam/io/atomic_file.h"
 #include "parkslam/io/ps2_labels.h"
 #include "parkslam/scene/font_book.h"
 #include "parkslam/scene/labels.h"
@@ -53,7 +53,8 @@ void WriteJpeg(const std::filesystem::path& path, const cv::Mat& image, int qual
   if (!cv::imencode(".jpg", image, bytes, {cv::IMWRITE_JPEG_QUALITY, quality})) {
     throw std::runtime_error(path.string() + ": could not encode the image");
   }
-  io::WriteFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  io::WriteFileAtomically(
+      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 io::Ps2Labels ToPs2(const scene::TopViewLabels& labels) {
@@ -92,19 +93,23 @@ void Run(const Options& o) {
   fs::create_directories(out, ec);
   if (ec) throw std::runtime_error(o.out + ": cannot create the folder: " + ec.message());
 
-  if (!fs::is_directory(o.fonts, ec)) throw std::runtime_error("--fonts: " + o.fonts + ": not a folder");
+  if (!fs::is_directory(o.fonts, ec))
+    throw std::runtime_error("--fonts: " + o.fonts + ": not a folder");
   const std::vector<fs::path> fonts = scene::FindFloorFonts(o.fonts);
   if (fonts.empty()) {
-    std::fprintf(stderr, "make-training-set: no font files under %s; IDs use OpenCV's stroke fonts only\n",
+    std::fprintf(stderr,
+                 "make-training-set: no font files under %s; IDs use OpenCV's stroke fonts only\n",
                  o.fonts.c_str());
   }
   // The workers are the parallelism: OpenCV's own threads would only contend.
   cv::setNumThreads(1);
   const auto t_setup = std::chrono::steady_clock::now();
   const scene::SceneRenderer renderer(camera::DefaultRig());
-  const double setup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_setup).count();
-  const int threads = o.threads > 0 ? o.threads
-                                    : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const double setup_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_setup).count();
+  const int threads = o.threads > 0
+                          ? o.threads
+                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   const bool ids = o.kind == "ids";
   if (ids) fs::create_directories(out / "ids");
   if (o.fisheyes) fs::create_directories(out / "fisheye");
@@ -112,7 +117,8 @@ void Run(const Options& o) {
   if (o.overlays) fs::create_directories(out / "overlays");
 
   std::vector<std::vector<std::string>> id_rows(static_cast<size_t>(o.count));
-  std::vector<int> mark_counts(static_cast<size_t>(o.count), 0), slot_counts(static_cast<size_t>(o.count), 0);
+  std::vector<int> mark_counts(static_cast<size_t>(o.count), 0),
+      slot_counts(static_cast<size_t>(o.count), 0);
   std::atomic<int> next{0}, done{0};
   std::mutex error_mutex;
   std::string error;
@@ -128,7 +134,8 @@ void Run(const Options& o) {
       for (int i = next++; i < o.count; i = next++) {
         scene::SceneSamplerOptions sampler;
         sampler.seven_segment_share = o.seven_segment_share;
-        const scene::Scene s = scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)), sampler);
+        const scene::Scene s =
+            scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)), sampler);
         const scene::RenderedScene r = renderer.Render(s, &book, request);
         const scene::TopViewLabels labels = scene::LabelTopView(renderer, s, r);
         const std::string name = Name(i);
@@ -142,7 +149,8 @@ void Run(const Options& o) {
           }
         } else {
           WriteJpeg(out / (name + ".jpg"), r.top_view, s.top_view_jpeg_quality);
-          io::WriteFileAtomically(out / (name + ".json"), io::Ps2LabelsToJson(ToPs2(labels)).dump() + "\n");
+          io::WriteFileAtomically(out / (name + ".json"),
+                                  io::Ps2LabelsToJson(ToPs2(labels)).dump() + "\n");
         }
         if (o.fisheyes) {
           const std::vector<std::string>& names = renderer.options().fisheye_names;
@@ -151,7 +159,9 @@ void Run(const Options& o) {
           }
         }
         if (o.front && !r.front.empty()) WriteJpeg(out / "front" / (name + ".jpg"), r.front, 92);
-        if (o.overlays) WriteJpeg(out / "overlays" / (name + ".jpg"), scene::DrawLabels(r.top_view, labels, s), 90);
+        if (o.overlays)
+          WriteJpeg(out / "overlays" / (name + ".jpg"), scene::DrawLabels(r.top_view, labels, s),
+                    90);
         const int finished = ++done;
         if (finished % 4 == 0 || finished == o.count) {
           std::lock_guard<std::mutex> lock(error_mutex);
@@ -169,7 +179,8 @@ void Run(const Options& o) {
   for (std::thread& t : pool) t.join();
   if (!error.empty()) throw std::runtime_error(error);
   progress.Finish();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   int marks = 0, slots = 0, id_count = 0;
   for (int i = 0; i < o.count; ++i) {
@@ -199,9 +210,11 @@ void Run(const Options& o) {
   for (const fs::path& f : fonts) font_names.push_back(f.filename().string());
   manifest["fonts"] = font_names;
   io::WriteFileAtomically(out / "manifest.json", manifest.dump(2) + "\n");
-  std::printf("%d %s in %.1f s on %d threads: %.1f images/s, %.1f per thread (setup %.1f s); %d marking points, %d slots, %d ID crops\n",
-              o.count, ids ? "scenes" : "top views", seconds, threads, o.count / seconds,
-              o.count / seconds / threads, setup_s, marks, slots, id_count);
+  std::printf(
+      "%d %s in %.1f s on %d threads: %.1f images/s, %.1f per thread (setup %.1f s); %d marking "
+      "points, %d slots, %d ID crops\n",
+      o.count, ids ? "scenes" : "top views", seconds, threads, o.count / seconds,
+      o.count / seconds / threads, setup_s, marks, slots, id_count);
 }
 
 }  // namespace
@@ -214,23 +227,30 @@ void AddMakeTrainingSetCommand(CLI::App& app) {
       "(docs/training_data.md). --kind top-view writes NNNNNN.jpg with NNNNNN.json labels in the "
       "ps2.0 / DMPR-PS form (eval-detect --ps2 reads the folder); --kind ids writes crops of "
       "painted slot IDs with ids/labels.csv. Deterministic by --seed (on one set of fonts).");
-  cmd->add_option("--out", options->out, "Folder to write (must be empty unless --force)")->required();
-  cmd->add_option("--count", options->count, "Number of scenes")->check(CLI::Range(1, 10000000))->capture_default_str();
+  cmd->add_option("--out", options->out, "Folder to write (must be empty unless --force)")
+      ->required();
+  cmd->add_option("--count", options->count, "Number of scenes")
+      ->check(CLI::Range(1, 10000000))
+      ->capture_default_str();
   cmd->add_option("--seed", options->seed, "Seed of the set; scene i uses MixSeed(seed, i)")
       ->check(SeedValidator())
       ->capture_default_str();
   cmd->add_option("--kind", options->kind, "top-view or ids")->capture_default_str();
   cmd->add_option("--threads", options->threads, "Worker threads (0: one per core)")
-      ->check(CLI::Range(0, 256))->capture_default_str();
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
   cmd->add_option("--seven-segment-share", options->seven_segment_share,
                   "Share of slot rows whose IDs are digits in the default lot's seven-segment face "
                   "(0 leaves every scene as before)")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
-  cmd->add_option("--fonts", options->fonts,
-                  "Folder searched (recursively, in sorted order) for the floor's .ttf and .otf fonts; "
-                  "a copy of /usr/share/fonts that keeps its sub-folders gives the same scenes")
+      ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
-  cmd->add_flag("--fisheyes", options->fisheyes, "Also write the four fisheye images of each scene");
+  cmd->add_option(
+         "--fonts", options->fonts,
+         "Folder searched (recursively, in sorted order) for the floor's .ttf and .otf fonts; "
+         "a copy of /usr/share/fonts that keeps its sub-folders gives the same scenes")
+      ->capture_default_str();
+  cmd->add_flag("--fisheyes", options->fisheyes,
+                "Also write the four fisheye images of each scene");
   cmd->add_flag("--front", options->front, "Also write the front camera's image");
   cmd->add_flag("--overlays", options->overlays, "Also write the labels drawn over each top view");
   cmd->add_flag("--force", options->force, "Write into a folder that is not empty");

@@ -4,9 +4,9 @@
 #include <filesystem>
 
 #include "commands.h"
-#include "parkslam/io/output_guard.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 #include "progress.h"
@@ -16,7 +16,8 @@ namespace parkslam::app {
 
 void AddMapCommand(CLI::App& app) {
   struct Options {
-    std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init, solver = "lm";
+    std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init,
+                                              solver = "lm";
     double initial_trust_region = 1e8;
     PixelOptions pixels;
   };
@@ -60,8 +61,9 @@ void AddMapCommand(CLI::App& app) {
                   "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
                   "map frame starts at the first pose");
   cmd->callback([options] {
-    io::CheckOutputsSpareInputs({{options->out, "--out"}, {options->trajectory_out, "--trajectory-out"}},
-                                {{options->dataset, "DIR"}});
+    io::CheckOutputsSpareInputs(
+        {{options->out, "--out"}, {options->trajectory_out, "--trajectory-out"}},
+        {{options->dataset, "DIR"}});
     const io::Dataset dataset = io::ReadDataset(options->dataset);
     mapping::MapperOptions mapper_options;
     mapper_options.robust =

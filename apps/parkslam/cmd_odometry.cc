@@ -2,8 +2,8 @@
 
 #include "commands.h"
 #include "parkslam/common/plausible_ranges.h"
-#include "parkslam/io/output_guard.h"
 #include "parkslam/io/dataset.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
 #include "steps.h"
 

@@ -2,9 +2,9 @@
 #include <filesystem>
 
 #include "commands.h"
-#include "parkslam/io/output_guard.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/map_json.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
 #include "parkslam/viz/map_svg.h"
 
@@ -30,8 +30,8 @@ void AddRenderCommand(CLI::App& app) {
     std::vector<io::NamedPath> inputs{{options->map, "MAP"}};
     for (const std::string& t : options->trajectories) inputs.push_back({t, "--trajectory"});
     io::CheckOutputsSpareInputs({{options->out, "--out"}}, inputs);
-    static const char* kColors[] = {"#2a9d2a", "#d62728", "#1f77b4", "#9467bd", "#ff7f0e",
-                                    "#8c564b"};
+    static const char* kColors[] = {"#2a9d2a", "#d62728", "#1f77b4",
+                                    "#9467bd", "#ff7f0e", "#8c564b"};
     std::vector<viz::SvgTrajectory> trajectories;
     for (size_t i = 0; i < options->trajectories.size(); ++i) {
       trajectories.push_back({std::filesystem::path(options->trajectories[i]).filename().string(),
@@ -40,8 +40,8 @@ void AddRenderCommand(CLI::App& app) {
     viz::MapSvgOptions svg_options;
     svg_options.pixels_per_m = options->pixels_per_m;
     svg_options.title = options->title.empty() ? options->map : options->title;
-    io::WriteFileAtomically(options->out, viz::RenderMapSvg(io::ReadMap(options->map),
-                                                            trajectories, svg_options));
+    io::WriteFileAtomically(
+        options->out, viz::RenderMapSvg(io::ReadMap(options->map), trajectories, svg_options));
     std::printf("wrote %s\n", options->out.c_str());
   });
 }

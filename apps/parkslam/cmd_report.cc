@@ -43,8 +43,9 @@ nlohmann::json ReadJson(const fs::path& path) {
     const std::string what = e.what();
     const size_t at = what.find("at line ");
     const size_t end = at == std::string::npos ? at : what.find(':', at);
-    throw io::IoError(path.string() + ": not JSON" +
-                      (at == std::string::npos ? std::string() : " (" + what.substr(at + 3, end - at - 3) + ")"));
+    throw io::IoError(
+        path.string() + ": not JSON" +
+        (at == std::string::npos ? std::string() : " (" + what.substr(at + 3, end - at - 3) + ")"));
   }
 }
 
@@ -81,10 +82,14 @@ nlohmann::json Corners(const MapSlot& slot, const SE2& T) {
 
 const char* VerdictName(eval::SlotVerdict v) {
   switch (v) {
-    case eval::SlotVerdict::kMatched: return "matched";
-    case eval::SlotVerdict::kSpurious: return "spurious";
-    case eval::SlotVerdict::kDuplicate: return "duplicate";
-    case eval::SlotVerdict::kNotCounted: return "not_counted";
+    case eval::SlotVerdict::kMatched:
+      return "matched";
+    case eval::SlotVerdict::kSpurious:
+      return "spurious";
+    case eval::SlotVerdict::kDuplicate:
+      return "duplicate";
+    case eval::SlotVerdict::kNotCounted:
+      return "not_counted";
   }
   return "spurious";
 }
@@ -104,7 +109,8 @@ void AddFigure(Loaded* r, const std::string& key, const std::string& label, doub
 void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
   fs::path map_path = inputs.map.empty() ? dir / "map.json" : inputs.map;
   // A follow folder names the map it ran on.
-  if (inputs.map.empty() && !fs::exists(map_path) && r->metrics.contains("map") && r->metrics["map"].is_string()) {
+  if (inputs.map.empty() && !fs::exists(map_path) && r->metrics.contains("map") &&
+      r->metrics["map"].is_string()) {
     map_path = r->metrics["map"].get<std::string>();
   }
   if (!fs::exists(map_path)) return;
@@ -115,8 +121,12 @@ void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
   if (!has_truth) {
     nlohmann::json slots = nlohmann::json::array();
     for (const MapSlot& s : map.slots) {
-      slots.push_back({{"c", Corners(s, SE2())}, {"id", s.id}, {"temporary", s.temporary},
-                       {"verdict", "not_counted"}, {"err_m", 0.0}, {"id_right", true}});
+      slots.push_back({{"c", Corners(s, SE2())},
+                       {"id", s.id},
+                       {"temporary", s.temporary},
+                       {"verdict", "not_counted"},
+                       {"err_m", 0.0},
+                       {"id_right", true}});
     }
     scene["map"]["slots"] = slots;
     return;
@@ -127,7 +137,8 @@ void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
   options.truth_slot_mask = PassedSlots(dataset, truth.slots.size(), 3);
   const eval::MapMetrics m = eval::EvaluateMap(map, truth, options);
   nlohmann::json truth_slots = nlohmann::json::array(), slots = nlohmann::json::array();
-  for (const MapSlot& s : truth.slots) truth_slots.push_back({{"c", Corners(s, SE2())}, {"id", s.id}});
+  for (const MapSlot& s : truth.slots)
+    truth_slots.push_back({{"c", Corners(s, SE2())}, {"id", s.id}});
   for (size_t i = 0; i < map.slots.size(); ++i) {
     const eval::MapSlotVerdict& v = m.map_slots[i];
     slots.push_back({{"c", Corners(map.slots[i], m.T_truth_map)},
@@ -138,46 +149,59 @@ void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
                      {"id_right", v.id_right}});
   }
   nlohmann::json truth_tags = nlohmann::json::array(), tags = nlohmann::json::array();
-  for (const MapTag& t : truth.tags) truth_tags.push_back({{"p", {t.p_map.x(), t.p_map.y()}}, {"id", t.tag_id}});
+  for (const MapTag& t : truth.tags)
+    truth_tags.push_back({{"p", {t.p_map.x(), t.p_map.y()}}, {"id", t.tag_id}});
   for (const MapTag& t : map.tags) {
     const Eigen::Vector2d p = m.T_truth_map * t.p_map;
     tags.push_back({{"p", {p.x(), p.y()}}, {"id", t.tag_id}});
   }
-  scene["map"] = {{"truth_slots", truth_slots}, {"slots", slots}, {"missed", m.missed_truth_slots},
-                  {"truth_tags", truth_tags}, {"tags", tags}};
-  scene["trajectories"].push_back({{"name", "mapping drive: truth"}, {"colour", "#2a9d2a"},
+  scene["map"] = {{"truth_slots", truth_slots},
+                  {"slots", slots},
+                  {"missed", m.missed_truth_slots},
+                  {"truth_tags", truth_tags},
+                  {"tags", tags}};
+  scene["trajectories"].push_back({{"name", "mapping drive: truth"},
+                                   {"colour", "#2a9d2a"},
                                    {"xy", Polyline(dataset.groundtruth_trajectory)}});
   if (fs::exists(dir / "odometry.tum")) {
-    scene["trajectories"].push_back({{"name", "mapping drive: dead reckoning"}, {"colour", "#d62728"},
-                                     {"width", 1.0}, {"hidden", true},
+    scene["trajectories"].push_back({{"name", "mapping drive: dead reckoning"},
+                                     {"colour", "#d62728"},
+                                     {"width", 1.0},
+                                     {"hidden", true},
                                      {"xy", Polyline(io::ReadTum(dir / "odometry.tum"))}});
   }
   if (fs::exists(dir / "trajectory.tum")) {
-    scene["trajectories"].push_back({{"name", "mapping drive: optimized keyframes"}, {"colour", "#1f77b4"},
-                                     {"width", 1.0}, {"hidden", true},
-                                     {"xy", Polyline(Transformed(m.T_truth_map, io::ReadTum(dir / "trajectory.tum")))}});
+    scene["trajectories"].push_back(
+        {{"name", "mapping drive: optimized keyframes"},
+         {"colour", "#1f77b4"},
+         {"width", 1.0},
+         {"hidden", true},
+         {"xy", Polyline(Transformed(m.T_truth_map, io::ReadTum(dir / "trajectory.tum")))}});
   }
   const std::string p = "map.";
-  AddFigure(r, p + "slots_matched", "slots matched", m.slots_matched, "of " + std::to_string(m.slots_true), 1, 0);
+  AddFigure(r, p + "slots_matched", "slots matched", m.slots_matched,
+            "of " + std::to_string(m.slots_true), 1, 0);
   AddFigure(r, p + "slots_missed", "slots missed", m.slots_missed, "", 1, 0);
   AddFigure(r, p + "slots_spurious", "spurious slots", m.slots_spurious, "", 1, 0);
   AddFigure(r, p + "slots_duplicate", "duplicate slots", m.slots_duplicate, "", 1, 0);
   AddFigure(r, p + "slot_corner_rmse_m", "slot corner RMSE", m.slot_corner_rmse_m, "cm", 100, 1);
   AddFigure(r, p + "id_accuracy", "IDs right", m.id_accuracy, "%", 100, 1);
-  AddFigure(r, p + "tags_matched", "tags mapped", m.tags_matched, "of " + std::to_string(m.tags_true), 1, 0);
+  AddFigure(r, p + "tags_matched", "tags mapped", m.tags_matched,
+            "of " + std::to_string(m.tags_true), 1, 0);
 }
 
 void AddLocalization(const fs::path& dir, Loaded* r) {
   const fs::path path = dir / "localization.csv";
   if (!fs::exists(path)) return;
-  const io::NumericTable log = io::ReadNumericCsv(
-      path, {"t_s", "x_m", "y_m", "yaw_rad", "state", "slots_used", "tags_used", "relocalized",
-             "cov_xx", "cov_xy", "cov_xyaw", "cov_yy", "cov_yyaw", "cov_yawyaw", "true_x_m",
-             "true_y_m", "true_yaw_rad"});
+  const io::NumericTable log =
+      io::ReadNumericCsv(path, {"t_s", "x_m", "y_m", "yaw_rad", "state", "slots_used", "tags_used",
+                                "relocalized", "cov_xx", "cov_xy", "cov_xyaw", "cov_yy", "cov_yyaw",
+                                "cov_yawyaw", "true_x_m", "true_y_m", "true_yaw_rad"});
   const auto col = [&](const char* name) { return static_cast<size_t>(log.Column(name)); };
   nlohmann::json l;
-  std::vector<std::string> names = {"t", "x", "y", "yaw", "tx", "ty", "tyaw", "err_m", "yaw_err_deg",
-                                    "state", "slots", "tags", "reloc", "nees"};
+  std::vector<std::string> names = {"t",     "x",    "y",     "yaw",         "tx",
+                                    "ty",    "tyaw", "err_m", "yaw_err_deg", "state",
+                                    "slots", "tags", "reloc", "nees"};
   for (const std::string& n : names) l[n] = nlohmann::json::array();
   double sum_sq = 0.0, sum_yaw_sq = 0.0;
   int tracked = 0;
@@ -186,14 +210,16 @@ void AddLocalization(const fs::path& dir, Loaded* r) {
     if (k > 0 && !(row[col("t_s")] > log.rows[k - 1][col("t_s")])) {
       throw io::IoError(path.string() + ":" + std::to_string(k + 2) + ": t_s: not increasing");
     }
-    const Eigen::Vector3d e(row[col("x_m")] - row[col("true_x_m")], row[col("y_m")] - row[col("true_y_m")],
+    const Eigen::Vector3d e(row[col("x_m")] - row[col("true_x_m")],
+                            row[col("y_m")] - row[col("true_y_m")],
                             NormalizeAngle(row[col("yaw_rad")] - row[col("true_yaw_rad")]));
     Eigen::Matrix3d P;
     P << row[col("cov_xx")], row[col("cov_xy")], row[col("cov_xyaw")], row[col("cov_xy")],
         row[col("cov_yy")], row[col("cov_yyaw")], row[col("cov_xyaw")], row[col("cov_yyaw")],
         row[col("cov_yawyaw")];
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(P);
-    const double nees = ldlt.info() == Eigen::Success && ldlt.isPositive() ? e.dot(ldlt.solve(e)) : std::nan("");
+    const double nees =
+        ldlt.info() == Eigen::Success && ldlt.isPositive() ? e.dot(ldlt.solve(e)) : std::nan("");
     const int state = static_cast<int>(row[col("state")]);
     const double err_m = e.head<2>().norm();
     if (state == 1) {
@@ -232,13 +258,16 @@ void AddLocalization(const fs::path& dir, Loaded* r) {
       estimate.push_back({t, SE2(row[col("x_m")], row[col("y_m")], row[col("yaw_rad")])});
     }
   }
-  r->data.scene["trajectories"].push_back({{"name", "second drive: truth"}, {"colour", "#006400"},
-                                           {"hidden", true}, {"xy", Polyline(truth)}});
-  r->data.scene["trajectories"].push_back({{"name", "second drive: localized"}, {"colour", "#1f77b4"},
-                                           {"xy", Polyline(estimate)}});
+  r->data.scene["trajectories"].push_back({{"name", "second drive: truth"},
+                                           {"colour", "#006400"},
+                                           {"hidden", true},
+                                           {"xy", Polyline(truth)}});
+  r->data.scene["trajectories"].push_back(
+      {{"name", "second drive: localized"}, {"colour", "#1f77b4"}, {"xy", Polyline(estimate)}});
   if (tracked > 0) {
     AddFigure(r, "localization.frames_tracked", "frames tracked", tracked, "", 1, 0);
-    AddFigure(r, "localization.ate_rmse_m", "localization RMSE", std::sqrt(sum_sq / tracked), "m", 1, 3);
+    AddFigure(r, "localization.ate_rmse_m", "localization RMSE", std::sqrt(sum_sq / tracked), "m",
+              1, 3);
     AddFigure(r, "localization.yaw_rmse_deg", "localization yaw RMSE",
               std::sqrt(sum_yaw_sq / tracked) * 180 / M_PI, "deg", 1, 3);
   }
@@ -255,8 +284,9 @@ void AddEkf(const fs::path& dir, Loaded* r) {
     ekf["anees"].push_back(row[1]);
     sum += row[1];
   }
-  const nlohmann::json& c = r->metrics.contains("odometry_consistency") ? r->metrics["odometry_consistency"]
-                                                                         : nlohmann::json::object();
+  const nlohmann::json& c = r->metrics.contains("odometry_consistency")
+                                ? r->metrics["odometry_consistency"]
+                                : nlohmann::json::object();
   if (c.contains("band_95") && c["band_95"].is_array() && c["band_95"].size() == 2) {
     const double band_lo = c["band_95"][0].get<double>(), band_hi = c["band_95"][1].get<double>();
     ekf["band"] = {band_lo, band_hi};
@@ -291,19 +321,24 @@ void AddFollow(const fs::path& follow_dir, const std::string& key_prefix, Loaded
       }
     }
     std::string name = t.columns[c];
-    if (name.size() > 2 && name.compare(name.size() - 2, 2, "_m") == 0) name.resize(name.size() - 2);
+    if (name.size() > 2 && name.compare(name.size() - 2, 2, "_m") == 0)
+      name.resize(name.size() - 2);
     const char* colour = kRunColours[(c - 1) % kRunColours.size()];
     follow["runs"].push_back({{"name", name}, {"colour", colour}, {"offsets", offsets}});
     const fs::path run = follow_dir / (name + ".tum");
     if (fs::exists(run)) {
-      r->data.scene["trajectories"].push_back({{"name", "autonomous " + name}, {"colour", colour},
-                                               {"width", 1.0}, {"xy", Polyline(io::ReadTum(run))}});
+      r->data.scene["trajectories"].push_back({{"name", "autonomous " + name},
+                                               {"colour", colour},
+                                               {"width", 1.0},
+                                               {"xy", Polyline(io::ReadTum(run))}});
     }
   }
   // A follow folder's trace (the demo draws its mapping drive, the same).
   if (key_prefix.empty() && fs::exists(follow_dir / "trace.tum")) {
-    r->data.scene["trajectories"].push_back({{"name", "the trace"}, {"colour", "#2a9d2a"},
-                                             {"xy", Polyline(io::ReadTum(follow_dir / "trace.tum"))}});
+    r->data.scene["trajectories"].push_back(
+        {{"name", "the trace"},
+         {"colour", "#2a9d2a"},
+         {"xy", Polyline(io::ReadTum(follow_dir / "trace.tum"))}});
   }
   // The repeated-trace standard deviation (eval/trace_metrics.h), again.
   double variance_sum = 0.0;
@@ -357,7 +392,8 @@ void AddPerception(const fs::path& dir, Loaded* r) {
     char caption[400];
     std::snprintf(caption, sizeof caption, "%s (t = %.0f s: %d slots right, %d false, %d missed)",
                   picture.value("caption", "").c_str(), picture.value("t_s", 0.0),
-                  picture.value("slots_true_positives", 0), picture.value("slots_false_positives", 0),
+                  picture.value("slots_true_positives", 0),
+                  picture.value("slots_false_positives", 0),
                   picture.value("slots_false_negatives", 0));
     r->data.pictures.push_back({caption, io::ReadTextFile(file)});
   }
@@ -384,8 +420,9 @@ void WriteReport(const fs::path& dir, const ReportInputs& inputs, const fs::path
   if (fs::exists(metrics_path)) r.metrics = ReadJson(metrics_path);
   if (!r.metrics.is_object()) throw io::IoError(metrics_path.string() + ": expected a JSON object");
   const bool follow_folder = fs::exists(dir / "lateral.csv");
-  r.data.title = follow_folder ? "parkslam follow: " + dir.filename().string()
-                               : "parkslam run: " + r.metrics.value("dataset", dir.filename().string());
+  r.data.title = follow_folder
+                     ? "parkslam follow: " + dir.filename().string()
+                     : "parkslam run: " + r.metrics.value("dataset", dir.filename().string());
   r.data.command = r.metrics.value("command", std::string("(not recorded)"));
   r.data.version = r.metrics.value("version", std::string(kVersion));
   r.data.scene = nlohmann::json::object();
@@ -402,7 +439,8 @@ void WriteReport(const fs::path& dir, const ReportInputs& inputs, const fs::path
   r.data.metrics = viz::FlattenMetrics(r.metrics);
   if (r.data.scene["trajectories"].empty()) r.data.scene.erase("trajectories");
   if (r.data.figures.empty() && r.data.scene.empty() && r.data.metrics.empty()) {
-    throw io::IoError(dir.string() + ": nothing to report (no metrics.json, map.json, localization.csv "
+    throw io::IoError(dir.string() +
+                      ": nothing to report (no metrics.json, map.json, localization.csv "
                       "or lateral.csv)");
   }
   io::WriteFileAtomically(out, viz::RenderReportHtml(r.data));
@@ -426,11 +464,12 @@ void AddReportCommand(CLI::App& app) {
                   "Dataset whose ground truth the map is judged against (default: DIR/dataset)");
   cmd->callback([options] {
     const auto start = std::chrono::steady_clock::now();
-    const fs::path out = options->out.empty() ? fs::path(options->dir) / "report.html" : fs::path(options->out);
+    const fs::path out =
+        options->out.empty() ? fs::path(options->dir) / "report.html" : fs::path(options->out);
     // The page may go into the run folder, never over what it reads.
     std::vector<io::NamedPath> read;
-    for (const char* name : {"metrics.json", "map.json", "localization.csv", "ekf_nees.csv", "lateral.csv",
-                             "odometry.tum", "trajectory.tum", "trace.tum"}) {
+    for (const char* name : {"metrics.json", "map.json", "localization.csv", "ekf_nees.csv",
+                             "lateral.csv", "odometry.tum", "trajectory.tum", "trace.tum"}) {
       read.push_back({fs::path(options->dir) / name, "DIR"});
     }
     for (const char* folder : {"dataset", "follow", "perception", "second_drive"}) {

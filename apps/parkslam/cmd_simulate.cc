@@ -1,11 +1,11 @@
 #include <chrono>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "commands.h"
-#include "parkslam/io/output_guard.h"
 #include "parkslam/io/dataset.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/scenario_yaml.h"
 #include "progress.h"
 #include "steps.h"
@@ -27,8 +27,8 @@ namespace {
 void WriteImages(const std::filesystem::path& dir, const io::Dataset& dataset, double rate_hz) {
   const camera::CameraRig rig = camera::DefaultRig();
   const std::vector<std::string> names{"front", "rear", "left", "right", "front_mono"};
-  const sim::World world =
-      sim::BuildWorld(dataset.scenario.world, static_cast<std::uint64_t>(dataset.scenario.world.seed));
+  const sim::World world = sim::BuildWorld(dataset.scenario.world,
+                                           static_cast<std::uint64_t>(dataset.scenario.world.seed));
   const render::Renderer renderer(world, rig, render::RenderOptions{}, dataset.seed);
   const Trajectory& truth = dataset.groundtruth_trajectory;
   const TimeNs start = truth.front().t_ns, end = truth.back().t_ns;
@@ -42,7 +42,8 @@ void WriteImages(const std::filesystem::path& dir, const io::Dataset& dataset, d
       const std::string file = "images/" + names[c] + "/" + std::to_string(t) + ".jpg";
       std::vector<uchar> jpeg;
       cv::imencode(".jpg", images[c], jpeg, {cv::IMWRITE_JPEG_QUALITY, 90});
-      io::WriteFileAtomically(dir / file, std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
+      io::WriteFileAtomically(
+          dir / file, std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
       index += std::to_string(t) + "," + names[c] + "," + file + "\n";
     }
     progress.Update(++frame);
@@ -70,7 +71,8 @@ void AddSimulateCommand(CLI::App& app) {
       "Simulate a drive through a parking lot and write it as a dataset with ground truth");
   AddScenarioOptions(cmd, &options->scenario);
   cmd->add_option("--seed", options->seed, "Random seed (same seed, same data)")
-      ->check(SeedValidator())->capture_default_str();
+      ->check(SeedValidator())
+      ->capture_default_str();
   cmd->add_option("--out", options->out, "Dataset folder to write");
   cmd->add_flag("--images", options->images,
                 "Also render the four fisheye and the front camera along the drive (JPEG, "
@@ -90,17 +92,21 @@ void AddSimulateCommand(CLI::App& app) {
       return;
     }
     if (options->out.empty()) throw CLI::RequiredError("--out");
-    const std::string world = options->scenario.world == "default" ? std::string() : options->scenario.world;
+    const std::string world =
+        options->scenario.world == "default" ? std::string() : options->scenario.world;
     io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{world, "--world"}});
     std::error_code ec;
-    if (std::filesystem::exists(options->out, ec) && !std::filesystem::is_directory(options->out, ec)) {
+    if (std::filesystem::exists(options->out, ec) &&
+        !std::filesystem::is_directory(options->out, ec)) {
       throw std::runtime_error("--out " + options->out + ": a file, not a folder");
     }
-    if (std::filesystem::is_directory(options->out, ec) && !std::filesystem::is_empty(options->out, ec)) {
+    if (std::filesystem::is_directory(options->out, ec) &&
+        !std::filesystem::is_empty(options->out, ec)) {
       if (!options->force) {
-        throw std::runtime_error("--out " + options->out +
-                                 ": the folder is not empty (another drive's data or images would mix "
-                                 "with this one's); choose another or add --force to clear it");
+        throw std::runtime_error(
+            "--out " + options->out +
+            ": the folder is not empty (another drive's data or images would mix "
+            "with this one's); choose another or add --force to clear it");
       }
       for (const auto& entry : std::filesystem::directory_iterator(options->out)) {
         std::filesystem::remove_all(entry.path());

@@ -49,8 +49,9 @@ void AddTagsCommand(CLI::App& app) {
     }
     if (camera == nullptr) {
       throw std::runtime_error(options->camera + ": no " +
-                               (options->camera_name.empty() ? "pinhole camera"
-                                                             : "camera '" + options->camera_name + "'"));
+                               (options->camera_name.empty()
+                                    ? "pinhole camera"
+                                    : "camera '" + options->camera_name + "'"));
     }
     if (!std::filesystem::exists(options->image)) {
       throw std::runtime_error(options->image + ": no such file");

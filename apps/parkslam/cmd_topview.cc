@@ -4,12 +4,12 @@
 #include <stdexcept>
 
 #include "commands.h"
-#include "parkslam/io/output_guard.h"
 #include "image_files.h"
 #include "parkslam/camera/homography_top_view.h"
 #include "parkslam/camera/top_view.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/homography_rig.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/io/rig_yaml.h"
 
 namespace parkslam::app {
@@ -25,7 +25,8 @@ void AddTopviewCommand(CLI::App& app) {
       "Fuse four fisheye images into one top-view image (surround view). --rig is the built-in "
       "rig `default`, a rig YAML file (docs/cameras.md), or a folder calibrated by ground "
       "homographies (front/back/left/right.yaml, as shared/data/surround-view-sample)");
-  cmd->add_option("--rig", options->rig, "Rig: default, RIG.yaml or a folder")->capture_default_str();
+  cmd->add_option("--rig", options->rig, "Rig: default, RIG.yaml or a folder")
+      ->capture_default_str();
   cmd->add_option("--front", options->front, "Front fisheye image")->required();
   cmd->add_option("--rear", options->rear, "Rear fisheye image")->required();
   cmd->add_option("--left", options->left, "Left fisheye image")->required();
@@ -38,10 +39,13 @@ void AddTopviewCommand(CLI::App& app) {
       ->check(CLI::Range(1.0, 100.0))
       ->capture_default_str();
   cmd->callback([options] {
-    io::CheckOutputsSpareInputs({{options->out, "--out"}},
-                                {{options->front, "--front"}, {options->rear, "--rear"},
-                                 {options->left, "--left"}, {options->right, "--right"},
-                                 {options->rig == "default" ? std::string() : options->rig, "--rig"}});
+    io::CheckOutputsSpareInputs(
+        {{options->out, "--out"}},
+        {{options->front, "--front"},
+         {options->rear, "--rear"},
+         {options->left, "--left"},
+         {options->right, "--right"},
+         {options->rig == "default" ? std::string() : options->rig, "--rig"}});
     cv::Mat top;
     if (std::filesystem::is_directory(options->rig)) {
       const camera::HomographyTopView view(io::LoadHomographyRig(options->rig));
@@ -57,7 +61,8 @@ void AddTopviewCommand(CLI::App& app) {
       view.extent_m = options->extent_m;
       const camera::TopViewFusion fusion(rig, {"front", "rear", "left", "right"}, view);
       std::vector<cv::Mat> images;
-      for (const std::string* path : {&options->front, &options->rear, &options->left, &options->right}) {
+      for (const std::string* path :
+           {&options->front, &options->rear, &options->left, &options->right}) {
         images.push_back(ReadImage(*path, cv::IMREAD_GRAYSCALE));
       }
       top = fusion.Fuse(images);

@@ -40,11 +40,16 @@ nlohmann::json ToJson(const Scores& s) {
                                      {"count", s.corners.entrance_m.count}};
   }
   if (s.ids.readable > 0) {
-    j["ids"] = {{"readable", s.ids.readable}, {"right", s.ids.correct}, {"unread", s.ids.unread}, {"accuracy", s.ids.accuracy()}};
+    j["ids"] = {{"readable", s.ids.readable},
+                {"right", s.ids.correct},
+                {"unread", s.ids.unread},
+                {"accuracy", s.ids.accuracy()}};
   }
   if (!s.frame_ms.empty()) {
-    j["time_ms_median"] = {{"fusion", Median(s.fusion_ms)}, {"slots", Median(s.slots_ms)},
-                           {"ids", Median(s.ids_ms)}, {"tags", Median(s.tags_ms)},
+    j["time_ms_median"] = {{"fusion", Median(s.fusion_ms)},
+                           {"slots", Median(s.slots_ms)},
+                           {"ids", Median(s.ids_ms)},
+                           {"tags", Median(s.tags_ms)},
                            {"frame", Median(s.frame_ms)}};
     j["time_ms_max_frame"] = Max(s.frame_ms);
   } else if (!s.slots_ms.empty()) {
@@ -72,10 +77,11 @@ void Print(const Scores& s) {
                 100 * s.ids.accuracy());
   }
   if (!s.frame_ms.empty()) {
-    std::printf("time per frame (median): fusion %.2f ms, slots %.2f ms, IDs %.2f ms, tags %.2f "
-                "ms; total %.2f ms (max %.2f ms)\n",
-                Median(s.fusion_ms), Median(s.slots_ms), Median(s.ids_ms), Median(s.tags_ms),
-                Median(s.frame_ms), Max(s.frame_ms));
+    std::printf(
+        "time per frame (median): fusion %.2f ms, slots %.2f ms, IDs %.2f ms, tags %.2f "
+        "ms; total %.2f ms (max %.2f ms)\n",
+        Median(s.fusion_ms), Median(s.slots_ms), Median(s.ids_ms), Median(s.tags_ms),
+        Median(s.frame_ms), Max(s.frame_ms));
   } else if (!s.slots_ms.empty()) {
     std::printf("slot detection per image (median): %.2f ms\n", Median(s.slots_ms));
   }
@@ -96,7 +102,8 @@ cv::Mat Overlay(const cv::Mat& image, const std::vector<eval::LabelledMarkingPoi
     cv::circle(out, pt(t.px), 10, cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
   }
   for (const perception::DetectedSlot& s : detection.slots) {
-    cv::line(out, pt(s.corners_px[0]), pt(s.corners_px[1]), cv::Scalar(0, 200, 255), 2, cv::LINE_AA);
+    cv::line(out, pt(s.corners_px[0]), pt(s.corners_px[1]), cv::Scalar(0, 200, 255), 2,
+             cv::LINE_AA);
   }
   for (const perception::MarkingPoint& p : detection.marking_points) {
     const Eigen::Vector2d tip =
@@ -120,7 +127,8 @@ std::vector<T> Pick(const std::vector<T>& items, const std::vector<int>& indices
 
 ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detection,
                  const std::vector<SlotIdReading>& ids, double pixels_per_m, Scores* scores) {
-  const std::vector<eval::LabelledMarkingPoint> all_points = pipeline::AsLabelled(detection.marking_points);
+  const std::vector<eval::LabelledMarkingPoint> all_points =
+      pipeline::AsLabelled(detection.marking_points);
   const std::vector<eval::LabelledMarkingPoint> points =
       Pick(all_points, pipeline::ScoredPoints(all_points, truth.points, truth.ignored_points));
   const std::vector<eval::EntranceLine> all_entrances = pipeline::EntrancesOf(detection.slots);
@@ -146,7 +154,6 @@ ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detec
   return own;
 }
 
-
 DriveScorer::DriveScorer(const sim::ScenarioConfig& scenario, std::uint64_t seed,
                          const pipeline::PerceptionOptions& perception)
     : simulation_(sim::Simulate(scenario, seed)),
@@ -160,10 +167,10 @@ DriveScorer::Frame DriveScorer::ScoreAt(TimeNs t_ns, Scores* scores) const {
   const SE2 pose = *PoseAt(truth_, t_ns);
   Frame frame;
   frame.out = front_end_.Process(pipeline::RenderCameraFrame(renderer_, pose, t_ns, kCameras));
-  const pipeline::TopViewTruth tv =
-      pipeline::TruthInTopView(simulation_.world, pose, front_end_.fusion(), front_end_.FootprintMask());
-  const ImageTruth image_truth{tv.marking_points, tv.entrances, &tv.corners, &tv.ids,
-                               tv.ignored_points, tv.ignored_entrances};
+  const pipeline::TopViewTruth tv = pipeline::TruthInTopView(
+      simulation_.world, pose, front_end_.fusion(), front_end_.FootprintMask());
+  const ImageTruth image_truth{tv.marking_points, tv.entrances,      &tv.corners,
+                               &tv.ids,           tv.ignored_points, tv.ignored_entrances};
   frame.score = Score(image_truth, frame.out.detection, frame.out.ids,
                       front_end_.options().slots.pixels_per_m, scores);
   frame.truth_points = tv.marking_points;

@@ -54,8 +54,8 @@ struct ImageScore {
   eval::DetectionCounts marking_points, slots;
   // False and missed marking points and slots.
   int errors() const {
-    return marking_points.false_positives + marking_points.false_negatives +
-           slots.false_positives + slots.false_negatives;
+    return marking_points.false_positives + marking_points.false_negatives + slots.false_positives +
+           slots.false_negatives;
   }
   bool any_error() const { return errors() > 0; }
 };

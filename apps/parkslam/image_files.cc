@@ -25,8 +25,8 @@ void WriteImage(const std::string& path, const cv::Mat& image) {
   if (!cv::imencode(ext.empty() ? ".png" : ext, image, buffer)) {
     throw std::runtime_error(path + ": cannot encode an image of this type");
   }
-  io::WriteFileAtomically(path, std::string_view(reinterpret_cast<const char*>(buffer.data()),
-                                                 buffer.size()));
+  io::WriteFileAtomically(
+      path, std::string_view(reinterpret_cast<const char*>(buffer.data()), buffer.size()));
 }
 
 }  // namespace parkslam::app

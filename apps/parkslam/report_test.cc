@@ -37,13 +37,15 @@ int Shell(const std::string& command) {
 class ReportTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / ("parkslam_report_test_" + std::to_string(::getpid())));
+    dir_ = new fs::path(fs::temp_directory_path() /
+                        ("parkslam_report_test_" + std::to_string(::getpid())));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
-    const std::string command = std::string(PARKSLAM_BIN) + " demo --out " + (*dir_ / "run").string() +
-                                " --observations --consistency-runs 5 --follow-runs 2 --perception-frames 6"
-                                " --world " PARKSLAM_SOURCE_DIR "/config/worlds/small.yaml > " +
-                                (*dir_ / "demo.log").string() + " 2>&1";
+    const std::string command =
+        std::string(PARKSLAM_BIN) + " demo --out " + (*dir_ / "run").string() +
+        " --observations --consistency-runs 5 --follow-runs 2 --perception-frames 6"
+        " --world " PARKSLAM_SOURCE_DIR "/config/worlds/small.yaml > " +
+        (*dir_ / "demo.log").string() + " 2>&1";
     demo_status_ = Shell(command);
   }
   static void TearDownTestSuite() {
@@ -68,7 +70,8 @@ TEST_F(ReportTest, EveryFigureAgreesWithMetricsJson) {
   const nlohmann::json metrics = nlohmann::json::parse(Slurp(run() / "metrics.json"));
   const std::regex figure("data-metric=\"([a-z_0-9.]+)\" data-value=\"([^\"]+)\"");
   int figures = 0;
-  for (auto it = std::sregex_iterator(html.begin(), html.end(), figure); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), figure);
+       it != std::sregex_iterator(); ++it) {
     const std::string key = (*it)[1];
     const double shown = std::stod((*it)[2]);
     nlohmann::json::json_pointer pointer("/" + std::regex_replace(key, std::regex("\\."), "/"));
@@ -81,26 +84,30 @@ TEST_F(ReportTest, EveryFigureAgreesWithMetricsJson) {
   EXPECT_EQ(figures, 13);
   EXPECT_EQ(html.find("num disagree"), std::string::npos);
   // The numbers of metrics.json are on the page too, with the command that made them.
-  EXPECT_THAT(html, ::testing::HasSubstr("<code>map.slots_matched</code></td><td class=\"num\">" +
-                                         std::to_string(metrics["map"]["slots_matched"].get<int>())));
+  EXPECT_THAT(html,
+              ::testing::HasSubstr("<code>map.slots_matched</code></td><td class=\"num\">" +
+                                   std::to_string(metrics["map"]["slots_matched"].get<int>())));
   EXPECT_THAT(html, ::testing::HasSubstr(" demo --out "));
 }
 
 TEST_F(ReportTest, TheCommandWritesTheSamePageAndRefusesAnEmptyFolder) {
   ASSERT_EQ(demo_status_, 0);
   const fs::path out = *dir_ / "again.html";
-  ASSERT_EQ(Shell(std::string(PARKSLAM_BIN) + " report " + run().string() + " --out " + out.string() + " > /dev/null"), 0);
+  ASSERT_EQ(Shell(std::string(PARKSLAM_BIN) + " report " + run().string() + " --out " +
+                  out.string() + " > /dev/null"),
+            0);
   EXPECT_EQ(Slurp(out), Slurp(run() / "report.html"));
   fs::create_directories(*dir_ / "empty");
   EXPECT_NE(Shell(std::string(PARKSLAM_BIN) + " report " + (*dir_ / "empty").string() + " 2> " +
-                (*dir_ / "err.txt").string()),
+                  (*dir_ / "err.txt").string()),
             0);
   EXPECT_THAT(Slurp(*dir_ / "err.txt"), ::testing::HasSubstr("nothing to report"));
   EXPECT_FALSE(fs::exists(*dir_ / "empty" / "report.html"));
 }
 
 // Pixels of a colour (within a tolerance) inside a rectangle of the screenshot.
-int CountColour(const cv::Mat& image, const std::vector<double>& rect, cv::Vec3b bgr, int tolerance = 40) {
+int CountColour(const cv::Mat& image, const std::vector<double>& rect, cv::Vec3b bgr,
+                int tolerance = 40) {
   const cv::Rect r(static_cast<int>(rect[0]), static_cast<int>(rect[1]), static_cast<int>(rect[2]),
                    static_cast<int>(rect[3]));
   const cv::Rect clipped = r & cv::Rect(0, 0, image.cols, image.rows);
@@ -108,7 +115,8 @@ int CountColour(const cv::Mat& image, const std::vector<double>& rect, cv::Vec3b
   for (int y = clipped.y; y < clipped.y + clipped.height; ++y) {
     for (int x = clipped.x; x < clipped.x + clipped.width; ++x) {
       const cv::Vec3b p = image.at<cv::Vec3b>(y, x);
-      count += std::abs(p[0] - bgr[0]) + std::abs(p[1] - bgr[1]) + std::abs(p[2] - bgr[2]) <= tolerance;
+      count +=
+          std::abs(p[0] - bgr[0]) + std::abs(p[1] - bgr[1]) + std::abs(p[2] - bgr[2]) <= tolerance;
     }
   }
   return count;
@@ -124,7 +132,8 @@ TEST_F(ReportTest, OpensInHeadlessChromiumAndLinksPlotsAndMap) {
   const std::string url = "file://" + fs::absolute(run() / "report.html").string() + "#selftest";
   const std::string flags = std::string(chromium) +
                             " --headless=new --no-sandbox --disable-gpu --hide-scrollbars "
-                            "--window-size=1400,4200 --user-data-dir=" + (*dir_ / "profile").string() +
+                            "--window-size=1400,4200 --user-data-dir=" +
+                            (*dir_ / "profile").string() +
                             " --enable-logging=stderr --v=0 --virtual-time-budget=5000 ";
   const fs::path dom = *dir_ / "dom.html", log = *dir_ / "chromium.log", shot = *dir_ / "shot.png";
   ASSERT_EQ(Shell(flags + "--dump-dom '" + url + "' > " + dom.string() + " 2> " + log.string()), 0)
@@ -135,11 +144,13 @@ TEST_F(ReportTest, OpensInHeadlessChromiumAndLinksPlotsAndMap) {
   EXPECT_EQ(console.find(":ERROR:CONSOLE"), std::string::npos) << console;
   const std::string page = Slurp(dom);
   std::smatch match;
-  ASSERT_TRUE(std::regex_search(page, match, std::regex("<pre id=\"selftest-result\">([^<]*)</pre>")))
+  ASSERT_TRUE(
+      std::regex_search(page, match, std::regex("<pre id=\"selftest-result\">([^<]*)</pre>")))
       << "no self-test result in the page";
   const nlohmann::json result = nlohmann::json::parse(match[1].str());
   EXPECT_TRUE(result["errors"].empty()) << result.dump();
-  for (const char* check : {"map_drawn", "plots_drawn", "plot_click_moves_marker", "map_click_moves_cursor"}) {
+  for (const char* check :
+       {"map_drawn", "plots_drawn", "plot_click_moves_marker", "map_click_moves_cursor"}) {
     EXPECT_EQ(result["checks"].value(check, false), true) << check << ": " << result.dump();
   }
   EXPECT_TRUE(result.value("ok", false));
@@ -152,12 +163,12 @@ TEST_F(ReportTest, OpensInHeadlessChromiumAndLinksPlotsAndMap) {
   const auto rect = [&](const char* id) { return rects.at(id).get<std::vector<double>>(); };
   // Map: slots filled green (small errors, at 55 % over white) and the truth in green.
   EXPECT_GT(CountColour(image, rect("map"), cv::Vec3b(118, 200, 118), 60), 500);
-  EXPECT_GT(CountColour(image, rect("plot-error"), cv::Vec3b(0xb4, 0x77, 0x1f)), 50);   // #1f77b4
-  EXPECT_GT(CountColour(image, rect("plot-state"), cv::Vec3b(0x2c, 0xa0, 0x2c)), 50);   // #2ca02c
-  EXPECT_GT(CountColour(image, rect("plot-seen"), cv::Vec3b(0xbd, 0x67, 0x94)), 20);    // #9467bd
-  EXPECT_GT(CountColour(image, rect("plot-nees"), cv::Vec3b(0x28, 0x27, 0xd6)), 50);    // #d62728
-  EXPECT_GT(CountColour(image, rect("plot-anees"), cv::Vec3b(0x4b, 0x56, 0x8c)), 50);   // #8c564b
-  EXPECT_GT(CountColour(image, rect("plot-lateral"), cv::Vec3b(0x28, 0x27, 0xd6)), 50); // #d62728
+  EXPECT_GT(CountColour(image, rect("plot-error"), cv::Vec3b(0xb4, 0x77, 0x1f)), 50);    // #1f77b4
+  EXPECT_GT(CountColour(image, rect("plot-state"), cv::Vec3b(0x2c, 0xa0, 0x2c)), 50);    // #2ca02c
+  EXPECT_GT(CountColour(image, rect("plot-seen"), cv::Vec3b(0xbd, 0x67, 0x94)), 20);     // #9467bd
+  EXPECT_GT(CountColour(image, rect("plot-nees"), cv::Vec3b(0x28, 0x27, 0xd6)), 50);     // #d62728
+  EXPECT_GT(CountColour(image, rect("plot-anees"), cv::Vec3b(0x4b, 0x56, 0x8c)), 50);    // #8c564b
+  EXPECT_GT(CountColour(image, rect("plot-lateral"), cv::Vec3b(0x28, 0x27, 0xd6)), 50);  // #d62728
 }
 
 }  // namespace

@@ -24,14 +24,15 @@ const CLI::Validator& SeedValidator() {
 }
 
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
-  command->add_option("--world", options->world,
-                      "Built-in world `default` or a scenario YAML file")
+  command->add_option("--world", options->world, "Built-in world `default` or a scenario YAML file")
       ->capture_default_str();
-  command->add_option("--id-confusion-rate", options->id_confusion_rate,
-                      "Share of ID readings with one digit confused (3/8, 1/7 ...)")
+  command
+      ->add_option("--id-confusion-rate", options->id_confusion_rate,
+                   "Share of ID readings with one digit confused (3/8, 1/7 ...)")
       ->check(CLI::Range(0.0, 1.0));
-  command->add_option("--id-partial-rate", options->id_partial_rate,
-                      "Share of ID readings with one digit unread")
+  command
+      ->add_option("--id-partial-rate", options->id_partial_rate,
+                   "Share of ID readings with one digit unread")
       ->check(CLI::Range(0.0, 1.0));
   command->add_option("--set", options->overrides,
                       "Override a scenario key, e.g. --set route.laps=4 "
@@ -39,9 +40,8 @@ void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
 }
 
 sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options) {
-  sim::ScenarioConfig scenario = options.world == "default"
-                                     ? sim::DefaultScenario()
-                                     : io::LoadScenarioFile(options.world);
+  sim::ScenarioConfig scenario =
+      options.world == "default" ? sim::DefaultScenario() : io::LoadScenarioFile(options.world);
   if (options.id_confusion_rate >= 0.0) {
     scenario.sensors.ids.confusion_rate = options.id_confusion_rate;
   }

@@ -2,18 +2,18 @@
 
 #include <cstdio>
 
+#include <algorithm>
 #include "commands.h"
+#include "parkslam/camera/camera_model.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/common/seed_mix.h"
-#include "parkslam/sim/simulator.h"
-#include "progress.h"
-#include "parkslam/camera/camera_model.h"
 #include "parkslam/io/image_folder.h"
 #include "parkslam/io/rig_yaml.h"
 #include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
-#include <algorithm>
+#include "parkslam/sim/simulator.h"
+#include "progress.h"
 
 namespace parkslam::app {
 
@@ -56,8 +56,8 @@ nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& m) {
   // NaN (path shorter than 100 m) becomes null.
   j["drift_per_100m_m"] = std::isfinite(m.drift_per_100m_m) ? nlohmann::json(m.drift_per_100m_m)
                                                             : nlohmann::json(nullptr);
-  j["drift_percent"] = std::isfinite(m.drift_percent) ? nlohmann::json(m.drift_percent)
-                                                      : nlohmann::json(nullptr);
+  j["drift_percent"] =
+      std::isfinite(m.drift_percent) ? nlohmann::json(m.drift_percent) : nlohmann::json(nullptr);
   return j;
 }
 
@@ -90,8 +90,8 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
         log_, recorded_images_dir, rig,
         std::vector<std::string>{"front", "rear", "left", "right", "front_mono"});
     live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(rig, perception);
-    live_->perception =
-        std::make_unique<pipeline::PerceptionSource>(with_faults(*live_->source), *live_->front_end);
+    live_->perception = std::make_unique<pipeline::PerceptionSource>(with_faults(*live_->source),
+                                                                     *live_->front_end);
     return;
   }
   if (rate_hz <= 0.0) {
@@ -111,7 +111,8 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
       std::vector<std::string>{"front", "rear", "left", "right", "front_mono"}, rate_hz);
   // On pixels: the frames replace the dataset's observation-level slots
   // and tags.
-  live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(camera::DefaultRig(), perception);
+  live_->front_end =
+      std::make_unique<pipeline::PerceptionFrontEnd>(camera::DefaultRig(), perception);
   live_->perception =
       std::make_unique<pipeline::PerceptionSource>(with_faults(*live_->source), *live_->front_end);
 }
@@ -142,10 +143,12 @@ std::string DatasetStream::DescribeFaults() const {
     const perception::CameraHealthMonitor& health = live_->perception->camera_health();
     std::string cameras;
     for (const auto& [name, n] : health.black_images()) {
-      cameras += (cameras.empty() ? "" : ", ") + name + " black in " + std::to_string(n) + " frames";
+      cameras +=
+          (cameras.empty() ? "" : ", ") + name + " black in " + std::to_string(n) + " frames";
     }
     for (const auto& [name, n] : health.frozen_images()) {
-      cameras += (cameras.empty() ? "" : ", ") + name + " frozen in " + std::to_string(n) + " frames";
+      cameras +=
+          (cameras.empty() ? "" : ", ") + name + " frozen in " + std::to_string(n) + " frames";
     }
     if (!cameras.empty()) {
       out += std::string(out.empty() ? "" : "\n") + "cameras left out: " + cameras;
@@ -204,8 +207,7 @@ DriveSpan SpanOf(const SensorLog& log) {
 }
 
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
-                         std::optional<SE2> initial_pose, bool progress,
-                         double live_image_rate_hz,
+                         std::optional<SE2> initial_pose, bool progress, double live_image_rate_hz,
                          const std::filesystem::path& recorded_images_dir,
                          const pipeline::PerceptionOptions& perception,
                          const std::vector<pipeline::SensorFault>& faults,
@@ -248,9 +250,9 @@ std::string DescribeMapping(const mapping::Mapper& mapper, double total_s) {
                 "%d keyframes, %d slot observations (%d with several candidates), %d tag "
                 "observations; %d slots created, %d merged, %zu in the map, %zu tags; "
                 "keyframe update median %.2f ms, max %.2f ms; final %.2f s; total %.2f s",
-                st.keyframes, st.slot_observations, st.mixture_observations,
-                st.tag_observations, st.slots_created, st.slots_merged, map.slots.size(),
-                map.tags.size(), median, worst, st.final_solve_ms / 1000.0, total_s);
+                st.keyframes, st.slot_observations, st.mixture_observations, st.tag_observations,
+                st.slots_created, st.slots_merged, map.slots.size(), map.tags.size(), median, worst,
+                st.final_solve_ms / 1000.0, total_s);
   return text;
 }
 
@@ -310,18 +312,18 @@ std::string DescribeDataset(const io::Dataset& d) {
                 "%s: %.1f s, %.1f m driven; %zu wheel, %zu steering, %zu IMU samples; "
                 "%zu slot frames (%zu slots), %zu tag frames (%zu tags)",
                 d.name.c_str(), duration_s, PathLength(d.groundtruth_trajectory),
-                d.log.wheel_speeds.size(), d.log.steering_angles.size(),
-                d.log.imu_samples.size(), d.log.slot_frames.size(), slot_observations,
-                d.log.tag_frames.size(), tag_observations);
+                d.log.wheel_speeds.size(), d.log.steering_angles.size(), d.log.imu_samples.size(),
+                d.log.slot_frames.size(), slot_observations, d.log.tag_frames.size(),
+                tag_observations);
   return text;
 }
 
 io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEstimate>& estimates,
                                  const SE2& T_world_map, const Trajectory& truth) {
   io::NumericTable log;
-  log.columns = {"t_s",      "x_m",         "y_m",      "yaw_rad",   "state",     "slots_used",
-                 "tags_used", "rejected",    "relocalized", "cov_xx", "cov_xy",    "cov_xyaw",
-                 "cov_yy",   "cov_yyaw",    "cov_yawyaw", "true_x_m", "true_y_m", "true_yaw_rad"};
+  log.columns = {"t_s",       "x_m",      "y_m",         "yaw_rad",  "state",    "slots_used",
+                 "tags_used", "rejected", "relocalized", "cov_xx",   "cov_xy",   "cov_xyaw",
+                 "cov_yy",    "cov_yyaw", "cov_yawyaw",  "true_x_m", "true_y_m", "true_yaw_rad"};
   const Eigen::Matrix2d R = T_world_map.rotation();
   for (size_t k = 0; k < estimates.size(); ++k) {
     const localization::LocalizationEstimate& e = estimates[k];
@@ -334,12 +336,11 @@ io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEst
     Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
     J.topLeftCorner<2, 2>() = R;
     const Eigen::Matrix3d P = J * e.covariance * J.transpose();
-    log.rows.push_back({ToSeconds(e.t_ns), T.x(), T.y(), T.yaw(),
-                        static_cast<double>(static_cast<int>(e.state)),
-                        static_cast<double>(e.slots_used), static_cast<double>(e.tags_used),
-                        static_cast<double>(e.rejected), e.relocalized ? 1.0 : 0.0, P(0, 0),
-                        P(0, 1), P(0, 2), P(1, 1), P(1, 2), P(2, 2), true_pose->x(),
-                        true_pose->y(), true_pose->yaw()});
+    log.rows.push_back(
+        {ToSeconds(e.t_ns), T.x(), T.y(), T.yaw(), static_cast<double>(static_cast<int>(e.state)),
+         static_cast<double>(e.slots_used), static_cast<double>(e.tags_used),
+         static_cast<double>(e.rejected), e.relocalized ? 1.0 : 0.0, P(0, 0), P(0, 1), P(0, 2),
+         P(1, 1), P(1, 2), P(2, 2), true_pose->x(), true_pose->y(), true_pose->yaw()});
   }
   return log;
 }

@@ -6,8 +6,8 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "parkslam/eval/map_metrics.h"
@@ -16,10 +16,10 @@
 #include "parkslam/io/numeric_csv.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper.h"
-#include "parkslam/pipeline/perception_front_end.h"
-#include "parkslam/pipeline/trace_following.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/pipeline/fault_injection.h"
+#include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/pipeline/trace_following.h"
 
 namespace parkslam::app {
 

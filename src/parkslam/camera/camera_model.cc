@@ -38,7 +38,8 @@ CameraModel::CameraModel(const CameraIntrinsics& intrinsics) : intrinsics_(intri
   }
 }
 
-std::optional<Eigen::Vector2d> CameraModel::Project(const Eigen::Vector3d& p, bool require_inside) const {
+std::optional<Eigen::Vector2d> CameraModel::Project(const Eigen::Vector3d& p,
+                                                    bool require_inside) const {
   const CameraIntrinsics& in = intrinsics_;
   Eigen::Vector2d normalized;
   if (in.kind == CameraKind::kFisheye) {

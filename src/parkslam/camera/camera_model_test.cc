@@ -89,7 +89,8 @@ TEST(CameraModelTest, FrontMonoLooksForwardLevel) {
   const CameraConfig* mono = rig.Find("front_mono");
   ASSERT_NE(mono, nullptr);
   // A point 10 m straight ahead at the camera's height lands on the centre.
-  const Eigen::Vector3d p_camera = mono->T_vehicle_camera.inverse() * Eigen::Vector3d(11.8, 0.3, 1.3);
+  const Eigen::Vector3d p_camera =
+      mono->T_vehicle_camera.inverse() * Eigen::Vector3d(11.8, 0.3, 1.3);
   const auto pixel = CameraModel(mono->intrinsics).Project(p_camera);
   ASSERT_TRUE(pixel.has_value());
   EXPECT_NEAR(pixel->x(), 639.5, 1e-9);

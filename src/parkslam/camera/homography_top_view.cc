@@ -13,20 +13,28 @@ namespace {
 // pixel (x, y): each side's projected image is turned to face outwards.
 Eigen::Vector2d ProjectedPixel(Side side, const BirdEyeLayout& l, double x, double y) {
   switch (side) {
-    case Side::kFront: return {x, y};
-    case Side::kBack: return {l.width - 1 - x, l.yt - 1 - (y - l.yb)};
-    case Side::kLeft: return {l.height - 1 - y, x};
-    case Side::kRight: return {y, l.xl - 1 - (x - l.xr)};
+    case Side::kFront:
+      return {x, y};
+    case Side::kBack:
+      return {l.width - 1 - x, l.yt - 1 - (y - l.yb)};
+    case Side::kLeft:
+      return {l.height - 1 - y, x};
+    case Side::kRight:
+      return {y, l.xl - 1 - (x - l.xr)};
   }
   return {x, y};
 }
 
 bool InSide(Side side, const BirdEyeLayout& l, int x, int y) {
   switch (side) {
-    case Side::kFront: return y < l.yt;
-    case Side::kBack: return y >= l.yb;
-    case Side::kLeft: return x < l.xl;
-    case Side::kRight: return x >= l.xr;
+    case Side::kFront:
+      return y < l.yt;
+    case Side::kBack:
+      return y >= l.yb;
+    case Side::kLeft:
+      return x < l.xl;
+    case Side::kRight:
+      return x >= l.xr;
   }
   return false;
 }
@@ -35,10 +43,14 @@ bool InSide(Side side, const BirdEyeLayout& l, int x, int y) {
 
 const char* ToString(Side side) {
   switch (side) {
-    case Side::kFront: return "front";
-    case Side::kBack: return "back";
-    case Side::kLeft: return "left";
-    case Side::kRight: return "right";
+    case Side::kFront:
+      return "front";
+    case Side::kBack:
+      return "back";
+    case Side::kLeft:
+      return "left";
+    case Side::kRight:
+      return "right";
   }
   return "front";
 }
@@ -50,8 +62,10 @@ HomographyTopView::HomographyTopView(const HomographyRig& rig) : rig_(rig) {
     const CameraModel model(cam.intrinsics);
     // The new camera matrix of the undistortion: focal lengths scaled,
     // principal point shifted.
-    const double fx = cam.intrinsics.fx * cam.scale_xy.x(), fy = cam.intrinsics.fy * cam.scale_xy.y();
-    const double cx = cam.intrinsics.cx + cam.shift_xy.x(), cy = cam.intrinsics.cy + cam.shift_xy.y();
+    const double fx = cam.intrinsics.fx * cam.scale_xy.x(),
+                 fy = cam.intrinsics.fy * cam.scale_xy.y();
+    const double cx = cam.intrinsics.cx + cam.shift_xy.x(),
+                 cy = cam.intrinsics.cy + cam.shift_xy.y();
     const Eigen::Matrix3d H_inv = cam.project_matrix.inverse();
     cv::Mat map(l.height, l.width, CV_32FC2, cv::Scalar(-1, -1));
     weight_[c] = cv::Mat(l.height, l.width, CV_32F, cv::Scalar(0));
@@ -66,7 +80,8 @@ HomographyTopView::HomographyTopView(const HomographyRig& rig) : rig_(rig) {
         const Eigen::Vector3d ray((u.x() / u.z() - cx) / fx, (u.y() / u.z() - cy) / fy, 1.0);
         const auto src = model.Project(ray);
         if (!src) continue;
-        map.at<cv::Point2f>(y, x) = cv::Point2f(static_cast<float>(src->x()), static_cast<float>(src->y()));
+        map.at<cv::Point2f>(y, x) =
+            cv::Point2f(static_cast<float>(src->x()), static_cast<float>(src->y()));
         weight_[c].at<float>(y, x) = 1.0f;
       }
     }

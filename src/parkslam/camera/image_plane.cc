@@ -6,7 +6,8 @@
 namespace parkslam::camera {
 
 ImagePlane ToImagePlane(const cv::Mat& grey) {
-  if (grey.type() != CV_8UC1) throw std::invalid_argument("image plane: expected an 8-bit grey image");
+  if (grey.type() != CV_8UC1)
+    throw std::invalid_argument("image plane: expected an 8-bit grey image");
   auto pixels = std::make_shared<std::vector<std::uint8_t>>(grey.total());
   for (int r = 0; r < grey.rows; ++r) {
     std::copy(grey.ptr<std::uint8_t>(r), grey.ptr<std::uint8_t>(r) + grey.cols,

@@ -43,7 +43,8 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
   std::string error;
   if (!options_.IsValid(&error)) throw std::invalid_argument("top view: " + error);
   if (names_.empty()) throw std::invalid_argument("top view: no camera given");
-  if (!options_.camera_priority_rad.empty() && options_.camera_priority_rad.size() != names_.size()) {
+  if (!options_.camera_priority_rad.empty() &&
+      options_.camera_priority_rad.size() != names_.size()) {
     throw std::invalid_argument("top view: camera_priority_rad needs one value per camera");
   }
   std::vector<const CameraConfig*> cameras;
@@ -61,7 +62,8 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
   }
 
   const int n = options_.size_px;
-  cv::Mat primary(n, n, CV_32FC2, cv::Scalar(-1, -1)), secondary(n, n, CV_32FC2, cv::Scalar(-1, -1));
+  cv::Mat primary(n, n, CV_32FC2, cv::Scalar(-1, -1)),
+      secondary(n, n, CV_32FC2, cv::Scalar(-1, -1));
   primary_weight_ = cv::Mat(n, n, CV_16U, cv::Scalar(0));
   valid_ = cv::Mat(n, n, CV_8U, cv::Scalar(0));
   primary_camera_ = cv::Mat(n, n, CV_8S, cv::Scalar(-1));
@@ -85,7 +87,8 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
         const auto pixel = models[c].Project(p_camera);
         if (!pixel) continue;
         const double angle = std::acos(std::clamp(p_camera.normalized().z(), -1.0, 1.0));
-        const double w = -angle + (options_.camera_priority_rad.empty() ? 0.0 : options_.camera_priority_rad[c]);
+        const double w =
+            -angle + (options_.camera_priority_rad.empty() ? 0.0 : options_.camera_priority_rad[c]);
         const cv::Point2f stacked(static_cast<float>(pixel->x()),
                                   static_cast<float>(pixel->y() + offsets[c]));
         if (!has_best || w > best_w) {
@@ -205,9 +208,9 @@ CameraRig PerturbExtrinsics(const CameraRig& rig, double rotation_sigma_rad,
          Eigen::AngleAxisd(rng.Gaussian(rotation_sigma_rad), Eigen::Vector3d::UnitX()))
             .toRotationMatrix();
     c.T_vehicle_camera.linear() = R * c.T_vehicle_camera.linear();
-    c.T_vehicle_camera.translation() += Eigen::Vector3d(rng.Gaussian(translation_sigma_m),
-                                                        rng.Gaussian(translation_sigma_m),
-                                                        rng.Gaussian(translation_sigma_m));
+    c.T_vehicle_camera.translation() +=
+        Eigen::Vector3d(rng.Gaussian(translation_sigma_m), rng.Gaussian(translation_sigma_m),
+                        rng.Gaussian(translation_sigma_m));
   }
   return out;
 }

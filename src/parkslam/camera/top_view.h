@@ -76,9 +76,9 @@ class TopViewFusion {
   // Maps into the stacked input (cameras one below the other): the best
   // camera, the second best; fixed point as cv::convertMaps makes them.
   cv::Mat primary_xy_, primary_frac_, secondary_xy_, secondary_frac_;
-  cv::Mat primary_weight_;  // CV_16U, 256: the best camera alone
-  cv::Mat valid_;           // CV_8U, 0 where no camera sees the ground (or the car)
-  cv::Mat primary_camera_;  // CV_8S, the best camera's index, -1 where none
+  cv::Mat primary_weight_;    // CV_16U, 256: the best camera alone
+  cv::Mat valid_;             // CV_8U, 0 where no camera sees the ground (or the car)
+  cv::Mat primary_camera_;    // CV_8S, the best camera's index, -1 where none
   cv::Mat secondary_camera_;  // CV_8S, the blended second camera, -1 where none
 };
 

@@ -64,7 +64,8 @@ TEST(TopViewTest, GroundPointsLandAtTheirPredictedPixels) {
   for (double x = -3.5; x <= 6.5; x += 1.0) {
     for (double y = -4.5; y <= 4.5; y += 1.0) {
       const Eigen::Vector2d expected = fusion.VehicleToPixel({x, y});
-      if (expected.x() < 10 || expected.y() < 10 || expected.x() > 589 || expected.y() > 589) continue;
+      if (expected.x() < 10 || expected.y() < 10 || expected.x() > 589 || expected.y() > 589)
+        continue;
       // The blob nearest the expected pixel.
       double best = 1e9;
       for (int i = 1; i < n; ++i) {

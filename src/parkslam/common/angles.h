@@ -20,9 +20,7 @@ inline double NormalizeAngle(double angle_rad) {
 }
 
 // The signed difference a - b wrapped into (-pi, pi].
-inline double AngleDiff(double a_rad, double b_rad) {
-  return NormalizeAngle(a_rad - b_rad);
-}
+inline double AngleDiff(double a_rad, double b_rad) { return NormalizeAngle(a_rad - b_rad); }
 
 }  // namespace parkslam
 

@@ -18,10 +18,8 @@ class Random {
   // A new independent stream, derived from this one's seed and a tag, so that
   // adding draws to one sensor does not shift the noise of another.
   static Random Derive(std::uint64_t seed, std::uint64_t tag) {
-    std::seed_seq seq{static_cast<std::uint32_t>(seed),
-                      static_cast<std::uint32_t>(seed >> 32),
-                      static_cast<std::uint32_t>(tag),
-                      static_cast<std::uint32_t>(tag >> 32)};
+    std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                      static_cast<std::uint32_t>(tag), static_cast<std::uint32_t>(tag >> 32)};
     std::uint64_t derived = 0;
     std::uint32_t words[2];
     seq.generate(words, words + 2);
@@ -30,15 +28,12 @@ class Random {
   }
 
   // Uniform in [0, 1).
-  double Uniform() {
-    return static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-  }
+  double Uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
   double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
 
   // Uniform integer in [0, n).
   std::uint64_t Index(std::uint64_t n) {
-    return static_cast<std::uint64_t>(Uniform() * static_cast<double>(n)) %
-           (n == 0 ? 1 : n);
+    return static_cast<std::uint64_t>(Uniform() * static_cast<double>(n)) % (n == 0 ? 1 : n);
   }
 
   bool Bernoulli(double p) { return Uniform() < p; }

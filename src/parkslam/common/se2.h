@@ -37,8 +37,7 @@ class SE2 {
   }
 
   SE2 operator*(const SE2& other) const {
-    return SE2(translation_ + rotation() * other.translation_,
-               yaw_rad_ + other.yaw_rad_);
+    return SE2(translation_ + rotation() * other.translation_, yaw_rad_ + other.yaw_rad_);
   }
 
   Eigen::Vector2d operator*(const Eigen::Vector2d& p) const {

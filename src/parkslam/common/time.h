@@ -11,13 +11,9 @@ using TimeNs = std::int64_t;
 
 inline constexpr TimeNs kNanosecondsPerSecond = 1'000'000'000;
 
-inline constexpr double ToSeconds(TimeNs t_ns) {
-  return static_cast<double>(t_ns) * 1e-9;
-}
+inline constexpr double ToSeconds(TimeNs t_ns) { return static_cast<double>(t_ns) * 1e-9; }
 
-inline TimeNs FromSeconds(double t_s) {
-  return static_cast<TimeNs>(std::llround(t_s * 1e9));
-}
+inline TimeNs FromSeconds(double t_s) { return static_cast<TimeNs>(std::llround(t_s * 1e9)); }
 
 }  // namespace parkslam
 

@@ -5,19 +5,18 @@
 namespace parkslam {
 
 std::optional<SE2> PoseAt(const Trajectory& trajectory, TimeNs t_ns) {
-  if (trajectory.empty() || t_ns < trajectory.front().t_ns ||
-      t_ns > trajectory.back().t_ns) {
+  if (trajectory.empty() || t_ns < trajectory.front().t_ns || t_ns > trajectory.back().t_ns) {
     return std::nullopt;
   }
-  const auto after = std::lower_bound(
-      trajectory.begin(), trajectory.end(), t_ns,
-      [](const TimedPose& pose, TimeNs t) { return pose.t_ns < t; });
+  const auto after =
+      std::lower_bound(trajectory.begin(), trajectory.end(), t_ns,
+                       [](const TimedPose& pose, TimeNs t) { return pose.t_ns < t; });
   if (after->t_ns == t_ns || after == trajectory.begin()) {
     return after->T_map_vehicle;
   }
   const auto before = after - 1;
-  const double fraction = static_cast<double>(t_ns - before->t_ns) /
-                          static_cast<double>(after->t_ns - before->t_ns);
+  const double fraction =
+      static_cast<double>(t_ns - before->t_ns) / static_cast<double>(after->t_ns - before->t_ns);
   return Interpolate(before->T_map_vehicle, after->T_map_vehicle, fraction);
 }
 
@@ -31,9 +30,9 @@ Trajectory Transformed(const SE2& T_b_a, const Trajectory& trajectory_a) {
 double PathLength(const Trajectory& trajectory) {
   double length_m = 0.0;
   for (size_t i = 1; i < trajectory.size(); ++i) {
-    length_m += (trajectory[i].T_map_vehicle.translation() -
-                 trajectory[i - 1].T_map_vehicle.translation())
-                    .norm();
+    length_m +=
+        (trajectory[i].T_map_vehicle.translation() - trajectory[i - 1].T_map_vehicle.translation())
+            .norm();
   }
   return length_m;
 }

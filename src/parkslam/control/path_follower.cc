@@ -27,8 +27,7 @@ bool PathFollowerOptions::IsValid(std::string* error) const {
   if (!(stop_distance_m > 0.0)) return fail("path_follower.stop_distance_m must be > 0");
   if (!(stop_speed_mps > 0.0)) return fail("path_follower.stop_speed_mps must be > 0");
   if (!(search_window_m > 0.0)) return fail("path_follower.search_window_m must be > 0");
-  if (!(curvature_horizon_m >= 0.0))
-    return fail("path_follower.curvature_horizon_m must be >= 0");
+  if (!(curvature_horizon_m >= 0.0)) return fail("path_follower.curvature_horizon_m must be >= 0");
   if (!(curvature_lookbehind_m >= 0.0))
     return fail("path_follower.curvature_lookbehind_m must be >= 0");
   return true;
@@ -74,14 +73,12 @@ double PathFollower::SpeedLimit(double remaining_m) const {
   // Lateral acceleration v^2 * kappa <= a_lat over the road ahead.
   double max_curvature = 0.0;
   const double end_m = std::min(s_m_ + options_.curvature_horizon_m, trace_.length_m());
-  for (double s = std::max(0.0, s_m_ - options_.curvature_lookbehind_m);;
-       s += kCurvatureSampleM) {
+  for (double s = std::max(0.0, s_m_ - options_.curvature_lookbehind_m);; s += kCurvatureSampleM) {
     max_curvature = std::max(max_curvature, std::abs(trace_.CurvatureAt(std::min(s, end_m))));
     if (s >= end_m) break;
   }
-  double limit = max_curvature > 0.0
-                     ? std::sqrt(options_.max_lateral_accel_mps2 / max_curvature)
-                     : std::numeric_limits<double>::infinity();
+  double limit = max_curvature > 0.0 ? std::sqrt(options_.max_lateral_accel_mps2 / max_curvature)
+                                     : std::numeric_limits<double>::infinity();
   // Able to stop at the end: v <= sqrt(2 a_dec d).
   limit = std::min(limit, std::sqrt(2.0 * options_.max_decel_mps2 * std::max(0.0, remaining_m)));
   return limit;
@@ -117,8 +114,7 @@ PathFollower::Command PathFollower::Update(const SE2& T_map_vehicle, double curr
   // Speed: cruise within the limits, then the acceleration limits.
   finished_ = finished_ || (remaining_m < options_.stop_distance_m &&
                             std::abs(current_speed_mps) < options_.stop_speed_mps);
-  const double wanted_mps =
-      finished_ ? 0.0 : std::min(cruise_speed_mps, SpeedLimit(remaining_m));
+  const double wanted_mps = finished_ ? 0.0 : std::min(cruise_speed_mps, SpeedLimit(remaining_m));
   speed_command_mps_ =
       std::clamp(wanted_mps, std::max(0.0, speed_command_mps_ - options_.max_decel_mps2 * dt_s),
                  speed_command_mps_ + options_.max_accel_mps2 * dt_s);

@@ -14,8 +14,8 @@
 namespace parkslam::control {
 namespace {
 
-constexpr double kDtS = 0.05;                  // 20 Hz control
-constexpr double kCruiseMps = 10.0 / 3.6;      // 10 km/h
+constexpr double kDtS = 0.05;              // 20 Hz control
+constexpr double kCruiseMps = 10.0 / 3.6;  // 10 km/h
 constexpr int kMaxSteps = 20000;
 
 // One closed-loop step: the follower sees the true pose (perfect
@@ -26,8 +26,7 @@ struct Step {
 };
 
 // Drives from `start` until the follower finishes (or kMaxSteps).
-std::vector<Step> Drive(const Trace& trace, const SE2& start,
-                        const VehicleParameters& vehicle = {},
+std::vector<Step> Drive(const Trace& trace, const SE2& start, const VehicleParameters& vehicle = {},
                         const PathFollowerOptions& options = {}) {
   PathFollower follower(trace, vehicle, options);
   sim::VehicleState state;
@@ -36,8 +35,7 @@ std::vector<Step> Drive(const Trace& trace, const SE2& start,
   for (int i = 0; i < kMaxSteps; ++i) {
     const PathFollower::Command command =
         follower.Update(state.T_map_vehicle, state.speed_mps, kDtS, kCruiseMps);
-    state = sim::StepBicycle(state, command.speed_mps, command.road_wheel_angle_rad, kDtS,
-                             vehicle);
+    state = sim::StepBicycle(state, command.speed_mps, command.road_wheel_angle_rad, kDtS, vehicle);
     steps.push_back({state, command});
     if (command.finished) break;
   }

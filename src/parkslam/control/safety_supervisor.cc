@@ -18,10 +18,12 @@ bool SafetyOptions::IsValid(std::string* error) const {
   if (!(max_estimate_age_s > 0 && std::isfinite(max_estimate_age_s))) {
     return fail("max_estimate_age_s must be positive");
   }
-  if (!(brake_decel_mps2 > 0 && brake_decel_mps2 <= 10 && go_accel_mps2 > 0 && go_accel_mps2 <= 10)) {
+  if (!(brake_decel_mps2 > 0 && brake_decel_mps2 <= 10 && go_accel_mps2 > 0 &&
+        go_accel_mps2 <= 10)) {
     return fail("brake_decel_mps2 and go_accel_mps2 must be in (0, 10]");
   }
-  if (!(resume_after_s >= 0 && std::isfinite(resume_after_s))) return fail("resume_after_s must not be negative");
+  if (!(resume_after_s >= 0 && std::isfinite(resume_after_s)))
+    return fail("resume_after_s must not be negative");
   if (max_rejecting_frames < 1) return fail("max_rejecting_frames must be at least 1");
   return true;
 }
@@ -31,9 +33,12 @@ SafetySupervisor::SafetySupervisor(const SafetyOptions& options) : options_(opti
   if (!options.IsValid(&error)) throw std::invalid_argument("SafetyOptions: " + error);
 }
 
-void SafetySupervisor::OnEstimate(TimeNs t_ns, bool tracking, const Eigen::Matrix2d& position_covariance,
-                                  int used, int rejected) {
-  rejecting_frames_ = used == 0 && rejected > 0 ? rejecting_frames_ + 1 : used > 0 ? 0 : rejecting_frames_;
+void SafetySupervisor::OnEstimate(TimeNs t_ns, bool tracking,
+                                  const Eigen::Matrix2d& position_covariance, int used,
+                                  int rejected) {
+  rejecting_frames_ = used == 0 && rejected > 0 ? rejecting_frames_ + 1
+                      : used > 0                ? 0
+                                                : rejecting_frames_;
   // Held still after a stop, the car sees the same landmarks again and
   // again: their rejection is no new sign of a move, and counting it would
   // keep the car standing for ever where the only landmark in view
@@ -43,9 +48,10 @@ void SafetySupervisor::OnEstimate(TimeNs t_ns, bool tracking, const Eigen::Matri
   last_estimate_ns_ = t_ns;
   last_tracking_ = tracking;
   const Eigen::Matrix2d symmetric = 0.5 * (position_covariance + position_covariance.transpose());
-  const double largest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(symmetric, Eigen::EigenvaluesOnly)
-                             .eigenvalues()
-                             .maxCoeff();
+  const double largest =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(symmetric, Eigen::EigenvaluesOnly)
+          .eigenvalues()
+          .maxCoeff();
   last_sigma_m_ = std::isfinite(largest) ? std::sqrt(std::max(0.0, largest)) : INFINITY;
 }
 
@@ -72,7 +78,8 @@ double SafetySupervisor::AllowedSpeed(TimeNs t_ns, double dt_s, double cruise_mp
   } else {
     if (healthy_since_ns_ < 0) healthy_since_ns_ = t_ns;
     // At the very start the car has never moved: no waiting.
-    const bool settled = interventions_ == 0 || ToSeconds(t_ns - healthy_since_ns_) >= options_.resume_after_s;
+    const bool settled =
+        interventions_ == 0 || ToSeconds(t_ns - healthy_since_ns_) >= options_.resume_after_s;
     if (settled) allowed_mps_ = std::min(cruise_mps, allowed_mps_ + options_.go_accel_mps2 * dt_s);
   }
   was_healthy_ = healthy;

@@ -34,7 +34,7 @@ namespace parkslam::control {
 struct SafetyOptions {
   double max_position_sigma_m = 0.5;
   double max_estimate_age_s = 0.6;
-  double brake_decel_mps2 = 2.5;   // about a quarter of g: firm, not an emergency stop
+  double brake_decel_mps2 = 2.5;  // about a quarter of g: firm, not an emergency stop
   double go_accel_mps2 = 1.0;
   double resume_after_s = 1.0;
   int max_rejecting_frames = 3;
@@ -50,8 +50,8 @@ class SafetySupervisor {
   // One localization estimate at t_ns: whether it tracks, its position
   // covariance (x, y) in m^2, and how many observations of the frame it
   // used and rejected.
-  void OnEstimate(TimeNs t_ns, bool tracking, const Eigen::Matrix2d& position_covariance, int used = 1,
-                  int rejected = 0);
+  void OnEstimate(TimeNs t_ns, bool tracking, const Eigen::Matrix2d& position_covariance,
+                  int used = 1, int rejected = 0);
 
   // The speed the car may drive at t_ns, after a control step of dt_s,
   // for a wished cruise speed (m/s).

@@ -12,7 +12,8 @@ const Eigen::Matrix2d kSmall = Eigen::Matrix2d::Identity() * 0.01;  // 0.1 m sig
 // Drives the supervisor at 100 Hz from t0 to t1 (s) with an estimate every
 // 0.2 s as `estimate(t)` says; returns the last allowed speed.
 template <typename Estimate>
-double Drive(SafetySupervisor* supervisor, double t0, double t1, double cruise, Estimate estimate, double* stopped_at = nullptr) {
+double Drive(SafetySupervisor* supervisor, double t0, double t1, double cruise, Estimate estimate,
+             double* stopped_at = nullptr) {
   double v = 0.0;
   for (int k = static_cast<int>(t0 * 100); k < static_cast<int>(t1 * 100); ++k) {
     const double t = k / 100.0;
@@ -34,10 +35,13 @@ TEST(SafetySupervisorTest, CruisesWhileLocalizationIsHealthy) {
 
 TEST(SafetySupervisorTest, BrakesToAStopWhenLostAndGoesOnWhenBack) {
   SafetySupervisor s;
-  Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&s, 0.0, 10.0, 2.78,
+        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
   double stopped_at = -1.0;
   // Lost from t = 10 s: 2.78 m/s at 2.5 m/s^2 stops in 1.11 s.
-  Drive(&s, 10.0, 20.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), false, kSmall); },
+  Drive(
+      &s, 10.0, 20.0, 2.78,
+      [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), false, kSmall); },
       &stopped_at);
   EXPECT_NEAR(stopped_at, 10.0 + 2.78 / 2.5, 0.02);
   EXPECT_EQ(s.interventions(), 1);
@@ -54,43 +58,56 @@ TEST(SafetySupervisorTest, BrakesToAStopWhenLostAndGoesOnWhenBack) {
 
 TEST(SafetySupervisorTest, StopsWhenEstimatesStopComingOrGrowUncertain) {
   SafetySupervisor blackout;
-  Drive(&blackout, 0.0, 5.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&blackout, 0.0, 5.0, 2.78,
+        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
   double stopped_at = -1.0;
-  Drive(&blackout, 5.0, 10.0, 2.78, [](SafetySupervisor*, double) {}, &stopped_at);
+  Drive(
+      &blackout, 5.0, 10.0, 2.78, [](SafetySupervisor*, double) {}, &stopped_at);
   // The last estimate at 4.8 s is too old from 5.4 s on; then 1.11 s of braking.
   EXPECT_NEAR(stopped_at, 4.8 + 0.6 + 2.78 / 2.5, 0.03);
 
   SafetySupervisor uncertain;
-  Drive(&uncertain, 0.0, 5.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
-  EXPECT_GT(Drive(&uncertain, 5.0, 6.0, 2.78, [](SafetySupervisor* e, double t) {
-              e->OnEstimate(FromSeconds(t), true, Eigen::Matrix2d::Identity() * 0.2);  // 0.45 m
-            }), 2.7);
-  EXPECT_EQ(Drive(&uncertain, 6.0, 8.0, 2.78, [](SafetySupervisor* e, double t) {
-              e->OnEstimate(FromSeconds(t), true, Eigen::Matrix2d::Identity() * 0.3);  // 0.55 m
-            }), 0.0);
+  Drive(&uncertain, 0.0, 5.0, 2.78,
+        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  EXPECT_GT(Drive(&uncertain, 5.0, 6.0, 2.78,
+                  [](SafetySupervisor* e, double t) {
+                    e->OnEstimate(FromSeconds(t), true,
+                                  Eigen::Matrix2d::Identity() * 0.2);  // 0.45 m
+                  }),
+            2.7);
+  EXPECT_EQ(Drive(&uncertain, 6.0, 8.0, 2.78,
+                  [](SafetySupervisor* e, double t) {
+                    e->OnEstimate(FromSeconds(t), true,
+                                  Eigen::Matrix2d::Identity() * 0.3);  // 0.55 m
+                  }),
+            0.0);
 }
 
 TEST(SafetySupervisorTest, ABriefLossStillEndsInAFullStop) {
   SafetySupervisor s;
-  Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&s, 0.0, 10.0, 2.78,
+        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
   double stopped_at = -1.0;
   // One lost estimate at 10.0 s, tracking again from 10.2 s.
-  Drive(&s, 10.0, 14.0, 2.78, [](SafetySupervisor* e, double t) {
-    e->OnEstimate(FromSeconds(t), t > 10.1, kSmall);
-  }, &stopped_at);
+  Drive(
+      &s, 10.0, 14.0, 2.78,
+      [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), t > 10.1, kSmall); },
+      &stopped_at);
   EXPECT_NEAR(stopped_at, 10.0 + 2.78 / 2.5, 0.02);
   EXPECT_EQ(s.interventions(), 1);
 }
 
 TEST(SafetySupervisorTest, FramesThatRejectEverythingStopTheCar) {
   SafetySupervisor s;
-  Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&s, 0.0, 10.0, 2.78,
+        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
   double stopped_at = -1.0;
   // From 10 s every frame rejects its 4 observations; the third (10.4 s)
   // makes it unhealthy.
-  Drive(&s, 10.0, 14.0, 2.78, [](SafetySupervisor* e, double t) {
-    e->OnEstimate(FromSeconds(t), true, kSmall, 0, 4);
-  }, &stopped_at);
+  Drive(
+      &s, 10.0, 14.0, 2.78,
+      [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall, 0, 4); },
+      &stopped_at);
   EXPECT_NEAR(stopped_at, 10.4 + 2.78 / 2.5, 0.02);
   // Two such frames alone do not.
   SafetySupervisor two;
@@ -106,7 +123,8 @@ TEST(SafetySupervisorTest, FramesThatRejectEverythingStopTheCar) {
 // for ever although localization tracked with a small covariance.
 TEST(SafetySupervisorTest, RejectionsSeenWhileHeldStillDoNotKeepTheCarStanding) {
   SafetySupervisor s;
-  Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&s, 0.0, 10.0, 2.78,
+        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
   // From 10 s: nothing used; every other frame rejects one observation.
   int frame = 0;
   double fastest_after_stop = 0.0;

@@ -55,8 +55,8 @@ Trace::Trace(const std::vector<Eigen::Vector2d>& points_m) {
 
 size_t Trace::SegmentAt(double s_m) const {
   const auto after = std::upper_bound(arc_lengths_m_.begin(), arc_lengths_m_.end(), s_m);
-  const auto index = static_cast<size_t>(std::max<std::ptrdiff_t>(
-      0, std::distance(arc_lengths_m_.begin(), after) - 1));
+  const auto index = static_cast<size_t>(
+      std::max<std::ptrdiff_t>(0, std::distance(arc_lengths_m_.begin(), after) - 1));
   return std::min(index, points_m_.size() - 2);
 }
 
@@ -84,8 +84,7 @@ double Trace::CurvatureAt(double s_m) const {
   return AngleDiff(heading_ahead, heading_back) / half_m;
 }
 
-Trace::Projection Trace::Project(const Eigen::Vector2d& p, double s_hint_m,
-                                 double window_m) const {
+Trace::Projection Trace::Project(const Eigen::Vector2d& p, double s_hint_m, double window_m) const {
   const double window = std::max(0.0, window_m);
   const double lo_m = std::clamp(s_hint_m - window, 0.0, length_m());
   const double hi_m = std::clamp(s_hint_m + window, 0.0, length_m());
@@ -97,7 +96,8 @@ Trace::Projection Trace::Project(const Eigen::Vector2d& p, double s_hint_m,
   for (size_t i = best_i; i <= last; ++i) {
     const Eigen::Vector2d dir = Direction(i);
     const double t_lo = std::max(0.0, lo_m - arc_lengths_m_[i]);
-    const double t_hi = std::min(arc_lengths_m_[i + 1] - arc_lengths_m_[i], hi_m - arc_lengths_m_[i]);
+    const double t_hi =
+        std::min(arc_lengths_m_[i + 1] - arc_lengths_m_[i], hi_m - arc_lengths_m_[i]);
     const double t = std::clamp((p - points_m_[i]).dot(dir), t_lo, std::max(t_lo, t_hi));
     const double d2 = (p - (points_m_[i] + t * dir)).squaredNorm();
     if (d2 < best_d2) {

@@ -36,10 +36,8 @@ TEST(TraceTest, BuildsFromTrajectoryDroppingClosePoints) {
 }
 
 TEST(TraceTest, RejectsTooFewPointsOrTooShort) {
-  EXPECT_THROW(Trace(std::vector<Eigen::Vector2d>{{0.0, 0.0}, {0.01, 0.0}}),
-               std::invalid_argument);
-  EXPECT_THROW(Trace(std::vector<Eigen::Vector2d>{{0.0, 0.0}, {0.99, 0.0}}),
-               std::invalid_argument);
+  EXPECT_THROW(Trace(std::vector<Eigen::Vector2d>{{0.0, 0.0}, {0.01, 0.0}}), std::invalid_argument);
+  EXPECT_THROW(Trace(std::vector<Eigen::Vector2d>{{0.0, 0.0}, {0.99, 0.0}}), std::invalid_argument);
   EXPECT_NO_THROW(Trace(std::vector<Eigen::Vector2d>{{0.0, 0.0}, {1.01, 0.0}}));
   EXPECT_THROW(Trace(Trajectory{}), std::invalid_argument);
 }

@@ -18,9 +18,8 @@ Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& points) {
 SE2 AlignPointSets(const std::vector<Eigen::Vector2d>& source,
                    const std::vector<Eigen::Vector2d>& target) {
   if (source.size() != target.size()) {
-    throw std::invalid_argument(
-        "AlignPointSets: source has " + std::to_string(source.size()) +
-        " points but target has " + std::to_string(target.size()));
+    throw std::invalid_argument("AlignPointSets: source has " + std::to_string(source.size()) +
+                                " points but target has " + std::to_string(target.size()));
   }
   if (source.size() < 2) {
     throw std::invalid_argument("AlignPointSets: needs at least 2 points");

@@ -14,14 +14,12 @@ namespace {
 std::vector<Eigen::Vector2d> RandomPoints(Random* random, int count) {
   std::vector<Eigen::Vector2d> points;
   for (int i = 0; i < count; ++i) {
-    points.emplace_back(random->Uniform(-30.0, 30.0),
-                        random->Uniform(-20.0, 20.0));
+    points.emplace_back(random->Uniform(-30.0, 30.0), random->Uniform(-20.0, 20.0));
   }
   return points;
 }
 
-std::vector<Eigen::Vector2d> Transform(const SE2& T,
-                                       const std::vector<Eigen::Vector2d>& points) {
+std::vector<Eigen::Vector2d> Transform(const SE2& T, const std::vector<Eigen::Vector2d>& points) {
   std::vector<Eigen::Vector2d> out;
   for (const Eigen::Vector2d& p : points) out.push_back(T * p);
   return out;

@@ -12,9 +12,7 @@ constexpr double kRelativeTolerance = 1e-15;
 constexpr int kMaxIterations = 100000;
 
 // log(x^a e^-x / Gamma(a)), the common prefactor of both expansions.
-double LogPrefactor(double a, double x) {
-  return a * std::log(x) - x - std::lgamma(a);
-}
+double LogPrefactor(double a, double x) { return a * std::log(x) - x - std::lgamma(a); }
 
 // P(a, x) by its power series, for x < a + 1 (Numerical Recipes 6.2.5 form):
 // P = x^a e^-x / Gamma(a + 1) * sum_n x^n / ((a + 1) ... (a + n)).
@@ -69,8 +67,7 @@ double RegularizedLowerGamma(double a, double x) {
 
 double ChiSquareQuantile(double p, int dof) {
   if (!(p > 0.0 && p < 1.0) || dof < 1) {
-    throw std::invalid_argument(
-        "ChiSquareQuantile: needs 0 < p < 1 and dof >= 1");
+    throw std::invalid_argument("ChiSquareQuantile: needs 0 < p < 1 and dof >= 1");
   }
   const double a = 0.5 * dof;
   auto cdf = [a](double x) { return RegularizedLowerGamma(a, 0.5 * x); };

@@ -9,20 +9,17 @@ namespace parkslam::eval {
 namespace {
 
 // True when value is within `fraction` of expected, relative.
-::testing::AssertionResult WithinRelative(double value, double expected,
-                                          double fraction) {
+::testing::AssertionResult WithinRelative(double value, double expected, double fraction) {
   if (std::abs(value - expected) <= fraction * std::abs(expected)) {
     return ::testing::AssertionSuccess();
   }
   return ::testing::AssertionFailure()
-         << value << " is not within " << 100.0 * fraction << "% of "
-         << expected;
+         << value << " is not within " << 100.0 * fraction << "% of " << expected;
 }
 
 TEST(NeesTest, DiagonalCovariance) {
   const Eigen::Vector3d error(0.2, -0.3, 0.05);
-  const Eigen::Matrix3d covariance =
-      Eigen::Vector3d(0.04, 0.09, 0.0025).asDiagonal();
+  const Eigen::Matrix3d covariance = Eigen::Vector3d(0.04, 0.09, 0.0025).asDiagonal();
   // 0.04/0.04 + 0.09/0.09 + 0.0025/0.0025
   EXPECT_NEAR(Nees(error, covariance), 3.0, 1e-12);
 }
@@ -47,8 +44,7 @@ TEST(RegularizedLowerGammaTest, MatchesClosedFormForAOne) {
 TEST(RegularizedLowerGammaTest, MatchesErfForAOneHalf) {
   // P(1/2, x) = erf(sqrt(x)).
   for (double x : {0.001, 0.3, 1.5, 4.0, 12.0}) {
-    EXPECT_NEAR(RegularizedLowerGamma(0.5, x), std::erf(std::sqrt(x)), 1e-13)
-        << x;
+    EXPECT_NEAR(RegularizedLowerGamma(0.5, x), std::erf(std::sqrt(x)), 1e-13) << x;
   }
 }
 
@@ -73,8 +69,7 @@ TEST(ChiSquareQuantileTest, OneDofTails) {
   // the (1 + p) / 2 normal quantile (z_0.9995 = 3.290527, z_0.5005 =
   // 0.00125331).
   EXPECT_TRUE(WithinRelative(ChiSquareQuantile(0.999, 1), 10.82757, 1e-5));
-  EXPECT_TRUE(
-      WithinRelative(ChiSquareQuantile(0.001, 1), 1.570796e-6, 1e-4));
+  EXPECT_TRUE(WithinRelative(ChiSquareQuantile(0.001, 1), 1.570796e-6, 1e-4));
 }
 
 TEST(ChiSquareQuantileTest, TenThousandDof) {

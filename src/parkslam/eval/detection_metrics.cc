@@ -28,12 +28,11 @@ void CheckOptions(const DetectionMatchOptions& options) {
 
 // The larger of the two end distances with the ends in the given order, and
 // swapped.
-std::pair<double, double> EndDistancesPx(const EntranceLine& detected,
-                                         const EntranceLine& truth) {
-  const double given = std::max((detected.a_px - truth.a_px).norm(),
-                                (detected.b_px - truth.b_px).norm());
-  const double swapped = std::max((detected.a_px - truth.b_px).norm(),
-                                  (detected.b_px - truth.a_px).norm());
+std::pair<double, double> EndDistancesPx(const EntranceLine& detected, const EntranceLine& truth) {
+  const double given =
+      std::max((detected.a_px - truth.a_px).norm(), (detected.b_px - truth.b_px).norm());
+  const double swapped =
+      std::max((detected.a_px - truth.b_px).norm(), (detected.b_px - truth.a_px).norm());
   return {given, swapped};
 }
 
@@ -60,15 +59,15 @@ DetectionMatch GreedyMatch(std::vector<DetectionPair> candidates, std::size_t de
   return match;
 }
 
-void CheckSizes(const DetectionMatch& match, std::size_t detected_size,
-                std::size_t truth_size, const char* what) {
+void CheckSizes(const DetectionMatch& match, std::size_t detected_size, std::size_t truth_size,
+                const char* what) {
   if (detected_size != match.truth_of_detected.size() ||
       truth_size != match.detected_of_truth.size()) {
-    throw std::invalid_argument(
-        std::string(what) + ": expected " + std::to_string(match.truth_of_detected.size()) +
-        " detected and " + std::to_string(match.detected_of_truth.size()) +
-        " true entries (as matched), got " + std::to_string(detected_size) + " and " +
-        std::to_string(truth_size));
+    throw std::invalid_argument(std::string(what) + ": expected " +
+                                std::to_string(match.truth_of_detected.size()) + " detected and " +
+                                std::to_string(match.detected_of_truth.size()) +
+                                " true entries (as matched), got " + std::to_string(detected_size) +
+                                " and " + std::to_string(truth_size));
   }
 }
 
@@ -98,8 +97,8 @@ std::vector<EntranceLine> EntranceLinesOf(const std::vector<LabelledMarkingPoint
                                   std::to_string(slot.a) + " or " + std::to_string(slot.b) +
                                   " out of range (" + std::to_string(count) + " points)");
     }
-    lines.push_back({points[static_cast<std::size_t>(slot.a)].px,
-                     points[static_cast<std::size_t>(slot.b)].px});
+    lines.push_back(
+        {points[static_cast<std::size_t>(slot.a)].px, points[static_cast<std::size_t>(slot.b)].px});
   }
   return lines;
 }
@@ -108,8 +107,7 @@ double DirectionDifferenceRad(double a_rad, double b_rad) {
   return std::abs(AngleDiff(a_rad, b_rad));
 }
 
-bool MarkingPointsMatch(const LabelledMarkingPoint& detected,
-                        const LabelledMarkingPoint& truth,
+bool MarkingPointsMatch(const LabelledMarkingPoint& detected, const LabelledMarkingPoint& truth,
                         const DetectionMatchOptions& options) {
   if (options.require_same_shape && detected.is_t != truth.is_t) return false;
   // NaN compares false, so non-finite input never matches.
@@ -135,8 +133,8 @@ DetectionMatch MatchMarkingPoints(const std::vector<LabelledMarkingPoint>& detec
   for (std::size_t d = 0; d < detected.size(); ++d) {
     for (std::size_t t = 0; t < truth.size(); ++t) {
       if (!MarkingPointsMatch(detected[d], truth[t], options)) continue;
-      candidates.push_back({static_cast<int>(d), static_cast<int>(t),
-                            (detected[d].px - truth[t].px).norm(), false});
+      candidates.push_back(
+          {static_cast<int>(d), static_cast<int>(t), (detected[d].px - truth[t].px).norm(), false});
     }
   }
   return GreedyMatch(std::move(candidates), detected.size(), truth.size());
@@ -152,8 +150,8 @@ DetectionMatch MatchSlots(const std::vector<EntranceLine>& detected,
       bool swapped = false;
       if (!EntranceLinesMatch(detected[d], truth[t], options, &swapped)) continue;
       const auto [given_px, swapped_px] = EndDistancesPx(detected[d], truth[t]);
-      candidates.push_back({static_cast<int>(d), static_cast<int>(t),
-                            swapped ? swapped_px : given_px, swapped});
+      candidates.push_back(
+          {static_cast<int>(d), static_cast<int>(t), swapped ? swapped_px : given_px, swapped});
     }
   }
   return GreedyMatch(std::move(candidates), detected.size(), truth.size());
@@ -197,12 +195,9 @@ void ErrorAccumulator::Add(const ErrorAccumulator& other) {
 
 double ErrorAccumulator::mean() const { return count == 0 ? 0.0 : sum / count; }
 
-double ErrorAccumulator::rms() const {
-  return count == 0 ? 0.0 : std::sqrt(sum_squares / count);
-}
+double ErrorAccumulator::rms() const { return count == 0 ? 0.0 : std::sqrt(sum_squares / count); }
 
-void AddSlotCornerErrors(const DetectionMatch& match,
-                         const std::vector<SlotCornersPx>& detected,
+void AddSlotCornerErrors(const DetectionMatch& match, const std::vector<SlotCornersPx>& detected,
                          const std::vector<SlotCornersPx>& truth, double pixels_per_m,
                          SlotCornerErrors* errors) {
   CheckSizes(match, detected.size(), truth.size(), "AddSlotCornerErrors");

@@ -93,20 +93,18 @@ double DirectionDifferenceRad(double a_rad, double b_rad);
 
 // The match rule for one pair (see the top of this file); false when any
 // coordinate or angle is not finite.
-bool MarkingPointsMatch(const LabelledMarkingPoint& detected,
-                        const LabelledMarkingPoint& truth,
+bool MarkingPointsMatch(const LabelledMarkingPoint& detected, const LabelledMarkingPoint& truth,
                         const DetectionMatchOptions& options = {});
 // True when the ends match in the given order or swapped; *swapped (may be
 // null) tells which. When both orders match (an entrance shorter than twice
 // the radius), the one with the smaller larger end distance wins, the given
 // order on a tie.
 bool EntranceLinesMatch(const EntranceLine& detected, const EntranceLine& truth,
-                        const DetectionMatchOptions& options = {},
-                        bool* swapped = nullptr);
+                        const DetectionMatchOptions& options = {}, bool* swapped = nullptr);
 
 struct DetectionPair {
-  int detected = 0;  // index into the detections
-  int truth = 0;     // index into the truth
+  int detected = 0;          // index into the detections
+  int truth = 0;             // index into the truth
   double distance_px = 0.0;  // for a slot, the larger of its two end distances
   // Slots only: the detection's entrance ends match the truth's swapped
   // (detected a ~ truth b), so its corners 0, 1, 2, 3 correspond to the
@@ -116,7 +114,7 @@ struct DetectionPair {
 
 // A one-to-one matching of detections to the truth.
 struct DetectionMatch {
-  std::vector<DetectionPair> pairs;   // in the order they were chosen
+  std::vector<DetectionPair> pairs;    // in the order they were chosen
   std::vector<int> truth_of_detected;  // per detection: matched truth index, -1 none
   std::vector<int> detected_of_truth;  // per truth item: matched detection, -1 none
 
@@ -178,8 +176,7 @@ struct SlotCornerErrors {
 // Throws std::invalid_argument when the corner lists do not have one entry
 // per detection and per truth slot of `match`, or when pixels_per_m is not
 // positive and finite.
-void AddSlotCornerErrors(const DetectionMatch& match,
-                         const std::vector<SlotCornersPx>& detected,
+void AddSlotCornerErrors(const DetectionMatch& match, const std::vector<SlotCornersPx>& detected,
                          const std::vector<SlotCornersPx>& truth, double pixels_per_m,
                          SlotCornerErrors* errors);
 

@@ -107,10 +107,10 @@ TEST(MatchMarkingPointsTest, CountsHitsMissesAndFalseAlarms) {
   const std::vector<LabelledMarkingPoint> truth = {Point(100, 100, 90), Point(250, 100, 90),
                                                    Point(400, 100, 90)};
   const std::vector<LabelledMarkingPoint> detected = {
-      Shifted(truth[2], 3, 5),     // hit
-      Shifted(truth[0], 12, 0),    // too far: false positive, truth[0] missed
-      Point(500, 500, 0),          // nothing there
-      Shifted(truth[1], -1, -10)}; // hit
+      Shifted(truth[2], 3, 5),      // hit
+      Shifted(truth[0], 12, 0),     // too far: false positive, truth[0] missed
+      Point(500, 500, 0),           // nothing there
+      Shifted(truth[1], -1, -10)};  // hit
   const DetectionMatch match = MatchMarkingPoints(detected, truth);
   EXPECT_EQ(match.true_positives(), 2);
   EXPECT_EQ(match.false_positives(), 2);
@@ -202,8 +202,7 @@ TEST(DetectionCountsTest, SumsOverImages) {
 }
 
 TEST(EntranceLinesOfTest, LooksUpTheMarkingPoints) {
-  const std::vector<LabelledMarkingPoint> points = {Point(1, 2, 0), Point(3, 4, 0),
-                                                    Point(5, 6, 0)};
+  const std::vector<LabelledMarkingPoint> points = {Point(1, 2, 0), Point(3, 4, 0), Point(5, 6, 0)};
   const std::vector<EntranceLine> lines = EntranceLinesOf(points, {{2, 0}, {0, 1}});
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_EQ(lines[0].a_px, Eigen::Vector2d(5, 6));
@@ -235,10 +234,10 @@ TEST(MatchSlotsTest, CountsAndDuplicates) {
   const std::vector<EntranceLine> truth = {Line(100, 100, 250, 100), Line(250, 100, 400, 100),
                                            Line(400, 100, 550, 100)};
   const std::vector<EntranceLine> detected = {
-      Line(402, 100, 253, 100),  // truth[1], swapped
-      Line(103, 100, 251, 100),  // truth[0]
-      Line(100, 100, 251, 100),  // truth[0] again, nearer: wins
-      Line(100, 100, 400, 100)}; // spans two slots: matches nothing
+      Line(402, 100, 253, 100),   // truth[1], swapped
+      Line(103, 100, 251, 100),   // truth[0]
+      Line(100, 100, 251, 100),   // truth[0] again, nearer: wins
+      Line(100, 100, 400, 100)};  // spans two slots: matches nothing
   const DetectionMatch match = MatchSlots(detected, truth);
   EXPECT_EQ(match.truth_of_detected, (std::vector<int>{1, -1, 0, -1}));
   EXPECT_EQ(match.detected_of_truth, (std::vector<int>{2, 0, -1}));
@@ -264,8 +263,8 @@ TEST(MatchSlotsTest, EmptyInputs) {
 TEST(SlotCornerErrorsTest, MetresOverMatchedSlots) {
   const std::vector<SlotCornersPx> truth = {Corners(100, 100), Corners(250, 100)};
   SlotCornersPx off = Corners(100, 100);
-  off[0].x() += 3.0;   // 0.05 m
-  off[2].y() += 12.0;  // 0.2 m
+  off[0].x() += 3.0;                                                     // 0.05 m
+  off[2].y() += 12.0;                                                    // 0.2 m
   const std::vector<SlotCornersPx> detected = {off, Corners(400, 400)};  // second: spurious
   const DetectionMatch match =
       MatchSlots({{detected[0][0], detected[0][1]}, {detected[1][0], detected[1][1]}},
@@ -329,16 +328,16 @@ TEST(IdCountsTest, OnlyTheFullIdIsRight) {
   for (int i = 0; i < 6; ++i) lines.push_back(Line(100.0 * i, 0, 100.0 * i + 90, 0));
   const DetectionMatch match = MatchSlots(lines, lines);
   ASSERT_EQ(match.true_positives(), 6);
-  const std::vector<SlotIdTruth> truth = {
-      {"38", true}, {"39", true}, {"40", true}, {"41", true}, {"42", false}, {"", true}};
+  const std::vector<SlotIdTruth> truth = {{"38", true}, {"39", true},  {"40", true},
+                                          {"41", true}, {"42", false}, {"", true}};
   const std::vector<std::string> read = {"38", "3?", "", "14", "42", ""};
   IdCounts counts;
   AddIdCounts(match, read, truth, &counts);
-  EXPECT_EQ(counts.readable, 4);    // "42" is worn, "" has none
-  EXPECT_EQ(counts.correct, 1);     // "3?" partial, "" unread, "14" wrong
+  EXPECT_EQ(counts.readable, 4);  // "42" is worn, "" has none
+  EXPECT_EQ(counts.correct, 1);   // "3?" partial, "" unread, "14" wrong
   EXPECT_EQ(counts.unread, 1);
   EXPECT_EQ(counts.unreadable, 2);
-  EXPECT_EQ(counts.invented, 1);    // "42" read where the truth is worn
+  EXPECT_EQ(counts.invented, 1);  // "42" read where the truth is worn
   EXPECT_DOUBLE_EQ(counts.accuracy(), 0.25);
 }
 

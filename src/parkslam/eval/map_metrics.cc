@@ -60,8 +60,7 @@ std::vector<Correspondence> IdentityCorrespondences(const SemanticMap& map,
     if (!HasPermanentId(slot)) continue;
     const auto it = truth_slot_by_id.find(slot.id);
     if (it == truth_slot_by_id.end()) continue;
-    correspondences.push_back(
-        {EntranceMidpoint(slot), EntranceMidpoint(truth.slots[it->second])});
+    correspondences.push_back({EntranceMidpoint(slot), EntranceMidpoint(truth.slots[it->second])});
   }
   return correspondences;
 }
@@ -154,8 +153,7 @@ struct SlotMatching {
 
 // One-to-one, greedy by increasing distance, below radius_m.
 SlotMatching MatchSlots(const std::vector<Eigen::Vector2d>& map_midpoints_truth,
-                        const std::vector<Eigen::Vector2d>& truth_midpoints,
-                        double radius_m) {
+                        const std::vector<Eigen::Vector2d>& truth_midpoints, double radius_m) {
   std::vector<std::tuple<double, int, int>> candidates;  // distance, map, truth
   for (std::size_t i = 0; i < map_midpoints_truth.size(); ++i) {
     for (std::size_t j = 0; j < truth_midpoints.size(); ++j) {
@@ -214,8 +212,7 @@ void Validate(const SemanticMap& truth, const MapMetricsOptions& options) {
     throw std::invalid_argument("EvaluateMap: match_radius_m must be positive and finite, got " +
                                 std::to_string(options.match_radius_m));
   }
-  if (!options.truth_slot_mask.empty() &&
-      options.truth_slot_mask.size() != truth.slots.size()) {
+  if (!options.truth_slot_mask.empty() && options.truth_slot_mask.size() != truth.slots.size()) {
     throw std::invalid_argument(
         "EvaluateMap: truth_slot_mask has " + std::to_string(options.truth_slot_mask.size()) +
         " flags but the truth has " + std::to_string(truth.slots.size()) + " slots");
@@ -280,7 +277,8 @@ MapMetrics EvaluateMap(const SemanticMap& map, const SemanticMap& truth,
   for (std::size_t j = 0; j < truth.slots.size(); ++j) {
     const int i = matching.map_of_truth[j];
     if (!counts(j)) {
-      if (i >= 0) metrics.map_slots[i] = {SlotVerdict::kNotCounted, static_cast<int>(j), 0.0, false};
+      if (i >= 0)
+        metrics.map_slots[i] = {SlotVerdict::kNotCounted, static_cast<int>(j), 0.0, false};
       continue;
     }
     ++metrics.slots_true;

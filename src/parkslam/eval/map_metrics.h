@@ -29,17 +29,18 @@ struct MapMetricsOptions {
 enum class SlotVerdict { kMatched, kSpurious, kDuplicate, kNotCounted };
 struct MapSlotVerdict {
   SlotVerdict verdict = SlotVerdict::kSpurious;
-  int truth_slot = -1;           // matched (or, for a duplicate, nearest) truth slot
-  double corner_rms_m = 0.0;     // over its 4 corners, matched slots only
-  bool id_right = false;         // IdIsRight, matched slots only
+  int truth_slot = -1;        // matched (or, for a duplicate, nearest) truth slot
+  double corner_rms_m = 0.0;  // over its 4 corners, matched slots only
+  bool id_right = false;      // IdIsRight, matched slots only
 };
 
 struct MapMetrics {
-  int slots_true = 0;       // truth slots that count (mask)
-  int slots_matched = 0;    // counted truth slots with a matching map slot
-  int slots_missed = 0;     // counted truth slots with none
-  int slots_spurious = 0;   // map slots with no truth slot within the radius
-  int slots_duplicate = 0;  // extra map slots near a counted truth slot that already has a nearer match
+  int slots_true = 0;      // truth slots that count (mask)
+  int slots_matched = 0;   // counted truth slots with a matching map slot
+  int slots_missed = 0;    // counted truth slots with none
+  int slots_spurious = 0;  // map slots with no truth slot within the radius
+  int slots_duplicate =
+      0;  // extra map slots near a counted truth slot that already has a nearer match
   // Over the 4 corners of each matched slot (index by index), after the alignment.
   double slot_corner_rmse_m = 0.0;
   double slot_corner_max_m = 0.0;

@@ -56,8 +56,8 @@ SemanticMap MakeLot(int row_pairs = 1) {
   }
   for (int k = 0; k < 4; ++k) {  // parallel, open to the east
     const double y = 6.0 * k;
-    lot.slots.push_back(Slot(std::to_string(next_id++), {-6.0, y}, {-6.0, y + 6.0}, 2.5,
-                             SlotKind::kParallel));
+    lot.slots.push_back(
+        Slot(std::to_string(next_id++), {-6.0, y}, {-6.0, y + 6.0}, 2.5, SlotKind::kParallel));
   }
   const double wall_y = row_pairs * pair_height_m + 0.4;
   for (int k = 0; k < 6; ++k) {
@@ -165,8 +165,7 @@ TEST(EvaluateMapTest, RotatedShiftedNoisyMapIsAlignedBack) {
 
 TEST(EvaluateMapTest, WithoutAlignmentAShiftedMapMatchesNothing) {
   const SemanticMap truth = MakeLot();
-  const MapMetrics m =
-      EvaluateMap(Transformed(SE2(100.0, -50.0, 0.5), truth), truth, Unaligned());
+  const MapMetrics m = EvaluateMap(Transformed(SE2(100.0, -50.0, 0.5), truth), truth, Unaligned());
   EXPECT_EQ(m.slots_matched, 0);
   EXPECT_EQ(m.slots_missed, 28);
   EXPECT_EQ(m.slots_spurious, 28);

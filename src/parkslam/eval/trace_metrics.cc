@@ -45,8 +45,7 @@ struct Polyline {
     s = std::clamp(s, 0.0, length_m());
     const auto after = std::upper_bound(s_m.begin(), s_m.end(), s);
     const size_t i = std::min<size_t>(
-        static_cast<size_t>(std::max<std::ptrdiff_t>(0, after - s_m.begin() - 1)),
-        segments() - 1);
+        static_cast<size_t>(std::max<std::ptrdiff_t>(0, after - s_m.begin() - 1)), segments() - 1);
     const double fraction = (s - s_m[i]) / (s_m[i + 1] - s_m[i]);
     return points_m[i] + fraction * (points_m[i + 1] - points_m[i]);
   }
@@ -95,8 +94,8 @@ std::optional<Crossing> CrossSegment(const Station& station, const Polyline& run
 std::vector<double> MatchRun(const std::vector<Station>& stations, const Polyline& run) {
   std::vector<double> offsets_m(stations.size(), kNaN);
   bool acquired = false;
-  size_t progress = 0;           // run segment of the last match
-  double run_s_last_m = 0.0;     // run arc length at the last match
+  size_t progress = 0;            // run segment of the last match
+  double run_s_last_m = 0.0;      // run arc length at the last match
   double station_s_last_m = 0.0;  // trace arc length of the last matched station
   for (size_t k = 0; k < stations.size() && run.segments() > 0; ++k) {
     const Station& station = stations[k];
@@ -217,7 +216,8 @@ TraceFollowingMetrics EvaluateTraceFollowing(const Trajectory& trace,
     const double mean_m = sum_m / n;
     double squares_m2 = 0.0;
     for (const std::vector<double>& offsets_m : metrics.lateral_offset_m) {
-      if (!std::isnan(offsets_m[k])) squares_m2 += (offsets_m[k] - mean_m) * (offsets_m[k] - mean_m);
+      if (!std::isnan(offsets_m[k]))
+        squares_m2 += (offsets_m[k] - mean_m) * (offsets_m[k] - mean_m);
     }
     const double variance_m2 = squares_m2 / n;
     variance_sum_m2 += variance_m2;

@@ -49,8 +49,7 @@ struct TraceFollowingMetrics {
 TraceFollowingMetrics EvaluateTraceFollowing(const Trajectory& trace,
                                              const std::vector<Trajectory>& runs,
                                              double station_spacing_m = 0.5,
-                                             double skip_start_m = 0.0,
-                                             double skip_end_m = 0.0);
+                                             double skip_start_m = 0.0, double skip_end_m = 0.0);
 
 }  // namespace parkslam::eval
 

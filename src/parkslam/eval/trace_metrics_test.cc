@@ -75,14 +75,14 @@ TEST(EvaluateTraceFollowingTest, SymmetricOffsetsGiveTheirSpread) {
   EXPECT_NEAR(m.lateral_mean_all_m, 0.1, 1e-3);
   EXPECT_NEAR(m.lateral_max_all_m, 0.1, 1e-3);
   ASSERT_EQ(m.lateral_offset_m.size(), 2u);
-  EXPECT_NEAR(m.lateral_offset_m[0][10], 0.1, 1e-3);   // inside is left
+  EXPECT_NEAR(m.lateral_offset_m[0][10], 0.1, 1e-3);  // inside is left
   EXPECT_NEAR(m.lateral_offset_m[1][10], -0.1, 1e-3);
 }
 
 TEST(EvaluateTraceFollowingTest, ConstantOffsetHasNoSpread) {
   const Trajectory trace = StraightX(0.0, 30.0, 0.0);
-  const TraceFollowingMetrics m = EvaluateTraceFollowing(
-      trace, {StraightX(0.0, 30.0, 0.3), StraightX(0.0, 30.0, 0.3)});
+  const TraceFollowingMetrics m =
+      EvaluateTraceFollowing(trace, {StraightX(0.0, 30.0, 0.3), StraightX(0.0, 30.0, 0.3)});
   EXPECT_NEAR(m.repeat_std_m, 0.0, 1e-12);
   EXPECT_NEAR(m.lateral_mean_all_m, 0.3, 1e-12);
 }
@@ -96,8 +96,8 @@ TEST(EvaluateTraceFollowingTest, SecondPassOfLoopIsMatchedToSecondPass) {
   for (const TimedPose& pose : trace) {
     const bool second_pass = pose.t_ns > trace.back().t_ns / 2;
     const double scale = second_pass ? 9.8 / 10.0 : 1.0;
-    run.push_back({pose.t_ns, SE2(scale * pose.T_map_vehicle.translation(),
-                                  pose.T_map_vehicle.yaw())});
+    run.push_back(
+        {pose.t_ns, SE2(scale * pose.T_map_vehicle.translation(), pose.T_map_vehicle.yaw())});
   }
   const TraceFollowingMetrics m = EvaluateTraceFollowing(trace, {run});
   EXPECT_NEAR(m.lateral_max_all_m, 0.2, 1e-3);
@@ -118,17 +118,17 @@ TEST(EvaluateTraceFollowingTest, SecondPassOfLoopIsMatchedToSecondPass) {
   EXPECT_GT(first, 100);
   EXPECT_GT(second, 100);
   // The skips select one pass.
-  EXPECT_NEAR(EvaluateTraceFollowing(trace, {run}, 0.5, 0.0, lap_m + 0.5).lateral_max_all_m,
-              0.0, 1e-9);
-  EXPECT_NEAR(EvaluateTraceFollowing(trace, {run}, 0.5, lap_m + 0.5, 0.0).lateral_mean_all_m,
-              0.2, 1e-3);
+  EXPECT_NEAR(EvaluateTraceFollowing(trace, {run}, 0.5, 0.0, lap_m + 0.5).lateral_max_all_m, 0.0,
+              1e-9);
+  EXPECT_NEAR(EvaluateTraceFollowing(trace, {run}, 0.5, lap_m + 0.5, 0.0).lateral_mean_all_m, 0.2,
+              1e-3);
 }
 
 TEST(EvaluateTraceFollowingTest, MissingCoverageIsExcluded) {
   // Run 0 covers the whole 40 m at +0.1 m; run 1 stops after 20 m at -0.1 m.
   const Trajectory trace = StraightX(0.0, 40.0, 0.0);
-  const TraceFollowingMetrics m = EvaluateTraceFollowing(
-      trace, {StraightX(0.0, 40.0, 0.1), StraightX(0.0, 20.0, -0.1)});
+  const TraceFollowingMetrics m =
+      EvaluateTraceFollowing(trace, {StraightX(0.0, 40.0, 0.1), StraightX(0.0, 20.0, -0.1)});
   EXPECT_EQ(m.stations, 81);
   EXPECT_EQ(m.repeat_stations, 41);  // x = 0, 0.5, ..., 20
   EXPECT_NEAR(m.repeat_std_m, 0.1, 1e-12);
@@ -141,11 +141,9 @@ TEST(EvaluateTraceFollowingTest, MissingCoverageIsExcluded) {
 
 TEST(EvaluateTraceFollowingTest, RunsFartherThan5mDoNotCover) {
   const Trajectory trace = StraightX(0.0, 20.0, 0.0);
-  const TraceFollowingMetrics near =
-      EvaluateTraceFollowing(trace, {StraightX(0.0, 20.0, 4.9)});
+  const TraceFollowingMetrics near = EvaluateTraceFollowing(trace, {StraightX(0.0, 20.0, 4.9)});
   EXPECT_NEAR(near.lateral_mean_all_m, 4.9, 1e-12);
-  const TraceFollowingMetrics far =
-      EvaluateTraceFollowing(trace, {StraightX(0.0, 20.0, 5.1)});
+  const TraceFollowingMetrics far = EvaluateTraceFollowing(trace, {StraightX(0.0, 20.0, 5.1)});
   EXPECT_TRUE(std::isnan(far.lateral_mean_m[0]));
   EXPECT_TRUE(std::isnan(far.lateral_mean_all_m));
   // One run: no spread to measure.
@@ -164,8 +162,7 @@ TEST(EvaluateTraceFollowingTest, SkipsAndSpacingSetTheStations) {
 TEST(EvaluateTraceFollowingTest, RejectsInvalidInputs) {
   const Trajectory trace = StraightX(0.0, 10.0, 0.0);
   EXPECT_THROW(EvaluateTraceFollowing(trace, {}), std::invalid_argument);
-  EXPECT_THROW(EvaluateTraceFollowing(StraightX(0.0, 0.9, 0.0), {trace}),
-               std::invalid_argument);
+  EXPECT_THROW(EvaluateTraceFollowing(StraightX(0.0, 0.9, 0.0), {trace}), std::invalid_argument);
   EXPECT_NO_THROW(EvaluateTraceFollowing(StraightX(0.0, 1.1, 0.0), {trace}));
   EXPECT_THROW(EvaluateTraceFollowing(trace, {trace}, 0.0), std::invalid_argument);
   EXPECT_THROW(EvaluateTraceFollowing(trace, {trace}, 0.5, 6.0, 5.0), std::invalid_argument);

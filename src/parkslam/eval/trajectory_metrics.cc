@@ -24,15 +24,14 @@ struct PosePair {
   double truth_arc_m = 0.0;
 };
 
-void ValidateInputs(const Trajectory& truth,
-                    const TrajectoryMetricsOptions& options) {
+void ValidateInputs(const Trajectory& truth, const TrajectoryMetricsOptions& options) {
   if (!(options.rpe_segment_m > 0.0) || !(options.drift_segment_m > 0.0)) {
     throw std::invalid_argument(
         "EvaluateTrajectory: rpe_segment_m and drift_segment_m must be > 0");
   }
-  const bool sorted = std::is_sorted(
-      truth.begin(), truth.end(),
-      [](const TimedPose& a, const TimedPose& b) { return a.t_ns < b.t_ns; });
+  const bool sorted =
+      std::is_sorted(truth.begin(), truth.end(),
+                     [](const TimedPose& a, const TimedPose& b) { return a.t_ns < b.t_ns; });
   if (!sorted) {
     throw std::invalid_argument("EvaluateTrajectory: truth is not sorted by time");
   }
@@ -42,30 +41,26 @@ void ValidateInputs(const Trajectory& truth,
 std::vector<double> CumulativeLength(const Trajectory& truth) {
   std::vector<double> cumulative_m(truth.size(), 0.0);
   for (size_t k = 1; k < truth.size(); ++k) {
-    cumulative_m[k] = cumulative_m[k - 1] +
-                      (truth[k].T_map_vehicle.translation() -
-                       truth[k - 1].T_map_vehicle.translation())
-                          .norm();
+    cumulative_m[k] =
+        cumulative_m[k - 1] +
+        (truth[k].T_map_vehicle.translation() - truth[k - 1].T_map_vehicle.translation()).norm();
   }
   return cumulative_m;
 }
 
 // Truth path length up to t_ns, where the truth is at T_map_truth.
-double ArcLengthAt(const Trajectory& truth,
-                   const std::vector<double>& cumulative_m, TimeNs t_ns,
+double ArcLengthAt(const Trajectory& truth, const std::vector<double>& cumulative_m, TimeNs t_ns,
                    const SE2& T_map_truth) {
-  const auto after = std::lower_bound(
-      truth.begin(), truth.end(), t_ns,
-      [](const TimedPose& pose, TimeNs t) { return pose.t_ns < t; });
+  const auto after =
+      std::lower_bound(truth.begin(), truth.end(), t_ns,
+                       [](const TimedPose& pose, TimeNs t) { return pose.t_ns < t; });
   if (after == truth.begin()) return 0.0;
   const size_t before = static_cast<size_t>(after - truth.begin()) - 1;
   return cumulative_m[before] +
-         (T_map_truth.translation() - truth[before].T_map_vehicle.translation())
-             .norm();
+         (T_map_truth.translation() - truth[before].T_map_vehicle.translation()).norm();
 }
 
-std::vector<PosePair> MatchPoses(const Trajectory& truth,
-                                 const Trajectory& estimate) {
+std::vector<PosePair> MatchPoses(const Trajectory& truth, const Trajectory& estimate) {
   const std::vector<double> cumulative_m = CumulativeLength(truth);
   std::vector<PosePair> pairs;
   pairs.reserve(estimate.size());
@@ -76,9 +71,7 @@ std::vector<PosePair> MatchPoses(const Trajectory& truth,
                      ArcLengthAt(truth, cumulative_m, pose.t_ns, *T_map_truth)});
   }
   std::stable_sort(pairs.begin(), pairs.end(),
-                   [](const PosePair& a, const PosePair& b) {
-                     return a.t_ns < b.t_ns;
-                   });
+                   [](const PosePair& a, const PosePair& b) { return a.t_ns < b.t_ns; });
   if (pairs.size() < 2) {
     throw std::invalid_argument(
         "EvaluateTrajectory: estimate and truth overlap in fewer than 2 "
@@ -98,16 +91,14 @@ SE2 Alignment(const std::vector<PosePair>& pairs) {
   return AlignPointSets(estimate_positions, truth_positions);
 }
 
-void FillAbsoluteErrors(const std::vector<PosePair>& pairs,
-                        const SE2& T_truth_estimate, TrajectoryMetrics* metrics) {
+void FillAbsoluteErrors(const std::vector<PosePair>& pairs, const SE2& T_truth_estimate,
+                        TrajectoryMetrics* metrics) {
   double sum_sq_m2 = 0.0, sum_m = 0.0, max_m = 0.0;
   double sum_sq_yaw = 0.0, max_yaw_rad = 0.0;
   for (const PosePair& pair : pairs) {
     const SE2 T_aligned = T_truth_estimate * pair.T_map_estimate;
-    const double error_m =
-        (T_aligned.translation() - pair.T_map_truth.translation()).norm();
-    const double yaw_error_rad =
-        std::abs(AngleDiff(T_aligned.yaw(), pair.T_map_truth.yaw()));
+    const double error_m = (T_aligned.translation() - pair.T_map_truth.translation()).norm();
+    const double yaw_error_rad = std::abs(AngleDiff(T_aligned.yaw(), pair.T_map_truth.yaw()));
     sum_sq_m2 += error_m * error_m;
     sum_m += error_m;
     max_m = std::max(max_m, error_m);
@@ -129,8 +120,7 @@ struct RelativeErrors {
 
 // For every start i, the first later pair j with truth path >= segment_m from
 // i. The arc length never falls, so j only moves forward: O(n) overall.
-RelativeErrors ComputeRelativeErrors(const std::vector<PosePair>& pairs,
-                                     double segment_m) {
+RelativeErrors ComputeRelativeErrors(const std::vector<PosePair>& pairs, double segment_m) {
   RelativeErrors errors;
   const size_t n = pairs.size();
   size_t j = 0;
@@ -141,8 +131,7 @@ RelativeErrors ComputeRelativeErrors(const std::vector<PosePair>& pairs,
     }
     if (j == n) break;
     const SE2 T_truth_i_j = pairs[i].T_map_truth.inverse() * pairs[j].T_map_truth;
-    const SE2 T_estimate_i_j =
-        pairs[i].T_map_estimate.inverse() * pairs[j].T_map_estimate;
+    const SE2 T_estimate_i_j = pairs[i].T_map_estimate.inverse() * pairs[j].T_map_estimate;
     errors.translation_m.push_back(
         (T_truth_i_j.translation() - T_estimate_i_j.translation()).norm());
     errors.yaw_rad.push_back(AngleDiff(T_estimate_i_j.yaw(), T_truth_i_j.yaw()));
@@ -166,8 +155,7 @@ double Mean(const std::vector<double>& values) {
 
 }  // namespace
 
-TrajectoryMetrics EvaluateTrajectory(const Trajectory& truth,
-                                     const Trajectory& estimate,
+TrajectoryMetrics EvaluateTrajectory(const Trajectory& truth, const Trajectory& estimate,
                                      const TrajectoryMetricsOptions& options) {
   ValidateInputs(truth, options);
   const std::vector<PosePair> pairs = MatchPoses(truth, estimate);
@@ -182,11 +170,9 @@ TrajectoryMetrics EvaluateTrajectory(const Trajectory& truth,
   metrics.rpe_trans_rmse_m = Rms(rpe.translation_m);
   metrics.rpe_yaw_rmse_rad = Rms(rpe.yaw_rad);
 
-  const RelativeErrors drift =
-      ComputeRelativeErrors(pairs, options.drift_segment_m);
+  const RelativeErrors drift = ComputeRelativeErrors(pairs, options.drift_segment_m);
   metrics.drift_per_100m_m = Mean(drift.translation_m);
-  metrics.drift_percent =
-      100.0 * metrics.drift_per_100m_m / options.drift_segment_m;
+  metrics.drift_percent = 100.0 * metrics.drift_per_100m_m / options.drift_segment_m;
   return metrics;
 }
 

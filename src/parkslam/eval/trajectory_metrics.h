@@ -48,9 +48,8 @@ struct TrajectoryMetrics {
 // the first later pose at least one segment of truth path further on (O(n)).
 // Throws std::invalid_argument when fewer than 2 timestamps overlap, when the
 // truth is unsorted, or for non-positive segment lengths.
-TrajectoryMetrics EvaluateTrajectory(
-    const Trajectory& truth, const Trajectory& estimate,
-    const TrajectoryMetricsOptions& options = {});
+TrajectoryMetrics EvaluateTrajectory(const Trajectory& truth, const Trajectory& estimate,
+                                     const TrajectoryMetricsOptions& options = {});
 
 }  // namespace parkslam::eval
 

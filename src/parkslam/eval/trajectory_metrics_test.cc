@@ -54,8 +54,7 @@ TEST(EvaluateTrajectoryTest, IdenticalTrajectoriesHaveZeroErrors) {
 TEST(EvaluateTrajectoryTest, AlignmentRemovesRigidOffset) {
   const Trajectory truth = CurvedPath(1200);
   const SE2 T_estimate_truth(5.0, -3.0, 0.4);
-  const TrajectoryMetrics m =
-      EvaluateTrajectory(truth, Transformed(T_estimate_truth, truth));
+  const TrajectoryMetrics m = EvaluateTrajectory(truth, Transformed(T_estimate_truth, truth));
   EXPECT_NEAR(m.ate_rmse_m, 0.0, 1e-6);
   EXPECT_NEAR(m.yaw_max_rad, 0.0, 1e-9);
   const SE2 expected = T_estimate_truth.inverse();
@@ -67,8 +66,8 @@ TEST(EvaluateTrajectoryTest, AlignmentRemovesRigidOffset) {
 TEST(EvaluateTrajectoryTest, WithoutAlignmentAteIsTheOffset) {
   const Trajectory truth = CurvedPath(1200);
   const TrajectoryMetricsOptions options{.align = false};
-  const TrajectoryMetrics m = EvaluateTrajectory(
-      truth, Transformed(SE2(3.0, 4.0, 0.0), truth), options);
+  const TrajectoryMetrics m =
+      EvaluateTrajectory(truth, Transformed(SE2(3.0, 4.0, 0.0), truth), options);
   EXPECT_NEAR(m.ate_rmse_m, 5.0, 1e-9);
   EXPECT_NEAR(m.ate_mean_m, 5.0, 1e-9);
   EXPECT_NEAR(m.ate_max_m, 5.0, 1e-9);
@@ -79,8 +78,8 @@ TEST(EvaluateTrajectoryTest, WithoutAlignmentAteIsTheOffset) {
 TEST(EvaluateTrajectoryTest, WithoutAlignmentYawOffsetShowsInYawError) {
   const Trajectory truth = CurvedPath(600);
   const TrajectoryMetricsOptions options{.align = false};
-  const TrajectoryMetrics m = EvaluateTrajectory(
-      truth, Transformed(SE2(0.0, 0.0, 0.1), truth), options);
+  const TrajectoryMetrics m =
+      EvaluateTrajectory(truth, Transformed(SE2(0.0, 0.0, 0.1), truth), options);
   EXPECT_NEAR(m.yaw_rmse_rad, 0.1, 1e-12);
   EXPECT_NEAR(m.yaw_max_rad, 0.1, 1e-12);
 }
@@ -88,8 +87,8 @@ TEST(EvaluateTrajectoryTest, WithoutAlignmentYawOffsetShowsInYawError) {
 TEST(EvaluateTrajectoryTest, RelativeErrorsIgnoreRigidOffset) {
   const Trajectory truth = CurvedPath(1200);
   const TrajectoryMetricsOptions options{.align = false};
-  const TrajectoryMetrics m = EvaluateTrajectory(
-      truth, Transformed(SE2(5.0, -3.0, 0.4), truth), options);
+  const TrajectoryMetrics m =
+      EvaluateTrajectory(truth, Transformed(SE2(5.0, -3.0, 0.4), truth), options);
   EXPECT_GT(m.ate_rmse_m, 1.0);
   EXPECT_NEAR(m.rpe_trans_rmse_m, 0.0, 1e-9);
   EXPECT_NEAR(m.rpe_yaw_rmse_rad, 0.0, 1e-12);
@@ -98,8 +97,7 @@ TEST(EvaluateTrajectoryTest, RelativeErrorsIgnoreRigidOffset) {
 
 TEST(EvaluateTrajectoryTest, OnePercentScaleGivesOneMetrePer100m) {
   // The estimate travels 1.01 m for every metre of truth.
-  const TrajectoryMetrics m =
-      EvaluateTrajectory(StraightLine(1001), StraightLine(1001, 1.01));
+  const TrajectoryMetrics m = EvaluateTrajectory(StraightLine(1001), StraightLine(1001, 1.01));
   EXPECT_NEAR(m.length_m, 1000.0, 1e-9);
   EXPECT_NEAR(m.drift_per_100m_m, 1.0, 1e-9);
   EXPECT_NEAR(m.drift_percent, 1.0, 1e-9);
@@ -109,8 +107,8 @@ TEST(EvaluateTrajectoryTest, OnePercentScaleGivesOneMetrePer100m) {
 
 TEST(EvaluateTrajectoryTest, DriftPercentUsesTheDriftSegment) {
   const TrajectoryMetricsOptions options{.drift_segment_m = 50.0};
-  const TrajectoryMetrics m = EvaluateTrajectory(
-      StraightLine(1001), StraightLine(1001, 1.01), options);
+  const TrajectoryMetrics m =
+      EvaluateTrajectory(StraightLine(1001), StraightLine(1001, 1.01), options);
   EXPECT_NEAR(m.drift_per_100m_m, 0.5, 1e-9);
   EXPECT_NEAR(m.drift_percent, 1.0, 1e-9);
 }
@@ -120,17 +118,14 @@ TEST(EvaluateTrajectoryTest, RpeSegmentEndsAtFirstPoseAtLeastSegmentAway) {
   const Trajectory estimate = StraightLine(101, 1.01);
   // Poses 1 m apart: a 10 m segment ends exactly 10 poses on (0.10 m error),
   // a 10.001 m segment 11 poses on (0.11 m error).
-  EXPECT_NEAR(EvaluateTrajectory(truth, estimate, {.rpe_segment_m = 10.0})
-                  .rpe_trans_rmse_m,
-              0.10, 1e-9);
-  EXPECT_NEAR(EvaluateTrajectory(truth, estimate, {.rpe_segment_m = 10.001})
-                  .rpe_trans_rmse_m,
-              0.11, 1e-9);
+  EXPECT_NEAR(EvaluateTrajectory(truth, estimate, {.rpe_segment_m = 10.0}).rpe_trans_rmse_m, 0.10,
+              1e-9);
+  EXPECT_NEAR(EvaluateTrajectory(truth, estimate, {.rpe_segment_m = 10.001}).rpe_trans_rmse_m, 0.11,
+              1e-9);
 }
 
 TEST(EvaluateTrajectoryTest, DriftIsNaNWhenPathIsShorterThanSegment) {
-  const TrajectoryMetrics m =
-      EvaluateTrajectory(StraightLine(100), StraightLine(100, 1.01));
+  const TrajectoryMetrics m = EvaluateTrajectory(StraightLine(100), StraightLine(100, 1.01));
   EXPECT_NEAR(m.length_m, 99.0, 1e-9);
   EXPECT_TRUE(std::isnan(m.drift_per_100m_m));
   EXPECT_TRUE(std::isnan(m.drift_percent));
@@ -138,8 +133,7 @@ TEST(EvaluateTrajectoryTest, DriftIsNaNWhenPathIsShorterThanSegment) {
 }
 
 TEST(EvaluateTrajectoryTest, RpeIsNaNWhenPathIsShorterThanSegment) {
-  const TrajectoryMetrics m =
-      EvaluateTrajectory(StraightLine(10), StraightLine(10, 1.01));
+  const TrajectoryMetrics m = EvaluateTrajectory(StraightLine(10), StraightLine(10, 1.01));
   EXPECT_TRUE(std::isnan(m.rpe_trans_rmse_m));
   EXPECT_TRUE(std::isnan(m.rpe_yaw_rmse_rad));
 }
@@ -167,8 +161,7 @@ TEST(EvaluateTrajectoryTest, PairsEstimateWithInterpolatedTruth) {
   for (int i = 0; i < 100; ++i) {
     estimate.push_back({i * kStepNs + kStepNs / 2, SE2(i + 0.5, 0.0, 0.0)});
   }
-  const TrajectoryMetrics m =
-      EvaluateTrajectory(truth, estimate, {.align = false});
+  const TrajectoryMetrics m = EvaluateTrajectory(truth, estimate, {.align = false});
   EXPECT_EQ(m.matched_poses, 100);
   EXPECT_NEAR(m.length_m, 99.0, 1e-9);
   EXPECT_NEAR(m.ate_max_m, 0.0, 1e-9);
@@ -193,16 +186,13 @@ TEST(EvaluateTrajectoryTest, ThrowsWhenFewerThanTwoTimestampsOverlap) {
     EvaluateTrajectory(truth, estimate);
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "overlap in fewer than 2 timestamps"),
-              std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("overlap in fewer than 2 timestamps"), std::string::npos);
   }
 }
 
 TEST(EvaluateTrajectoryTest, AcceptsExactlyTwoOverlappingTimestamps) {
   const Trajectory truth = StraightLine(11);
-  const Trajectory estimate{{0, SE2(0.0, 0.0, 0.0)},
-                            {10 * kStepNs, SE2(10.0, 0.0, 0.0)}};
+  const Trajectory estimate{{0, SE2(0.0, 0.0, 0.0)}, {10 * kStepNs, SE2(10.0, 0.0, 0.0)}};
   EXPECT_EQ(EvaluateTrajectory(truth, estimate).matched_poses, 2);
 }
 
@@ -213,19 +203,16 @@ TEST(EvaluateTrajectoryTest, ThrowsOnEmptyTruth) {
 TEST(EvaluateTrajectoryTest, ThrowsOnUnsortedTruth) {
   Trajectory truth = StraightLine(10);
   std::swap(truth[3], truth[4]);
-  EXPECT_THROW(EvaluateTrajectory(truth, StraightLine(10)),
-               std::invalid_argument);
+  EXPECT_THROW(EvaluateTrajectory(truth, StraightLine(10)), std::invalid_argument);
 }
 
 TEST(EvaluateTrajectoryTest, ThrowsOnNonPositiveSegment) {
-  EXPECT_THROW(EvaluateTrajectory(StraightLine(10), StraightLine(10),
-                                  {.rpe_segment_m = 0.0}),
+  EXPECT_THROW(EvaluateTrajectory(StraightLine(10), StraightLine(10), {.rpe_segment_m = 0.0}),
                std::invalid_argument);
 }
 
 TEST(EvaluateTrajectoryTest, HandlesOneHundredThousandPoses) {
-  const TrajectoryMetrics m =
-      EvaluateTrajectory(StraightLine(100001), StraightLine(100001, 1.01));
+  const TrajectoryMetrics m = EvaluateTrajectory(StraightLine(100001), StraightLine(100001, 1.01));
   EXPECT_EQ(m.matched_poses, 100001);
   EXPECT_NEAR(m.drift_per_100m_m, 1.0, 1e-6);
 }

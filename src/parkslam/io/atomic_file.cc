@@ -21,9 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ErrnoText(int error_number) {
-  return std::generic_category().message(error_number);
-}
+std::string ErrnoText(int error_number) { return std::generic_category().message(error_number); }
 
 // Temporaries being written, so that SIGINT, SIGTERM and SIGHUP remove
 // them before the process ends (a killed run leaves no *.tmp.* litter):
@@ -101,7 +99,8 @@ void RemoveStaleTemporaries(const fs::path& path) {
     if (dot == std::string::npos || dot == 0) continue;
     const std::string pid_text = rest.substr(0, dot);
     if (pid_text.find_first_not_of("0123456789") != std::string::npos ||
-        rest.substr(dot + 1).find_first_not_of("0123456789") != std::string::npos || pid_text.size() > 9) {
+        rest.substr(dot + 1).find_first_not_of("0123456789") != std::string::npos ||
+        pid_text.size() > 9) {
       continue;
     }
     const pid_t pid = static_cast<pid_t>(std::stol(pid_text));
@@ -113,8 +112,7 @@ void RemoveStaleTemporaries(const fs::path& path) {
 fs::path TemporaryPathFor(const fs::path& path) {
   static std::atomic<unsigned> counter{0};
   fs::path temporary = path;
-  temporary += ".tmp." + std::to_string(::getpid()) + "." +
-               std::to_string(counter.fetch_add(1));
+  temporary += ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter.fetch_add(1));
   return temporary;
 }
 
@@ -141,8 +139,7 @@ void CreateParentFolders(const fs::path& path) {
   fs::create_directories(parent, error);
   if (error) {
     ThrowIoError(path.string(), 0, "",
-                 "cannot create folder " + parent.string() + ": " +
-                     error.message());
+                 "cannot create folder " + parent.string() + ": " + error.message());
   }
 }
 
@@ -158,8 +155,7 @@ void WriteFileAtomically(const fs::path& path, std::string_view content) {
     int slot;
     ~Unregistered() { Unregister(slot); }
   } unregistered{slot};
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC,
-                        0644);
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {
     ThrowIoError(path.string(), 0, "", "cannot create: " + ErrnoText(errno));
   }
@@ -168,8 +164,7 @@ void WriteFileAtomically(const fs::path& path, std::string_view content) {
   const bool closed = ::close(fd) == 0;
   if (!written || !closed) {
     ::unlink(temporary.c_str());
-    ThrowIoError(path.string(), 0, "",
-                 "cannot write: " + ErrnoText(written ? errno : write_errno));
+    ThrowIoError(path.string(), 0, "", "cannot write: " + ErrnoText(written ? errno : write_errno));
   }
   if (::rename(temporary.c_str(), path.c_str()) != 0) {
     const int rename_errno = errno;

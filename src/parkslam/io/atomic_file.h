@@ -10,8 +10,7 @@ namespace parkslam::io {
 // Writes `content` to a temporary file in the folder of `path`, flushes it to
 // disk and renames it over `path`, so that readers see either the old file or
 // the whole new one. Creates missing parent folders. Throws IoError.
-void WriteFileAtomically(const std::filesystem::path& path,
-                         std::string_view content);
+void WriteFileAtomically(const std::filesystem::path& path, std::string_view content);
 
 // The whole content of a file. Throws IoError naming the file when it is
 // missing, a folder, or cannot be read.

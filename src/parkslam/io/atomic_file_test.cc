@@ -42,7 +42,8 @@ TEST(AtomicFileTest, ReplacesAnExistingFileAndLeavesNoTemporaryFile) {
 
 std::vector<std::string> Names(const std::filesystem::path& dir) {
   std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) names.push_back(entry.path().filename());
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    names.push_back(entry.path().filename());
   std::sort(names.begin(), names.end());
   return names;
 }
@@ -76,13 +77,15 @@ TEST(AtomicFileTest, ASignalDuringAWriteLeavesNoTemporary) {
   bool seen = false;
   const auto start = std::chrono::steady_clock::now();
   while (!seen && std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
-    for (const std::string& name : Names(dir.path())) seen |= name.find(".tmp.") != std::string::npos;
+    for (const std::string& name : Names(dir.path()))
+      seen |= name.find(".tmp.") != std::string::npos;
     if (!seen) std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   ::kill(child, SIGTERM);
   int status = 0;
   ::waitpid(child, &status, 0);
-  if (!seen || !WIFSIGNALED(status)) GTEST_SKIP() << "the write ended before it could be interrupted";
+  if (!seen || !WIFSIGNALED(status))
+    GTEST_SKIP() << "the write ended before it could be interrupted";
   EXPECT_EQ(WTERMSIG(status), SIGTERM);
   EXPECT_TRUE(Names(dir.path()).empty()) << Names(dir.path()).front();
 }

@@ -41,8 +41,7 @@ constexpr std::string_view kImuHeader = "t_ns,yaw_rate_radps,heading_rad";
 
 // What dataset.yaml announces besides the scenario.
 struct Counts {
-  std::int64_t wheel_speed = 0, steering = 0, imu = 0, slot_frames = 0,
-               tag_frames = 0;
+  std::int64_t wheel_speed = 0, steering = 0, imu = 0, slot_frames = 0, tag_frames = 0;
   std::int64_t trajectory_poses = 0, slot_label_frames = 0;
   bool map = false;
 };
@@ -80,12 +79,12 @@ TimeNs Back(const std::vector<Stamped>& v) {
 }
 
 double DurationSeconds(const SensorLog& log) {
-  const TimeNs first = std::min({Front(log.wheel_speeds), Front(log.steering_angles),
-                                 Front(log.imu_samples), Front(log.slot_frames),
-                                 Front(log.tag_frames)});
-  const TimeNs last = std::max({Back(log.wheel_speeds), Back(log.steering_angles),
-                                Back(log.imu_samples), Back(log.slot_frames),
-                                Back(log.tag_frames)});
+  const TimeNs first =
+      std::min({Front(log.wheel_speeds), Front(log.steering_angles), Front(log.imu_samples),
+                Front(log.slot_frames), Front(log.tag_frames)});
+  const TimeNs last =
+      std::max({Back(log.wheel_speeds), Back(log.steering_angles), Back(log.imu_samples),
+                Back(log.slot_frames), Back(log.tag_frames)});
   // Division, not ToSeconds(): 300000000 ns reads as 0.3, not 0.30000000000000004.
   return last >= first ? static_cast<double>(last - first) / 1e9 : 0.0;
 }
@@ -101,8 +100,8 @@ std::array<std::string_view, kValues + 1> ColumnNames(std::string_view header) {
 }
 
 template <std::size_t kValues, typename Sample, typename GetValues>
-void WriteCsv(const fs::path& file, std::string_view header,
-              const std::vector<Sample>& samples, GetValues get_values) {
+void WriteCsv(const fs::path& file, std::string_view header, const std::vector<Sample>& samples,
+              GetValues get_values) {
   const auto names = ColumnNames<kValues>(header);
   const std::string source = file.string();
   std::string out;
@@ -145,8 +144,8 @@ std::vector<Sample> ReadCsv(const fs::path& file, std::string_view header,
   text::LineCursor lines(content);
   std::string_view line;
   if (!lines.Next(&line) || line != header) {
-    ThrowIoError(source, 1, "", "expected the header " + text::Quoted(header) +
-                                    ", got " + text::Quoted(line));
+    ThrowIoError(source, 1, "",
+                 "expected the header " + text::Quoted(header) + ", got " + text::Quoted(line));
   }
   std::vector<Sample> samples;
   samples.reserve(CountLines(content));
@@ -157,8 +156,9 @@ std::vector<Sample> ReadCsv(const fs::path& file, std::string_view header,
     if (line.empty()) ThrowIoError(source, n, "", "empty line");
     const std::size_t count = text::Split(line, ',', fields.data(), fields.size());
     if (count != fields.size()) {
-      ThrowIoError(source, n, "", "expected " + std::to_string(fields.size()) +
-                                      " fields, got " + std::to_string(count));
+      ThrowIoError(
+          source, n, "",
+          "expected " + std::to_string(fields.size()) + " fields, got " + std::to_string(count));
     }
     const std::optional<std::int64_t> t_ns = text::ParseInt64(fields[0]);
     if (!t_ns) ThrowIoError(source, n, "t_ns", "not an integer " + text::Quoted(fields[0]));
@@ -367,8 +367,7 @@ SlotIdReading ParseSlotId(const Json& j, const JsonReader& r, const JsonPath& pa
       r.ExpectArray(hypothesis, hypothesis_path, 2, "entries [digit, probability]");
       const std::string& text = r.String(hypothesis[0], text_path);
       if (text.size() != 1) r.Fail(text_path, "expected one character, got '" + text + "'");
-      id.digits[d].hypotheses.push_back(
-          {text[0], Probability(hypothesis[1], r, probability_path)});
+      id.digits[d].hypotheses.push_back({text[0], Probability(hypothesis[1], r, probability_path)});
     }
   }
   return id;
@@ -399,8 +398,8 @@ SlotObservation ParseSlot(const Json& j, const JsonReader& r, const JsonPath& pa
 // One JSON line of a frame file: {"t_ns": ..., "<list_key>": [item, ...]},
 // each item read by parse_item(json, reader, path).
 template <typename Frame, typename ParseItem>
-Frame ParseFrame(const Json& j, const JsonReader& r, const char* list_key,
-                 auto Frame::*items, ParseItem parse_item) {
+Frame ParseFrame(const Json& j, const JsonReader& r, const char* list_key, auto Frame::*items,
+                 ParseItem parse_item) {
   const JsonPath root;
   r.ExpectObject(j, root, {"t_ns", list_key});
   Frame frame;
@@ -416,13 +415,12 @@ Frame ParseFrame(const Json& j, const JsonReader& r, const char* list_key,
 }
 
 SlotObservationFrame ParseSlotFrame(const Json& j, const JsonReader& r) {
-  return ParseFrame<SlotObservationFrame>(j, r, "slots", &SlotObservationFrame::slots,
-                                          ParseSlot);
+  return ParseFrame<SlotObservationFrame>(j, r, "slots", &SlotObservationFrame::slots, ParseSlot);
 }
 
 TagObservation ParseTag(const Json& j, const JsonReader& r, const JsonPath& path) {
-  r.ExpectObject(j, path, {"id", "x_m", "y_m", "range_m", "bearing_rad", "yaw_rad",
-                           "cov", "yaw_sigma_rad"});
+  r.ExpectObject(j, path,
+                 {"id", "x_m", "y_m", "range_m", "bearing_rad", "yaw_rad", "cov", "yaw_sigma_rad"});
   TagObservation tag;
   tag.tag_id = r.Int(j["id"], path.Key("id"));
   tag.p_vehicle =
@@ -433,8 +431,7 @@ TagObservation ParseTag(const Json& j, const JsonReader& r, const JsonPath& path
   tag.range_m = r.BoundedNumber(j["range_m"], path.Key("range_m"), kMaxObservationRange_m, "m");
   tag.bearing_rad =
       r.BoundedNumber(j["bearing_rad"], path.Key("bearing_rad"), kMaxAngle_rad, "rad");
-  tag.yaw_vehicle_rad =
-      r.BoundedNumber(j["yaw_rad"], path.Key("yaw_rad"), kMaxAngle_rad, "rad");
+  tag.yaw_vehicle_rad = r.BoundedNumber(j["yaw_rad"], path.Key("yaw_rad"), kMaxAngle_rad, "rad");
   const JsonPath cov = path.Key("cov");
   const Json& cov_json = j["cov"];
   r.ExpectArray(cov_json, cov, 3, "numbers [xx, xy, yy]");
@@ -479,20 +476,19 @@ void CheckLabelsMatch(const Dataset& dataset, const std::string& source) {
   const SensorLog& log = dataset.log;
   if (dataset.slot_labels.empty()) return;
   if (dataset.slot_labels.size() != log.slot_frames.size()) {
-    ThrowIoError(source, 0, "", std::to_string(dataset.slot_labels.size()) +
-                                    " label frames for " +
-                                    std::to_string(log.slot_frames.size()) + " slot frames");
+    ThrowIoError(source, 0, "",
+                 std::to_string(dataset.slot_labels.size()) + " label frames for " +
+                     std::to_string(log.slot_frames.size()) + " slot frames");
   }
-  const std::size_t map_slots = dataset.groundtruth_map
-                                    ? dataset.groundtruth_map->slots.size()
-                                    : std::numeric_limits<std::size_t>::max();
+  const std::size_t map_slots = dataset.groundtruth_map ? dataset.groundtruth_map->slots.size()
+                                                        : std::numeric_limits<std::size_t>::max();
   for (std::size_t f = 0; f < log.slot_frames.size(); ++f) {
     const std::vector<int>& labels = dataset.slot_labels[f];
     if (labels.size() != log.slot_frames[f].slots.size()) {
       ThrowIoError(source, 0, "slots",
                    std::to_string(labels.size()) + " labels for " +
-                       std::to_string(log.slot_frames[f].slots.size()) +
-                       " observations" + Where(f, log.slot_frames[f].t_ns));
+                       std::to_string(log.slot_frames[f].slots.size()) + " observations" +
+                       Where(f, log.slot_frames[f].t_ns));
     }
     for (const int label : labels) {
       if (label < -1 || (label >= 0 && static_cast<std::size_t>(label) >= map_slots)) {
@@ -525,16 +521,16 @@ void WriteLabels(const fs::path& file, const Dataset& dataset) {
 sim::SlotObservationLabels MatchLabels(const std::vector<LabelFrame>& frames,
                                        const Dataset& dataset, const std::string& source) {
   const std::vector<SlotObservationFrame>& slot_frames = dataset.log.slot_frames;
-  const std::size_t map_slots = dataset.groundtruth_map
-                                    ? dataset.groundtruth_map->slots.size()
-                                    : std::numeric_limits<std::size_t>::max();
+  const std::size_t map_slots = dataset.groundtruth_map ? dataset.groundtruth_map->slots.size()
+                                                        : std::numeric_limits<std::size_t>::max();
   sim::SlotObservationLabels labels;
   labels.reserve(frames.size());
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const int line = static_cast<int>(f) + 1;
     if (f >= slot_frames.size()) {
-      ThrowIoError(source, line, "", "more label frames than slot frames (" +
-                                         std::to_string(slot_frames.size()) + ")");
+      ThrowIoError(
+          source, line, "",
+          "more label frames than slot frames (" + std::to_string(slot_frames.size()) + ")");
     }
     if (frames[f].t_ns != slot_frames[f].t_ns) {
       ThrowIoError(source, line, "t_ns",
@@ -557,8 +553,9 @@ sim::SlotObservationLabels MatchLabels(const std::vector<LabelFrame>& frames,
     labels.push_back(frames[f].slots);
   }
   if (labels.size() != slot_frames.size()) {
-    ThrowIoError(source, 0, "", std::to_string(labels.size()) + " label frames for " +
-                                    std::to_string(slot_frames.size()) + " slot frames");
+    ThrowIoError(source, 0, "",
+                 std::to_string(labels.size()) + " label frames for " +
+                     std::to_string(slot_frames.size()) + " slot frames");
   }
   return labels;
 }
@@ -637,8 +634,9 @@ void CheckFormat(const YamlReader& r, const YAML::Node& root) {
 // Reads dataset.yaml into the dataset's header fields and returns the counts.
 Counts ReadManifest(const YAML::Node& root, const YamlReader& r, Dataset* dataset) {
   CheckFormat(r, root);
-  r.ExpectKeys(root, "", {"format", "version", "name", "seed", "created_by", "duration_s",
-                          "counts", "groundtruth", "scenario"});
+  r.ExpectKeys(root, "",
+               {"format", "version", "name", "seed", "created_by", "duration_s", "counts",
+                "groundtruth", "scenario"});
   dataset->name = r.String(root["name"], "name");
   dataset->seed = r.Uint64(root["seed"], "seed");
   dataset->created_by = r.String(root["created_by"], "created_by");
@@ -657,8 +655,7 @@ Counts ReadManifest(const YAML::Node& root, const YamlReader& r, Dataset* datase
   r.ExpectKeys(g, "groundtruth", {"trajectory_poses", "map", "slot_label_frames"});
   counts.trajectory_poses = Count(r, g["trajectory_poses"], "groundtruth.trajectory_poses");
   counts.map = r.Bool(g["map"], "groundtruth.map");
-  counts.slot_label_frames =
-      Count(r, g["slot_label_frames"], "groundtruth.slot_label_frames");
+  counts.slot_label_frames = Count(r, g["slot_label_frames"], "groundtruth.slot_label_frames");
   dataset->scenario = sim::DefaultScenario();
   yaml_util::ReadScenarioNode(r, root["scenario"], "scenario", &dataset->scenario);
   // The commands take the vehicle and the sensor noise from here.
@@ -671,8 +668,9 @@ Counts ReadManifest(const YAML::Node& root, const YamlReader& r, Dataset* datase
 void CheckCount(const YamlReader& r, const YAML::Node& node, const std::string& path,
                 std::int64_t announced, std::size_t found, const char* file) {
   if (static_cast<std::size_t>(announced) == found) return;
-  r.Fail(node, path, "announces " + std::to_string(announced) + ", but " + file + " has " +
-                         std::to_string(found));
+  r.Fail(
+      node, path,
+      "announces " + std::to_string(announced) + ", but " + file + " has " + std::to_string(found));
 }
 
 void RemoveStale(const fs::path& file) {
@@ -690,9 +688,7 @@ void WriteDataset(const fs::path& dir, const Dataset& dataset) {
   WriteCsv<1>(dir / kWheelSpeedFile, kWheelSpeedHeader, log.wheel_speeds,
               [](const WheelSpeed& s) { return std::array<double, 1>{s.speed_mps}; });
   WriteCsv<1>(dir / kSteeringFile, kSteeringHeader, log.steering_angles,
-              [](const SteeringAngle& s) {
-                return std::array<double, 1>{s.steering_wheel_rad};
-              });
+              [](const SteeringAngle& s) { return std::array<double, 1>{s.steering_wheel_rad}; });
   WriteCsv<2>(dir / kImuFile, kImuHeader, log.imu_samples, [](const ImuSample& s) {
     return std::array<double, 2>{s.yaw_rate_radps, s.heading_rad};
   });
@@ -735,43 +731,47 @@ Dataset ReadDataset(const fs::path& dir) {
   const Counts counts = ReadManifest(root, r, &dataset);
 
   SensorLog& log = dataset.log;
-  log.wheel_speeds = ReadCsv<1, WheelSpeed>(
-      dir / kWheelSpeedFile, kWheelSpeedHeader, {{{kMaxWheelSpeed_mps, "m/s"}}},
-      [](TimeNs t, const std::array<double, 1>& v) { return WheelSpeed{t, v[0]}; });
-  log.steering_angles = ReadCsv<1, SteeringAngle>(
-      dir / kSteeringFile, kSteeringHeader, {{{kMaxSteeringWheelAngle_rad, "rad"}}},
-      [](TimeNs t, const std::array<double, 1>& v) { return SteeringAngle{t, v[0]}; });
-  log.imu_samples = ReadCsv<2, ImuSample>(
-      dir / kImuFile, kImuHeader, {{{kMaxYawRate_radps, "rad/s"}, {kMaxAngle_rad, "rad"}}},
-      [](TimeNs t, const std::array<double, 2>& v) { return ImuSample{t, v[0], v[1]}; });
+  log.wheel_speeds = ReadCsv<1, WheelSpeed>(dir / kWheelSpeedFile, kWheelSpeedHeader,
+                                            {{{kMaxWheelSpeed_mps, "m/s"}}},
+                                            [](TimeNs t, const std::array<double, 1>& v) {
+                                              return WheelSpeed{t, v[0]};
+                                            });
+  log.steering_angles = ReadCsv<1, SteeringAngle>(dir / kSteeringFile, kSteeringHeader,
+                                                  {{{kMaxSteeringWheelAngle_rad, "rad"}}},
+                                                  [](TimeNs t, const std::array<double, 1>& v) {
+                                                    return SteeringAngle{t, v[0]};
+                                                  });
+  log.imu_samples = ReadCsv<2, ImuSample>(dir / kImuFile, kImuHeader,
+                                          {{{kMaxYawRate_radps, "rad/s"}, {kMaxAngle_rad, "rad"}}},
+                                          [](TimeNs t, const std::array<double, 2>& v) {
+                                            return ImuSample{t, v[0], v[1]};
+                                          });
   log.slot_frames = ReadJsonl<SlotObservationFrame>(dir / kSlotsFile, ParseSlotFrame);
   log.tag_frames = ReadJsonl<TagObservationFrame>(dir / kTagsFile, ParseTagFrame);
 
   const YAML::Node c = root["counts"];
-  CheckCount(r, c["wheel_speed"], "counts.wheel_speed", counts.wheel_speed,
-             log.wheel_speeds.size(), kWheelSpeedFile);
-  CheckCount(r, c["steering"], "counts.steering", counts.steering,
-             log.steering_angles.size(), kSteeringFile);
+  CheckCount(r, c["wheel_speed"], "counts.wheel_speed", counts.wheel_speed, log.wheel_speeds.size(),
+             kWheelSpeedFile);
+  CheckCount(r, c["steering"], "counts.steering", counts.steering, log.steering_angles.size(),
+             kSteeringFile);
   CheckCount(r, c["imu"], "counts.imu", counts.imu, log.imu_samples.size(), kImuFile);
-  CheckCount(r, c["slot_frames"], "counts.slot_frames", counts.slot_frames,
-             log.slot_frames.size(), kSlotsFile);
-  CheckCount(r, c["tag_frames"], "counts.tag_frames", counts.tag_frames,
-             log.tag_frames.size(), kTagsFile);
+  CheckCount(r, c["slot_frames"], "counts.slot_frames", counts.slot_frames, log.slot_frames.size(),
+             kSlotsFile);
+  CheckCount(r, c["tag_frames"], "counts.tag_frames", counts.tag_frames, log.tag_frames.size(),
+             kTagsFile);
 
   const YAML::Node g = root["groundtruth"];
   if (counts.trajectory_poses > 0) {
     dataset.groundtruth_trajectory = ReadTum(dir / kTrajectoryFile);
-    CheckCount(r, g["trajectory_poses"], "groundtruth.trajectory_poses",
-               counts.trajectory_poses, dataset.groundtruth_trajectory.size(),
-               kTrajectoryFile);
+    CheckCount(r, g["trajectory_poses"], "groundtruth.trajectory_poses", counts.trajectory_poses,
+               dataset.groundtruth_trajectory.size(), kTrajectoryFile);
   }
   if (counts.map) dataset.groundtruth_map = ReadMap(dir / kMapFile);
   if (counts.slot_label_frames > 0) {
     const fs::path labels_file = dir / kLabelsFile;
-    const std::vector<LabelFrame> frames =
-        ReadJsonl<LabelFrame>(labels_file, ParseLabelFrame);
-    CheckCount(r, g["slot_label_frames"], "groundtruth.slot_label_frames",
-               counts.slot_label_frames, frames.size(), kLabelsFile);
+    const std::vector<LabelFrame> frames = ReadJsonl<LabelFrame>(labels_file, ParseLabelFrame);
+    CheckCount(r, g["slot_label_frames"], "groundtruth.slot_label_frames", counts.slot_label_frames,
+               frames.size(), kLabelsFile);
     dataset.slot_labels = MatchLabels(frames, dataset, labels_file.string());
   }
   return dataset;

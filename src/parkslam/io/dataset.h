@@ -46,7 +46,7 @@ inline constexpr int kDatasetFormatVersion = 1;
 inline constexpr char kDatasetManifestFile[] = "dataset.yaml";
 
 struct Dataset {
-  std::string name;        // "default-seed1"
+  std::string name;  // "default-seed1"
   std::uint64_t seed = 0;
   std::string created_by;  // "parkslam simulate 0.1.0"
   // The world, route, vehicle and sensor configuration it was made with.

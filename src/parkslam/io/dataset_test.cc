@@ -13,8 +13,8 @@
 namespace parkslam::io {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::ErrorOf;
+using ::testing::HasSubstr;
 using testing::TempDir;
 
 DigitReading Digit(std::vector<DigitHypothesis> hypotheses) { return {std::move(hypotheses)}; }
@@ -164,9 +164,10 @@ void ExpectDatasetsEqual(const Dataset& a, const Dataset& b) {
     ASSERT_EQ(a.groundtruth_map->slots.size(), b.groundtruth_map->slots.size());
     for (std::size_t i = 0; i < a.groundtruth_map->slots.size(); ++i) {
       EXPECT_EQ(a.groundtruth_map->slots[i].id, b.groundtruth_map->slots[i].id);
-      EXPECT_NEAR((a.groundtruth_map->slots[i].corners_map[2] -
-                   b.groundtruth_map->slots[i].corners_map[2]).norm(),
-                  0.0, 5e-4);
+      EXPECT_NEAR(
+          (a.groundtruth_map->slots[i].corners_map[2] - b.groundtruth_map->slots[i].corners_map[2])
+              .norm(),
+          0.0, 5e-4);
     }
     EXPECT_EQ(a.groundtruth_map->metadata, b.groundtruth_map->metadata);
   }
@@ -174,8 +175,7 @@ void ExpectDatasetsEqual(const Dataset& a, const Dataset& b) {
 }
 
 // Replaces the first occurrence of `from` by `to` in a file of the dataset.
-void EditFile(const std::filesystem::path& file, const std::string& from,
-              const std::string& to) {
+void EditFile(const std::filesystem::path& file, const std::string& from, const std::string& to) {
   std::string content = ReadTextFile(file);
   const std::size_t at = content.find(from);
   ASSERT_NE(at, std::string::npos) << from << " not in " << file;
@@ -245,8 +245,7 @@ TEST(DatasetTest, MissingDatasetYamlIsReported) {
   const TempDir dir;
   WriteDataset(dir / "d", SampleDataset());
   std::filesystem::remove(dir / "d/dataset.yaml");
-  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
-              HasSubstr("d/dataset.yaml: missing"));
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }), HasSubstr("d/dataset.yaml: missing"));
   EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "nowhere"); }),
               HasSubstr("nowhere/dataset.yaml: missing"));
 }
@@ -263,9 +262,9 @@ TEST(DatasetTest, NonNumberInCsvIsReported) {
   const TempDir dir;
   WriteDataset(dir / "d", SampleDataset());
   EditFile(dir / "d/sensors/steering.csv", "-3.3", "-3.3x");
-  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "d"); }),
-            (dir / "d/sensors/steering.csv").string() +
-                ":3: steering_wheel_rad: not a number '-3.3x'");
+  EXPECT_EQ(
+      ErrorOf([&] { ReadDataset(dir / "d"); }),
+      (dir / "d/sensors/steering.csv").string() + ":3: steering_wheel_rad: not a number '-3.3x'");
 }
 
 TEST(DatasetTest, NonIncreasingTimestampsNameFileAndLine) {
@@ -289,8 +288,9 @@ TEST(DatasetTest, LongGapsAndNegativeTimesAreRefused) {
                 "split the recording there)");
   WriteDataset(dir / "e", SampleDataset());
   EditFile(dir / "e/sensors/wheel_speed.csv", "\n0,", "\n-5,");
-  EXPECT_EQ(ErrorOf([&] { ReadDataset(dir / "e"); }),
-            (dir / "e/sensors/wheel_speed.csv").string() + ":2: t_ns: below zero (time starts at 0)");
+  EXPECT_EQ(
+      ErrorOf([&] { ReadDataset(dir / "e"); }),
+      (dir / "e/sensors/wheel_speed.csv").string() + ":2: t_ns: below zero (time starts at 0)");
   // 10 s exactly is still a pause.
   WriteDataset(dir / "f", SampleDataset());
   EditFile(dir / "f/sensors/wheel_speed.csv", "40000000,", "10020000000,");
@@ -387,9 +387,9 @@ TEST(DatasetTest, NumberTooLargeForADoubleInJsonNamesFileLineAndField) {
               HasSubstr("observations/tags.jsonl:1: tags[0].yaw_sigma_rad: invalid JSON: "));
   EXPECT_THAT(ErrorReadingEdited("observations/tags.jsonl", "250000000", "1e999"),
               HasSubstr("observations/tags.jsonl:2: t_ns: invalid JSON: "));
-  EXPECT_THAT(ErrorReadingEdited("groundtruth/slot_labels.jsonl", "\"slots\":[2]",
-                                 "\"slots\":[1e999]"),
-              HasSubstr("groundtruth/slot_labels.jsonl:2: slots[0]: invalid JSON: "));
+  EXPECT_THAT(
+      ErrorReadingEdited("groundtruth/slot_labels.jsonl", "\"slots\":[2]", "\"slots\":[1e999]"),
+      HasSubstr("groundtruth/slot_labels.jsonl:2: slots[0]: invalid JSON: "));
   EXPECT_THAT(ErrorReadingEdited("groundtruth/map.json", "5.3]", "1e999]"),
               HasSubstr("groundtruth/map.json: slots[0].corners[2][1]: invalid JSON: "));
 }
@@ -399,9 +399,9 @@ TEST(DatasetTest, NumberTooLargeForADoubleInJsonNamesFileLineAndField) {
 TEST(DatasetTest, ImplausibleObservationsAreRefused) {
   const std::string slots = "observations/slots.jsonl";
   const std::string tags = "observations/tags.jsonl";
-  EXPECT_THAT(ErrorReadingEdited(slots, "[[1,1.5]", "[[1e308,1.5]"),
-              HasSubstr(slots +
-                        ":1: slots[0].corners[0][0]: 1e+308 is beyond the plausible 100 m"));
+  EXPECT_THAT(
+      ErrorReadingEdited(slots, "[[1,1.5]", "[[1e308,1.5]"),
+      HasSubstr(slots + ":1: slots[0].corners[0][0]: 1e+308 is beyond the plausible 100 m"));
   EXPECT_THAT(ErrorReadingEdited(slots, "[0.5,1.5]", "[0.5,-150]"),
               HasSubstr(slots + ":2: slots[0].corners[0][1]: -150 is beyond the plausible 100 m"));
   EXPECT_THAT(
@@ -414,10 +414,9 @@ TEST(DatasetTest, ImplausibleObservationsAreRefused) {
   const std::string range = ErrorReadingEdited(tags, "\"range_m\":3.", "\"range_m\":-5003.");
   EXPECT_THAT(range, HasSubstr(tags + ":1: tags[0].range_m: -5003."));
   EXPECT_THAT(range, HasSubstr(" is beyond the plausible 100 m"));
-  EXPECT_THAT(ErrorReadingEdited(tags, "\"bearing_rad\":-0.1234567890123",
-                                 "\"bearing_rad\":-1e5"),
-              HasSubstr(tags +
-                        ":1: tags[0].bearing_rad: -1e+05 is beyond the plausible 10000 rad"));
+  EXPECT_THAT(
+      ErrorReadingEdited(tags, "\"bearing_rad\":-0.1234567890123", "\"bearing_rad\":-1e5"),
+      HasSubstr(tags + ":1: tags[0].bearing_rad: -1e+05 is beyond the plausible 10000 rad"));
   EXPECT_THAT(ErrorReadingEdited(tags, "\"yaw_rad\":3,", "\"yaw_rad\":1e300,"),
               HasSubstr(tags + ":1: tags[0].yaw_rad: 1e+300 is beyond the plausible 10000 rad"));
   EXPECT_THAT(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[-4e-04,-1e-04,9e-04]"),
@@ -428,10 +427,9 @@ TEST(DatasetTest, ImplausibleObservationsAreRefused) {
                                "[0, 100] m^2"));
   EXPECT_THAT(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[4e-04,-0.01,9e-04]"),
               HasSubstr(tags + ":1: tags[0].cov: not a covariance: xy^2 exceeds xx yy"));
-  EXPECT_THAT(
-      ErrorReadingEdited(tags, "\"yaw_sigma_rad\":0.03", "\"yaw_sigma_rad\":4"),
-      HasSubstr(tags + ":1: tags[0].yaw_sigma_rad: 4 is outside the plausible range [0, "
-                       "3.14159] rad"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "\"yaw_sigma_rad\":0.03", "\"yaw_sigma_rad\":4"),
+              HasSubstr(tags + ":1: tags[0].yaw_sigma_rad: 4 is outside the plausible range [0, "
+                               "3.14159] rad"));
   // A noise-free simulation's covariance is zero, and a single noisy
   // direction's singular: both are covariances.
   EXPECT_EQ(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[0,0,0]"), "");
@@ -441,8 +439,7 @@ TEST(DatasetTest, ImplausibleObservationsAreRefused) {
 // The commands take the vehicle and the sensor noise from the scenario in
 // dataset.yaml: it must be valid.
 TEST(DatasetTest, ImplausibleScenarioInDatasetYamlIsRefused) {
-  const std::string error =
-      ErrorReadingEdited("dataset.yaml", "max_x_m: 87.5", "max_x_m: 1e9");
+  const std::string error = ErrorReadingEdited("dataset.yaml", "max_x_m: 87.5", "max_x_m: 1e9");
   EXPECT_THAT(error, HasSubstr("dataset.yaml:"));
   EXPECT_THAT(error, HasSubstr(": scenario.world.hall: must be at most 100000 m in magnitude"));
 }

@@ -1,8 +1,8 @@
 #include "parkslam/io/homography_rig.h"
 
+#include <yaml-cpp/yaml.h>
 #include <Eigen/Core>
 #include <Eigen/LU>
-#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <cstdio>
@@ -29,17 +29,20 @@ Eigen::MatrixXd ReadMatrix(const YAML::Node& root, const YamlReader& r, const ch
   if (!node) r.Fail(root, key, "missing");
   r.ExpectKeys(node, key, {"rows", "cols", "dt", "data"});
   const std::string path(key);
-  if (r.Int(node["rows"], path + ".rows") * static_cast<long long>(r.Int(node["cols"], path + ".cols")) !=
+  if (r.Int(node["rows"], path + ".rows") *
+          static_cast<long long>(r.Int(node["cols"], path + ".cols")) !=
       static_cast<long long>(rows) * cols) {
-    r.Fail(node, path, "expected a " + std::to_string(rows) + "x" + std::to_string(cols) + " matrix");
+    r.Fail(node, path,
+           "expected a " + std::to_string(rows) + "x" + std::to_string(cols) + " matrix");
   }
   const std::string dt = r.String(node["dt"], path + ".dt");
   if (dt != "d" && dt != "f" && dt != "i") r.Fail(node["dt"], path + ".dt", "expected d, f or i");
   const YAML::Node data = node["data"];
   r.ExpectSequence(data, path + ".data");
   if (data.size() != static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols)) {
-    r.Fail(data, path + ".data", "expected " + std::to_string(rows * cols) + " numbers, got " +
-                                     std::to_string(data.size()));
+    r.Fail(
+        data, path + ".data",
+        "expected " + std::to_string(rows * cols) + " numbers, got " + std::to_string(data.size()));
   }
   Eigen::MatrixXd m(rows, cols);
   for (int i = 0; i < rows * cols; ++i) {
@@ -65,8 +68,9 @@ camera::HomographyCamera LoadCamera(const std::filesystem::path& path, camera::S
   const YAML::Node root = yaml_util::LoadYaml(text, file);
   const YamlReader r(file, true);
   r.ExpectMap(root, "");
-  r.CheckKeys(root, "", {"camera_matrix", "dist_coeffs", "resolution", "project_matrix",
-                         "scale_xy", "shift_xy"});
+  r.CheckKeys(
+      root, "",
+      {"camera_matrix", "dist_coeffs", "resolution", "project_matrix", "scale_xy", "shift_xy"});
   const Eigen::MatrixXd K = ReadMatrix(root, r, "camera_matrix", 3, 3);
   const Eigen::MatrixXd D = ReadMatrix(root, r, "dist_coeffs", 4, 1);
   const Eigen::MatrixXd resolution = ReadMatrix(root, r, "resolution", 2, 1);

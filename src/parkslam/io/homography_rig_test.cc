@@ -13,14 +13,13 @@
 namespace parkslam::io {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::ErrorOf;
+using ::testing::HasSubstr;
 using testing::TempDir;
 
 // The matrices of a camera file, as in the real sample.
 struct CameraFile {
-  cv::Mat camera_matrix =
-      (cv::Mat_<double>(3, 3) << 302.5, 0, 496.6, 0, 320.7, 331.2, 0, 0, 1);
+  cv::Mat camera_matrix = (cv::Mat_<double>(3, 3) << 302.5, 0, 496.6, 0, 320.7, 331.2, 0, 0, 1);
   cv::Mat dist_coeffs = (cv::Mat_<double>(4, 1) << -0.04, 0.02, -0.03, 0.008);
   cv::Mat resolution = (cv::Mat_<int>(2, 1) << 960, 640);
   cv::Mat project_matrix =

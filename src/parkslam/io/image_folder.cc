@@ -94,9 +94,10 @@ CameraFrame ImageFolderSource::ReadFrame(TimeNs t_ns) {
     if (image.empty()) ThrowIoError(path, 0, "", "not a readable image");
     const auto [width, height] = sizes_.at(name);
     if (image.cols != width || image.rows != height) {
-      ThrowIoError(path, 0, "", "image is " + std::to_string(image.cols) + "x" +
-                                    std::to_string(image.rows) + ", camera '" + name + "' " +
-                                    std::to_string(width) + "x" + std::to_string(height));
+      ThrowIoError(path, 0, "",
+                   "image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                       ", camera '" + name + "' " + std::to_string(width) + "x" +
+                       std::to_string(height));
     }
     frame.cameras.push_back(name);
     frame.images.push_back(camera::ToImagePlane(image));

@@ -58,16 +58,20 @@ TEST(ImageFolderTest, MergesFramesIntoTheStreamInTimeOrder) {
 TEST(ImageFolderTest, BadIndexAndImagesAreNamed) {
   TempDir dir;
   const std::filesystem::path index = dir.path() / "images" / "index.csv";
-  EXPECT_NE(ErrorOf([&] { ReadImageIndex(dir.path()); }).find("index.csv: missing"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ReadImageIndex(dir.path()); }).find("index.csv: missing"),
+            std::string::npos);
   WriteIndex(dir.path(), "time,camera,file\n");
   EXPECT_NE(ErrorOf([&] { ReadImageIndex(dir.path()); }).find("index.csv:1"), std::string::npos);
   WriteImage(dir.path() / "images/cam/5.png", 8, 6);
   WriteIndex(dir.path(), "t_ns,camera,file\n5,cam,images/cam/5.png\n4,cam,images/cam/5.png\n");
-  EXPECT_NE(ErrorOf([&] { ReadImageIndex(dir.path()); }).find("index.csv:3: t_ns"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ReadImageIndex(dir.path()); }).find("index.csv:3: t_ns"),
+            std::string::npos);
   WriteIndex(dir.path(), "t_ns,camera,file\n5,cam,images/cam/6.png\n");
-  EXPECT_NE(ErrorOf([&] { ReadImageIndex(dir.path()); }).find("index.csv:2: file"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ReadImageIndex(dir.path()); }).find("index.csv:2: file"),
+            std::string::npos);
   WriteIndex(dir.path(), "t_ns,camera,file\n5,cam,/etc/passwd\n");
-  EXPECT_NE(ErrorOf([&] { ReadImageIndex(dir.path()); }).find("inside the dataset"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ReadImageIndex(dir.path()); }).find("inside the dataset"),
+            std::string::npos);
   // An image of the wrong size is named when its frame is read.
   WriteIndex(dir.path(), "t_ns,camera,file\n5,cam,images/cam/5.png\n");
   SensorLog log;

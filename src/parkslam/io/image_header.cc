@@ -14,10 +14,13 @@ namespace {
 std::uint32_t Big16(std::string_view b, size_t at) {
   return (static_cast<unsigned char>(b[at]) << 8) | static_cast<unsigned char>(b[at + 1]);
 }
-std::uint32_t Big32(std::string_view b, size_t at) { return (Big16(b, at) << 16) | Big16(b, at + 2); }
+std::uint32_t Big32(std::string_view b, size_t at) {
+  return (Big16(b, at) << 16) | Big16(b, at + 2);
+}
 std::int32_t Little32(std::string_view b, size_t at) {
   std::uint32_t v = 0;
-  for (int k = 3; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[at + static_cast<size_t>(k)]);
+  for (int k = 3; k >= 0; --k)
+    v = (v << 8) | static_cast<unsigned char>(b[at + static_cast<size_t>(k)]);
   return static_cast<std::int32_t>(v);
 }
 
@@ -36,12 +39,14 @@ cv::Size Checked(long long width, long long height, std::string_view source) {
 cv::Size ImageSizeFromHeader(std::string_view b, std::string_view source) {
   // PNG: the signature, then the IHDR chunk: width, height (big-endian).
   if (b.size() >= 8 && b.substr(0, 8) == std::string_view("\x89PNG\r\n\x1a\n", 8)) {
-    if (b.size() < 24 || b.substr(12, 4) != "IHDR") Fail(source, "a PNG cut short before its header");
+    if (b.size() < 24 || b.substr(12, 4) != "IHDR")
+      Fail(source, "a PNG cut short before its header");
     return Checked(Big32(b, 16), Big32(b, 20), source);
   }
   // JPEG: segments up to the first start of frame (SOF0..SOF15 but DHT,
   // JPG and DAC): length, precision, height, width.
-  if (b.size() >= 3 && static_cast<unsigned char>(b[0]) == 0xFF && static_cast<unsigned char>(b[1]) == 0xD8) {
+  if (b.size() >= 3 && static_cast<unsigned char>(b[0]) == 0xFF &&
+      static_cast<unsigned char>(b[1]) == 0xD8) {
     size_t at = 2;
     while (at + 4 <= b.size()) {
       if (static_cast<unsigned char>(b[at]) != 0xFF) Fail(source, "a JPEG whose header is damaged");
@@ -78,7 +83,8 @@ cv::Size ImageSizeFromHeader(std::string_view b, std::string_view source) {
           ++at;
         }
       }
-      if (at >= b.size() || !std::isdigit(static_cast<unsigned char>(b[at]))) Fail(source, "a PNM whose header is damaged");
+      if (at >= b.size() || !std::isdigit(static_cast<unsigned char>(b[at])))
+        Fail(source, "a PNM whose header is damaged");
       while (at < b.size() && std::isdigit(static_cast<unsigned char>(b[at])) && v < (1LL << 40)) {
         v = v * 10 + (b[at++] - '0');
       }

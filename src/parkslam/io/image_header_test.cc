@@ -44,8 +44,14 @@ TEST(ImageHeaderTest, ReadsTheSizeOfEachFormatWithoutDecoding) {
 TEST(ImageHeaderTest, HugeDeclaredImagesAreRefusedBeforeDecoding) {
   // A PNG header declaring 20000 x 20000 pixels, and nothing else.
   std::string png = Encoded(".png", cv::Mat(1, 1, CV_8UC1, cv::Scalar(0)));
-  png[16] = 0; png[17] = 0; png[18] = 0x4e; png[19] = 0x20;  // width 20000
-  png[20] = 0; png[21] = 0; png[22] = 0x4e; png[23] = 0x20;  // height 20000
+  png[16] = 0;
+  png[17] = 0;
+  png[18] = 0x4e;
+  png[19] = 0x20;  // width 20000
+  png[20] = 0;
+  png[21] = 0;
+  png[22] = 0x4e;
+  png[23] = 0x20;  // height 20000
   EXPECT_EQ(ImageSizeFromHeader(png, "x"), cv::Size(20000, 20000));
   const std::filesystem::path path =
       std::filesystem::temp_directory_path() / ("huge_" + std::to_string(::getpid()) + ".png");

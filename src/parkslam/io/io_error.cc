@@ -18,8 +18,7 @@ std::string ErrorMessage(std::string_view file, int line, std::string_view field
   return message;
 }
 
-void ThrowIoError(std::string_view file, int line, std::string_view field,
-                  std::string_view what) {
+void ThrowIoError(std::string_view file, int line, std::string_view field, std::string_view what) {
   throw IoError(ErrorMessage(file, line, field, what));
 }
 

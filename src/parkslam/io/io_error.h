@@ -21,8 +21,8 @@ class IoError : public std::runtime_error {
 std::string ErrorMessage(std::string_view file, int line, std::string_view field,
                          std::string_view what);
 
-[[noreturn]] void ThrowIoError(std::string_view file, int line,
-                               std::string_view field, std::string_view what);
+[[noreturn]] void ThrowIoError(std::string_view file, int line, std::string_view field,
+                               std::string_view what);
 
 }  // namespace parkslam::io
 

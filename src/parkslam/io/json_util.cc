@@ -17,15 +17,23 @@ constexpr int kIndent = 2;
 
 const char* TypeName(const Json& j) {
   switch (j.type()) {
-    case Json::value_t::null: return "null";
-    case Json::value_t::object: return "an object";
-    case Json::value_t::array: return "an array";
-    case Json::value_t::string: return "a string";
-    case Json::value_t::boolean: return "a boolean";
+    case Json::value_t::null:
+      return "null";
+    case Json::value_t::object:
+      return "an object";
+    case Json::value_t::array:
+      return "an array";
+    case Json::value_t::string:
+      return "a string";
+    case Json::value_t::boolean:
+      return "a boolean";
     case Json::value_t::number_integer:
-    case Json::value_t::number_unsigned: return "an integer";
-    case Json::value_t::number_float: return "a number";
-    default: return "something else";
+    case Json::value_t::number_unsigned:
+      return "an integer";
+    case Json::value_t::number_float:
+      return "a number";
+    default:
+      return "something else";
   }
 }
 
@@ -51,8 +59,7 @@ std::vector<std::string> OrderedKeys(const Json& object,
   return keys;
 }
 
-void AppendInline(const Json& j, const std::vector<std::string>& key_order,
-                  std::string* out) {
+void AppendInline(const Json& j, const std::vector<std::string>& key_order, std::string* out) {
   if (j.is_array()) {
     out->push_back('[');
     for (std::size_t i = 0; i < j.size(); ++i) {
@@ -76,13 +83,12 @@ void AppendInline(const Json& j, const std::vector<std::string>& key_order,
   }
 }
 
-void AppendPretty(const Json& j, int indent,
-                  const std::vector<std::string>& key_order, std::string* out) {
+void AppendPretty(const Json& j, int indent, const std::vector<std::string>& key_order,
+                  std::string* out) {
   std::string inline_text;
   AppendInline(j, key_order, &inline_text);
   const bool fits = inline_text.size() + static_cast<std::size_t>(indent) <= kMaxInlineWidth;
-  if (!j.is_structured() || j.empty() ||
-      (indent > 0 && fits && Depth(j) <= kMaxInlineDepth)) {
+  if (!j.is_structured() || j.empty() || (indent > 0 && fits && Depth(j) <= kMaxInlineDepth)) {
     out->append(inline_text);
     return;
   }
@@ -131,8 +137,12 @@ std::string ErrorPath(std::string_view text) {
   const Json::parser_callback_t follow = [&](int /*depth*/, Json::parse_event_t event,
                                              Json& parsed) {
     switch (event) {
-      case Json::parse_event_t::object_start: levels.push_back({false, 0, std::nullopt}); break;
-      case Json::parse_event_t::array_start: levels.push_back({true, 0, std::nullopt}); break;
+      case Json::parse_event_t::object_start:
+        levels.push_back({false, 0, std::nullopt});
+        break;
+      case Json::parse_event_t::array_start:
+        levels.push_back({true, 0, std::nullopt});
+        break;
       case Json::parse_event_t::key:
         if (!levels.empty()) levels.back().key = parsed.get<std::string>();
         break;
@@ -141,7 +151,9 @@ std::string ErrorPath(std::string_view text) {
         if (!levels.empty()) levels.pop_back();
         element_read();
         break;
-      case Json::parse_event_t::value: element_read(); break;
+      case Json::parse_event_t::value:
+        element_read();
+        break;
     }
     return true;
   };
@@ -186,8 +198,7 @@ void JsonReader::Fail(const JsonPath& path, std::string_view what) const {
   ThrowIoError(source_, line_, path.ToString(), what);
 }
 
-void JsonReader::FailType(const Json& j, const JsonPath& path,
-                          const char* expected) const {
+void JsonReader::FailType(const Json& j, const JsonPath& path, const char* expected) const {
   Fail(path, std::string("expected ") + expected + ", got " + TypeName(j));
 }
 
@@ -195,9 +206,8 @@ void JsonReader::ExpectObject(const Json& j, const JsonPath& path,
                               std::initializer_list<const char*> keys) const {
   if (!j.is_object()) FailType(j, path, "an object");
   for (const auto& item : j.items()) {
-    const bool known = std::any_of(keys.begin(), keys.end(), [&](const char* key) {
-      return item.key() == key;
-    });
+    const bool known =
+        std::any_of(keys.begin(), keys.end(), [&](const char* key) { return item.key() == key; });
     if (!known) Fail(path.Key(item.key().c_str()), "unknown key");
   }
   for (const char* key : keys) {
@@ -213,8 +223,8 @@ void JsonReader::ExpectArray(const Json& j, const JsonPath& path, std::size_t si
                              const char* what) const {
   ExpectArray(j, path);
   if (j.size() != size) {
-    Fail(path, "expected " + std::to_string(size) + " " + what + ", got " +
-                   std::to_string(j.size()));
+    Fail(path,
+         "expected " + std::to_string(size) + " " + what + ", got " + std::to_string(j.size()));
   }
 }
 
@@ -298,8 +308,7 @@ std::string PrettyJson(const Json& j, const std::vector<std::string>& key_order)
 }
 
 void AppendJsonString(std::string* out, std::string_view value) {
-  out->append(Json(std::string(value)).dump(-1, ' ', false,
-                                            Json::error_handler_t::replace));
+  out->append(Json(std::string(value)).dump(-1, ' ', false, Json::error_handler_t::replace));
 }
 
 }  // namespace parkslam::io::json_util

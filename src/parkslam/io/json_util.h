@@ -53,8 +53,7 @@ class JsonReader {
                     std::initializer_list<const char*> keys) const;
   void ExpectArray(const Json& j, const JsonPath& path) const;
   // An array of exactly `size` elements; `what` names them ("points").
-  void ExpectArray(const Json& j, const JsonPath& path, std::size_t size,
-                   const char* what) const;
+  void ExpectArray(const Json& j, const JsonPath& path, std::size_t size, const char* what) const;
 
   double Number(const Json& j, const JsonPath& path) const;  // finite
   std::int64_t Integer(const Json& j, const JsonPath& path) const;
@@ -73,8 +72,7 @@ class JsonReader {
                         std::string_view unit) const;
 
  private:
-  [[noreturn]] void FailType(const Json& j, const JsonPath& path,
-                             const char* expected) const;
+  [[noreturn]] void FailType(const Json& j, const JsonPath& path, const char* expected) const;
 
   std::string_view source_;
   int line_;

@@ -9,8 +9,8 @@
 namespace parkslam::io::json_util {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::ErrorOf;
+using ::testing::HasSubstr;
 
 std::string ErrorParsing(const std::string& text) {
   return ErrorOf([&] { ParseJson(text, "doc.json", 3); });

@@ -62,11 +62,30 @@ Json ObstacleJson(const MapObstacle& obstacle) {
 
 // Keys in the order a reader expects them; the rest follow sorted.
 const std::vector<std::string>& KeyOrder() {
-  static const std::vector<std::string> order = {
-      "format", "version", "frame", "units", "length", "angle", "metadata",
-      "slots", "tags", "obstacles", "id", "temporary", "id_legible", "kind",
-      "corners", "corner_observed", "corner_sigma_m", "observations", "x", "y",
-      "yaw", "size_m", "obstacle", "points"};
+  static const std::vector<std::string> order = {"format",
+                                                 "version",
+                                                 "frame",
+                                                 "units",
+                                                 "length",
+                                                 "angle",
+                                                 "metadata",
+                                                 "slots",
+                                                 "tags",
+                                                 "obstacles",
+                                                 "id",
+                                                 "temporary",
+                                                 "id_legible",
+                                                 "kind",
+                                                 "corners",
+                                                 "corner_observed",
+                                                 "corner_sigma_m",
+                                                 "observations",
+                                                 "x",
+                                                 "y",
+                                                 "yaw",
+                                                 "size_m",
+                                                 "obstacle",
+                                                 "points"};
   return order;
 }
 
@@ -82,11 +101,11 @@ void CheckHeader(const Json& json, const JsonReader& r, const JsonPath& root) {
   if (!json.contains("version")) r.Fail(version, "missing key");
   const std::int64_t number = r.Integer(json["version"], version);
   if (number != kMapFormatVersion) {
-    r.Fail(version, "unsupported version " + std::to_string(number) +
-                        " (this build reads " + std::to_string(kMapFormatVersion) + ")");
+    r.Fail(version, "unsupported version " + std::to_string(number) + " (this build reads " +
+                        std::to_string(kMapFormatVersion) + ")");
   }
-  r.ExpectObject(json, root, {"format", "version", "frame", "units", "metadata",
-                              "slots", "tags", "obstacles"});
+  r.ExpectObject(json, root,
+                 {"format", "version", "frame", "units", "metadata", "slots", "tags", "obstacles"});
   const JsonPath frame = root.Key("frame");
   if (r.String(json["frame"], frame) != "map") r.Fail(frame, "expected 'map'");
   const JsonPath units = root.Key("units");
@@ -109,8 +128,9 @@ std::map<std::string, std::string> ReadMetadata(const Json& j, const JsonReader&
 }
 
 MapSlot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path) {
-  r.ExpectObject(j, path, {"id", "temporary", "id_legible", "kind", "corners",
-                           "corner_observed", "corner_sigma_m", "observations"});
+  r.ExpectObject(j, path,
+                 {"id", "temporary", "id_legible", "kind", "corners", "corner_observed",
+                  "corner_sigma_m", "observations"});
   MapSlot slot;
   slot.id = r.String(j["id"], path.Key("id"));
   slot.temporary = r.Bool(j["temporary"], path.Key("temporary"));
@@ -162,11 +182,9 @@ MapTag ReadTag(const Json& j, const JsonReader& r, const JsonPath& path,
   }
   const JsonPath obstacle = path.Key("obstacle");
   tag.obstacle_index = r.Int(j["obstacle"], obstacle);
-  if (tag.obstacle_index < -1 ||
-      tag.obstacle_index >= static_cast<std::int64_t>(obstacle_count)) {
-    r.Fail(obstacle, "index " + std::to_string(tag.obstacle_index) +
-                         " out of range (" + std::to_string(obstacle_count) +
-                         " obstacles; -1 for none)");
+  if (tag.obstacle_index < -1 || tag.obstacle_index >= static_cast<std::int64_t>(obstacle_count)) {
+    r.Fail(obstacle, "index " + std::to_string(tag.obstacle_index) + " out of range (" +
+                         std::to_string(obstacle_count) + " obstacles; -1 for none)");
   }
   return tag;
 }
@@ -183,8 +201,8 @@ MapObstacle ReadObstacle(const Json& j, const JsonReader& r, const JsonPath& pat
   r.ExpectArray(j["points"], points);
   const std::size_t min_points = obstacle.kind == ObstacleKind::kPillar ? 3 : 2;
   if (j["points"].size() < min_points) {
-    r.Fail(points, "expected at least " + std::to_string(min_points) + " points for a " +
-                       kind + ", got " + std::to_string(j["points"].size()));
+    r.Fail(points, "expected at least " + std::to_string(min_points) + " points for a " + kind +
+                       ", got " + std::to_string(j["points"].size()));
   }
   for (std::size_t i = 0; i < j["points"].size(); ++i) {
     const JsonPath point = points.Index(i);
@@ -193,8 +211,7 @@ MapObstacle ReadObstacle(const Json& j, const JsonReader& r, const JsonPath& pat
   return obstacle;
 }
 
-void CheckUniqueSlotIds(const SemanticMap& map, const JsonReader& r,
-                        const JsonPath& slots) {
+void CheckUniqueSlotIds(const SemanticMap& map, const JsonReader& r, const JsonPath& slots) {
   std::map<std::string, std::size_t> first_index;
   for (std::size_t i = 0; i < map.slots.size(); ++i) {
     const std::string& id = map.slots[i].id;
@@ -202,8 +219,8 @@ void CheckUniqueSlotIds(const SemanticMap& map, const JsonReader& r,
     const auto [it, inserted] = first_index.emplace(id, i);
     if (!inserted) {
       const JsonPath slot = slots.Index(i);
-      r.Fail(slot.Key("id"), "duplicate id '" + id + "' (also slots[" +
-                                 std::to_string(it->second) + "])");
+      r.Fail(slot.Key("id"),
+             "duplicate id '" + id + "' (also slots[" + std::to_string(it->second) + "])");
     }
   }
 }

@@ -12,8 +12,8 @@
 namespace parkslam::io {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::ErrorOf;
+using ::testing::HasSubstr;
 using testing::TempDir;
 
 SemanticMap SampleMap() {
@@ -42,11 +42,10 @@ SemanticMap SampleMap() {
   MapSlot d = c;  // a second slot without ID is fine
   d.corners_map[0].x() = 0.999;
   map.slots = {a, b, c, d};
-  map.obstacles = {
-      {ObstacleKind::kPillar,
-       {Eigen::Vector2d(10.2, 0.0), Eigen::Vector2d(10.8, 0.0), Eigen::Vector2d(10.8, 0.6),
-        Eigen::Vector2d(10.2, 0.6)}},
-      {ObstacleKind::kWall, {Eigen::Vector2d(0, 0), Eigen::Vector2d(82, 0)}}};
+  map.obstacles = {{ObstacleKind::kPillar,
+                    {Eigen::Vector2d(10.2, 0.0), Eigen::Vector2d(10.8, 0.0),
+                     Eigen::Vector2d(10.8, 0.6), Eigen::Vector2d(10.2, 0.6)}},
+                   {ObstacleKind::kWall, {Eigen::Vector2d(0, 0), Eigen::Vector2d(82, 0)}}};
   map.tags = {{7, Eigen::Vector2d(10.5, 0.3), 1.570796, 0.488, 0},
               {12, Eigen::Vector2d(40.0, 0.01), -3.141593, 0.3, 1},
               {13, Eigen::Vector2d(-20.0, 9.0), 0.0, 0.488, -1}};
@@ -82,8 +81,7 @@ void ExpectMapsEqual(const SemanticMap& a, const SemanticMap& b) {
     EXPECT_EQ(a.obstacles[i].kind, b.obstacles[i].kind);
     ASSERT_EQ(a.obstacles[i].points_map.size(), b.obstacles[i].points_map.size());
     for (std::size_t k = 0; k < a.obstacles[i].points_map.size(); ++k) {
-      EXPECT_NEAR((a.obstacles[i].points_map[k] - b.obstacles[i].points_map[k]).norm(), 0,
-                  1e-9);
+      EXPECT_NEAR((a.obstacles[i].points_map[k] - b.obstacles[i].points_map[k]).norm(), 0, 1e-9);
     }
   }
 }
@@ -140,8 +138,7 @@ TEST(MapJsonTest, RejectsAnotherVersion) {
 TEST(MapJsonTest, RejectsAnUnknownKeyNamingItsPath) {
   nlohmann::json j = SampleJson();
   j["slots"][1]["colour"] = "white";
-  EXPECT_EQ(ErrorOf([&] { MapFromJson(j, "map.json"); }),
-            "map.json: slots[1].colour: unknown key");
+  EXPECT_EQ(ErrorOf([&] { MapFromJson(j, "map.json"); }), "map.json: slots[1].colour: unknown key");
 }
 
 TEST(MapJsonTest, RejectsAnUnknownTopLevelKey) {
@@ -153,8 +150,7 @@ TEST(MapJsonTest, RejectsAnUnknownTopLevelKey) {
 TEST(MapJsonTest, RejectsAMissingKey) {
   nlohmann::json j = SampleJson();
   j["tags"][2].erase("size_m");
-  EXPECT_EQ(ErrorOf([&] { MapFromJson(j, "map.json"); }),
-            "map.json: tags[2].size_m: missing key");
+  EXPECT_EQ(ErrorOf([&] { MapFromJson(j, "map.json"); }), "map.json: tags[2].size_m: missing key");
 }
 
 TEST(MapJsonTest, RejectsAWrongType) {
@@ -285,8 +281,7 @@ TEST(MapJsonTest, WritingRefusesWhatWouldNotReadBack) {
   const TempDir dir;
   SemanticMap map = SampleMap();
   map.slots[1].id = "38";
-  EXPECT_THAT(ErrorOf([&] { WriteMap(dir / "map.json", map); }),
-              HasSubstr("duplicate id '38'"));
+  EXPECT_THAT(ErrorOf([&] { WriteMap(dir / "map.json", map); }), HasSubstr("duplicate id '38'"));
   map = SampleMap();
   map.slots[0].corners_map[2].y() = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THAT(ErrorOf([&] { WriteMap(dir / "map.json", map); }),

@@ -19,7 +19,8 @@ void WriteNumericCsv(const std::filesystem::path& path, const NumericTable& tabl
   for (size_t c = 0; c < table.columns.size(); ++c) {
     const std::string& name = table.columns[c];
     if (name.empty() || name.find_first_of(",\n\r") != std::string::npos) {
-      ThrowIoError(path.string(), 0, "columns", "column name " + text::Quoted(name) + " is empty or holds a comma");
+      ThrowIoError(path.string(), 0, "columns",
+                   "column name " + text::Quoted(name) + " is empty or holds a comma");
     }
     if (c > 0) out += ',';
     out += name;
@@ -71,7 +72,8 @@ NumericTable ParseNumericCsv(std::string_view content, const std::string& source
       const std::string_view field = text::Trim(fields[c]);
       const std::optional<double> value = text::ParseDouble(field);
       if (!value) {
-        ThrowIoError(source_name, lines.line_number(), table.columns[c], "not a number " + text::Quoted(field));
+        ThrowIoError(source_name, lines.line_number(), table.columns[c],
+                     "not a number " + text::Quoted(field));
       }
       if (std::isinf(*value) || (std::isnan(*value) && !allow_nan)) {
         ThrowIoError(source_name, lines.line_number(), table.columns[c], "not a finite number");
@@ -83,8 +85,8 @@ NumericTable ParseNumericCsv(std::string_view content, const std::string& source
   return table;
 }
 
-NumericTable ReadNumericCsv(const std::filesystem::path& path, const std::vector<std::string>& required,
-                            bool allow_nan) {
+NumericTable ReadNumericCsv(const std::filesystem::path& path,
+                            const std::vector<std::string>& required, bool allow_nan) {
   return ParseNumericCsv(ReadTextFile(path), path.string(), required, allow_nan);
 }
 

@@ -26,8 +26,8 @@ TEST(NumericCsvTest, RoundTripsExactly) {
   NumericTable table;
   table.columns = {"t_s", "x_m", "gap"};
   table.rows = {{0.1, 1.0 / 3.0, std::nan("")}, {1e-9, -2.5e7, 4.0}};
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / ("numeric_csv_" + std::to_string(::getpid()) + ".csv");
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                     ("numeric_csv_" + std::to_string(::getpid()) + ".csv");
   WriteNumericCsv(path, table);
   const NumericTable back = ReadNumericCsv(path, {"t_s", "gap"}, true);
   std::filesystem::remove(path);
@@ -56,7 +56,8 @@ TEST(NumericCsvTest, RowsOfTheWrongLengthAreNotWritten) {
   table.rows = {{1.0}};
   EXPECT_THROW(WriteNumericCsv(std::filesystem::temp_directory_path() / "never_written.csv", table),
                IoError);
-  EXPECT_FALSE(std::filesystem::exists(std::filesystem::temp_directory_path() / "never_written.csv"));
+  EXPECT_FALSE(
+      std::filesystem::exists(std::filesystem::temp_directory_path() / "never_written.csv"));
 }
 
 }  // namespace

@@ -33,7 +33,8 @@ bool Within(const fs::path& inner, const fs::path& outer) {
 
 }  // namespace
 
-void CheckOutputsSpareInputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
+void CheckOutputsSpareInputs(const std::vector<NamedPath>& outputs,
+                             const std::vector<NamedPath>& inputs) {
   for (const NamedPath& output : outputs) {
     if (output.path.empty()) continue;
     const fs::path out = Resolved(output.path);
@@ -48,8 +49,10 @@ void CheckOutputsSpareInputs(const std::vector<NamedPath>& outputs, const std::v
       if (out == in || (out_exists && fs::equivalent(output.path, input.path, ec))) {
         Refuse(output, "is the input", input);
       }
-      if (fs::is_directory(input.path, ec) && Within(out, in)) Refuse(output, "lies inside the input", input);
-      if (out_is_folder && Within(in, out)) Refuse(output, "is a folder that holds the input", input);
+      if (fs::is_directory(input.path, ec) && Within(out, in))
+        Refuse(output, "lies inside the input", input);
+      if (out_is_folder && Within(in, out))
+        Refuse(output, "is a folder that holds the input", input);
     }
   }
 }

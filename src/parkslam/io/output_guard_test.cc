@@ -51,8 +51,10 @@ TEST_F(OutputGuardTest, RefusesAnInputFileByAnyName) {
 
 TEST_F(OutputGuardTest, RefusesOutputsInsideAnInputFolder) {
   const std::vector<NamedPath> inputs{{dir_ / "ds", "DIR"}};
-  EXPECT_THAT(ErrorOf(dir_ / "ds" / "dataset.yaml", inputs), HasSubstr("lies inside the input DIR"));
-  EXPECT_THAT(ErrorOf(dir_ / "ds" / "sensors" / "new.csv", inputs), HasSubstr("lies inside the input DIR"));
+  EXPECT_THAT(ErrorOf(dir_ / "ds" / "dataset.yaml", inputs),
+              HasSubstr("lies inside the input DIR"));
+  EXPECT_THAT(ErrorOf(dir_ / "ds" / "sensors" / "new.csv", inputs),
+              HasSubstr("lies inside the input DIR"));
   EXPECT_THAT(ErrorOf(dir_ / "ds", inputs), HasSubstr("the input DIR"));
   // A sibling whose name starts the same is not inside.
   EXPECT_EQ(ErrorOf(dir_ / "ds2" / "x.tum", inputs), "");
@@ -60,7 +62,8 @@ TEST_F(OutputGuardTest, RefusesOutputsInsideAnInputFolder) {
 }
 
 TEST_F(OutputGuardTest, RefusesAnOutputFolderHoldingAnInput) {
-  EXPECT_THAT(ErrorOf(dir_, {{dir_ / "map.json", "--map"}}), HasSubstr("is a folder that holds the input --map"));
+  EXPECT_THAT(ErrorOf(dir_, {{dir_ / "map.json", "--map"}}),
+              HasSubstr("is a folder that holds the input --map"));
   // Missing inputs are the reader's business; empty paths are not given.
   EXPECT_EQ(ErrorOf(dir_ / "out.json", {{dir_ / "absent.json", "--map"}, {"", "--trace"}}), "");
 }

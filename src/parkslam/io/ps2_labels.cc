@@ -44,8 +44,8 @@ Ps2MarkingPoint ReadMark(const Json& j, const JsonReader& r, const JsonPath& pat
   for (std::size_t k = 0; k < kMarkFields; ++k) {
     const JsonPath field = path.Index(k);
     // Pixels but for the shape, checked below.
-    values[k] = k < 4 ? r.BoundedNumber(j[k], field, kMaxPixelCoordinate_px, "px")
-                      : r.Number(j[k], field);
+    values[k] =
+        k < 4 ? r.BoundedNumber(j[k], field, kMaxPixelCoordinate_px, "px") : r.Number(j[k], field);
   }
   const Eigen::Vector2d p(values[0], values[1]);
   const Eigen::Vector2d along(values[2], values[3]);
@@ -67,16 +67,14 @@ Ps2MarkingPoint ReadMark(const Json& j, const JsonReader& r, const JsonPath& pat
 int ReadMarkIndex(const Json& j, const JsonReader& r, const JsonPath& path,
                   std::size_t mark_count) {
   const double value = r.Number(j, path);
-  if (std::floor(value) != value || value < 1.0 ||
-      value > static_cast<double>(mark_count)) {
+  if (std::floor(value) != value || value < 1.0 || value > static_cast<double>(mark_count)) {
     r.Fail(path, "expected a 1-based index into marks (1 to " + std::to_string(mark_count) +
                      "), got " + j.dump());
   }
   return static_cast<int>(value) - 1;
 }
 
-Ps2Slot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path,
-                 std::size_t mark_count) {
+Ps2Slot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path, std::size_t mark_count) {
   r.ExpectArray(j, path, kSlotFields, "numbers [i, j, type, angle]");
   const JsonPath a_path = path.Index(0);
   const JsonPath b_path = path.Index(1);
@@ -115,8 +113,8 @@ Ps2Labels Ps2LabelsFromJson(const nlohmann::json& json, const std::string& sourc
   const bool flat_slots = IsFlat(json["slots"]);
   for (std::size_t i = 0; i < slot_entries.size(); ++i) {
     const JsonPath slot = slots.Index(i);
-    labels.slots.push_back(ReadSlot(*slot_entries[i], r, flat_slots ? slots : slot,
-                                    labels.marking_points.size()));
+    labels.slots.push_back(
+        ReadSlot(*slot_entries[i], r, flat_slots ? slots : slot, labels.marking_points.size()));
   }
   return labels;
 }

@@ -16,8 +16,8 @@
 namespace parkslam::io {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::ErrorOf;
+using ::testing::HasSubstr;
 using testing::TempDir;
 
 // Two marks: a T at label (101, 51) whose separating line runs down the
@@ -96,7 +96,9 @@ TEST(Ps2LabelsTest, WrittenLabelsReadBackToTheSamePointsAndSlots) {
   ASSERT_EQ(back.marking_points.size(), 2u);
   for (size_t i = 0; i < 2; ++i) {
     EXPECT_NEAR((back.marking_points[i].px - labels.marking_points[i].px).norm(), 0.0, 1e-9);
-    EXPECT_NEAR(AngleDiff(back.marking_points[i].direction_rad, labels.marking_points[i].direction_rad), 0.0, 1e-9);
+    EXPECT_NEAR(
+        AngleDiff(back.marking_points[i].direction_rad, labels.marking_points[i].direction_rad),
+        0.0, 1e-9);
     EXPECT_EQ(back.marking_points[i].is_t, labels.marking_points[i].is_t);
   }
   ASSERT_EQ(back.slots.size(), 1u);
@@ -212,8 +214,7 @@ TEST(ListPs2ImagesTest, ListsLabelledJpegsSorted) {
   std::filesystem::create_directories(dir / "folder.jpg");
   dir.Write("folder.json", "x");
   EXPECT_EQ(ListPs2Images(dir.path()), (std::vector<std::string>{"a", "b"}));
-  EXPECT_THAT(ErrorOf([&] { ListPs2Images(dir / "absent"); }),
-              HasSubstr("cannot list the folder"));
+  EXPECT_THAT(ErrorOf([&] { ListPs2Images(dir / "absent"); }), HasSubstr("cannot list the folder"));
 }
 
 // The 20 labelled images of the real ps2.0 sample (shared/data).

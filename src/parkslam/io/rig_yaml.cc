@@ -61,8 +61,8 @@ double FocalLength(const YamlReader& r, const YAML::Node& node, const std::strin
 // cx or cy of an image `size` pixels wide or high.
 double PrincipalPoint(const YamlReader& r, const YAML::Node& node, const std::string& path,
                       int size) {
-  return r.DoubleIn(node, path, -kPrincipalPointMargin * size,
-                    (1.0 + kPrincipalPointMargin) * size, "px");
+  return r.DoubleIn(node, path, -kPrincipalPointMargin * size, (1.0 + kPrincipalPointMargin) * size,
+                    "px");
 }
 
 // Above the ground the cameras look at (a top view from a camera at or below
@@ -93,8 +93,9 @@ camera::CameraRig RigFromYaml(const std::string& text, const std::string& source
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string path = IndexKey("cameras", i);
     const YAML::Node n = list[i];
-    r.ExpectKeys(n, path, {"name", "model", "width", "height", "fx", "fy", "cx", "cy",
-                           "distortion", "position_m", "yaw_deg", "pitch_down_deg", "roll_deg"});
+    r.ExpectKeys(n, path,
+                 {"name", "model", "width", "height", "fx", "fy", "cx", "cy", "distortion",
+                  "position_m", "yaw_deg", "pitch_down_deg", "roll_deg"});
     camera::CameraConfig c;
     c.name = r.String(n["name"], JoinKey(path, "name"));
     if (c.name.empty() || !names.insert(c.name).second) {
@@ -131,14 +132,14 @@ camera::CameraRig RigFromYaml(const std::string& text, const std::string& source
     if (p.size() != 3) ThrowIoError(source, 0, JoinKey(path, "position_m"), "expected [x, y, z]");
     Eigen::Vector3d position;
     for (int k = 0; k < 2; ++k) {
-      position[k] = r.BoundedDouble(p[k], IndexKey(JoinKey(path, "position_m"), k),
-                                    kMaxCameraOffset_m, "m");
+      position[k] =
+          r.BoundedDouble(p[k], IndexKey(JoinKey(path, "position_m"), k), kMaxCameraOffset_m, "m");
     }
     position.z() = CameraHeight(r, p[2], IndexKey(JoinKey(path, "position_m"), 2));
     const double yaw =
         r.BoundedDouble(n["yaw_deg"], JoinKey(path, "yaw_deg"), kMaxAngle_deg, "deg");
-    const double pitch = r.BoundedDouble(n["pitch_down_deg"], JoinKey(path, "pitch_down_deg"),
-                                         kMaxAngle_deg, "deg");
+    const double pitch =
+        r.BoundedDouble(n["pitch_down_deg"], JoinKey(path, "pitch_down_deg"), kMaxAngle_deg, "deg");
     const double roll =
         r.BoundedDouble(n["roll_deg"], JoinKey(path, "roll_deg"), kMaxAngle_deg, "deg");
     c.T_vehicle_camera.linear() = Rotation(yaw * kDeg, pitch * kDeg, roll * kDeg);
@@ -167,10 +168,10 @@ std::string RigToYaml(const camera::CameraRig& rig) {
                   "    distortion: [%.17g, %.17g, %.17g, %.17g]\n"
                   "    position_m: [%.17g, %.17g, %.17g]\n"
                   "    yaw_deg: %.17g\n    pitch_down_deg: %.17g\n    roll_deg: %.17g\n",
-                  in.kind == camera::CameraKind::kFisheye ? "fisheye" : "pinhole",
-                  in.width, in.height, in.fx, in.fy, in.cx, in.cy, in.distortion[0],
-                  in.distortion[1], in.distortion[2], in.distortion[3], t.x(), t.y(), t.z(),
-                  yaw / kDeg, pitch / kDeg, roll / kDeg);
+                  in.kind == camera::CameraKind::kFisheye ? "fisheye" : "pinhole", in.width,
+                  in.height, in.fx, in.fy, in.cx, in.cy, in.distortion[0], in.distortion[1],
+                  in.distortion[2], in.distortion[3], t.x(), t.y(), t.z(), yaw / kDeg, pitch / kDeg,
+                  roll / kDeg);
     out += line;
   }
   return out;

@@ -14,7 +14,8 @@ TEST(RigYamlTest, DefaultRigRoundTrips) {
   for (size_t i = 0; i < rig.cameras.size(); ++i) {
     EXPECT_EQ(back.cameras[i].name, rig.cameras[i].name);
     EXPECT_EQ(back.cameras[i].intrinsics.kind, rig.cameras[i].intrinsics.kind);
-    EXPECT_NEAR(back.cameras[i].intrinsics.distortion[1], rig.cameras[i].intrinsics.distortion[1], 1e-15);
+    EXPECT_NEAR(back.cameras[i].intrinsics.distortion[1], rig.cameras[i].intrinsics.distortion[1],
+                1e-15);
     EXPECT_TRUE(back.cameras[i].T_vehicle_camera.matrix().isApprox(
         rig.cameras[i].T_vehicle_camera.matrix(), 1e-12))
         << rig.cameras[i].name;
@@ -70,10 +71,10 @@ TEST(RigYamlTest, ImplausibleValuesAreRejectedNamingLineAndField) {
             "rig.yaml:10: cameras[0].cy: -300 is outside the plausible range [-240, 720] px");
   EXPECT_EQ(ErrorOf(DefaultRigWith("width: 640", "width: 20000")),
             "rig.yaml:5: cameras[0].width: 20000 is outside the plausible range [16, 16384] px");
-  EXPECT_EQ(ErrorOf(DefaultRigWith("width: 640\n    height: 480",
-                                   "width: 16000\n    height: 16000")),
-            "rig.yaml:6: cameras[0].height: 16000 x 16000 is 256000000 pixels, beyond the "
-            "plausible 64000000");
+  EXPECT_EQ(
+      ErrorOf(DefaultRigWith("width: 640\n    height: 480", "width: 16000\n    height: 16000")),
+      "rig.yaml:6: cameras[0].height: 16000 x 16000 is 256000000 pixels, beyond the "
+      "plausible 64000000");
   EXPECT_EQ(ErrorOf(DefaultRigWith("distortion: [0.02,", "distortion: [1e5,")),
             "rig.yaml:11: cameras[0].distortion[0]: 1e+05 is beyond the plausible 100");
   EXPECT_EQ(ErrorOf(DefaultRigWith("position_m: [3.7000000000000002, 0, 0.59999999999999998]",

@@ -50,12 +50,10 @@ void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& p
                double* value) {
   *value = r.Double(node, path);
 }
-void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
-               int* value) {
+void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path, int* value) {
   *value = r.Int(node, path);
 }
-void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
-               bool* value) {
+void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path, bool* value) {
   *value = r.Bool(node, path);
 }
 void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
@@ -76,8 +74,7 @@ void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& p
   *points = std::move(read);
 }
 template <Visitable T>
-void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
-               T* value);
+void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path, T* value);
 template <Visitable T>
 void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
                std::vector<T>* values);
@@ -105,8 +102,7 @@ class FieldReader {
 };
 
 template <Visitable T>
-void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
-               T* value) {
+void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path, T* value) {
   r.ExpectMap(node, path);
   FieldReader reader(r, node, path);
   T overlaid = *value;
@@ -129,9 +125,7 @@ void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& p
 // ---------------------------------------------------------------------------
 // Writing.
 
-void AppendScalar(std::string* out, double value) {
-  yaml_util::AppendYamlDouble(out, value);
-}
+void AppendScalar(std::string* out, double value) { yaml_util::AppendYamlDouble(out, value); }
 void AppendScalar(std::string* out, int value) { out->append(std::to_string(value)); }
 void AppendScalar(std::string* out, bool value) { out->append(value ? "true" : "false"); }
 void AppendScalar(std::string* out, const std::string& value) {
@@ -299,8 +293,7 @@ std::optional<std::vector<PathStep>> ParseKeyPath(std::string_view key) {
 
 class Overrider {
  public:
-  Overrider(const std::string& key, const std::vector<PathStep>& steps,
-            const YAML::Node& value)
+  Overrider(const std::string& key, const std::vector<PathStep>& steps, const YAML::Node& value)
       : reader_("--set", false), key_(key), steps_(steps), value_(value) {}
 
   template <typename T>
@@ -314,8 +307,8 @@ class Overrider {
       if (!next.index) Unknown();
       if (*next.index >= field.size()) {
         throw IoError("--set: " + IndexKey(path, *next.index) +
-                      ": index out of range (the list has " +
-                      std::to_string(field.size()) + " elements)");
+                      ": index out of range (the list has " + std::to_string(field.size()) +
+                      " elements)");
       }
       Apply(field[*next.index], step + 1, IndexKey(path, *next.index));
     } else if constexpr (Visitable<T>) {
@@ -334,9 +327,7 @@ class Overrider {
   }
 
  private:
-  [[noreturn]] void Unknown() const {
-    throw IoError("--set: unknown key '" + key_ + "'");
-  }
+  [[noreturn]] void Unknown() const { throw IoError("--set: unknown key '" + key_ + "'"); }
 
   YamlReader reader_;
   const std::string& key_;
@@ -348,13 +339,12 @@ class Overrider {
 
 namespace yaml_util {
 
-void ReadScenarioNode(const YamlReader& reader, const YAML::Node& node,
-                      const std::string& path, sim::ScenarioConfig* config) {
+void ReadScenarioNode(const YamlReader& reader, const YAML::Node& node, const std::string& path,
+                      sim::ScenarioConfig* config) {
   ReadValue(reader, node, path, config);
 }
 
-void AppendScenarioYaml(const sim::ScenarioConfig& config, int indent,
-                        std::string* out) {
+void AppendScenarioYaml(const sim::ScenarioConfig& config, int indent, std::string* out) {
   sim::ScenarioConfig copy = config;  // VisitFields() is not const
   WriteFields(copy, indent, out);
 }
@@ -369,8 +359,7 @@ std::string ScenarioToYaml(const sim::ScenarioConfig& config) {
   return out;
 }
 
-sim::ScenarioConfig ScenarioFromYaml(const std::string& yaml_text,
-                                     const sim::ScenarioConfig& base,
+sim::ScenarioConfig ScenarioFromYaml(const std::string& yaml_text, const sim::ScenarioConfig& base,
                                      const std::string& source_name) {
   const YAML::Node root = yaml_util::LoadYaml(yaml_text, source_name);
   sim::ScenarioConfig config = base;
@@ -401,8 +390,8 @@ void ApplyOverride(sim::ScenarioConfig* config, const std::string& assignment) {
   try {
     value = YAML::Load(value_text);
   } catch (const YAML::Exception& e) {
-    throw IoError("--set: " + key + ": cannot read value " + text::Quoted(value_text) +
-                  ": " + e.msg);
+    throw IoError("--set: " + key + ": cannot read value " + text::Quoted(value_text) + ": " +
+                  e.msg);
   }
   sim::ScenarioConfig updated = *config;
   Overrider(key, *steps, value).Apply(updated, 0, "");

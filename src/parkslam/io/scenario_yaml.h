@@ -29,8 +29,7 @@ std::string ScenarioToYaml(const sim::ScenarioConfig& config);
 // and the dotted key path: "world.yaml:14: world.rows[2].widht_m: unknown
 // key (did you mean 'width_m'?)", "...: route.laps: expected an integer,
 // got 'two'". Does not validate; see LoadScenarioFile.
-sim::ScenarioConfig ScenarioFromYaml(const std::string& yaml_text,
-                                     const sim::ScenarioConfig& base,
+sim::ScenarioConfig ScenarioFromYaml(const std::string& yaml_text, const sim::ScenarioConfig& base,
                                      const std::string& source_name);
 
 // The file laid over sim::DefaultScenario(), then validated: an invalid

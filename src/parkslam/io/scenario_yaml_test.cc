@@ -13,8 +13,8 @@
 namespace parkslam::io {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::ErrorOf;
+using ::testing::HasSubstr;
 using testing::TempDir;
 
 struct NoOp {
@@ -22,7 +22,9 @@ struct NoOp {
   void operator()(const char*, T&) {}
 };
 template <typename T>
-concept HasFields = requires(T& t, NoOp& v) { t.VisitFields(v); };
+concept HasFields = requires(T& t, NoOp& v) {
+  t.VisitFields(v);
+};
 
 using Leaves = std::vector<std::pair<std::string, std::string>>;
 
@@ -30,8 +32,7 @@ using Leaves = std::vector<std::pair<std::string, std::string>>;
 // own field lists, independently of the YAML code under test.
 class Flattener {
  public:
-  Flattener(std::string prefix, Leaves* leaves)
-      : prefix_(std::move(prefix)), leaves_(leaves) {}
+  Flattener(std::string prefix, Leaves* leaves) : prefix_(std::move(prefix)), leaves_(leaves) {}
 
   template <typename T>
   void operator()(const char* key, T& field) {
@@ -118,14 +119,16 @@ TEST(ScenarioYamlTest, DefaultScenarioRoundTripsFieldForField) {
 
 TEST(ScenarioYamlTest, RoundTripKeepsAwkwardValuesExactly) {
   sim::ScenarioConfig original = sim::DefaultScenario();
-  original.world.name = "Parkhaus S\xc3\xbc" "d: \"B2\" # level -2\\";
+  original.world.name =
+      "Parkhaus S\xc3\xbc"
+      "d: \"B2\" # level -2\\";
   original.world.id_worn_rate = 0.1 + 0.2;
   original.world.rows[0].origin_m = Eigen::Vector2d(1e-300, -123456.789e10);
   original.route.finish_m.clear();
   original.world.tag_regions.clear();
   original.sensors.ids.confusion_rate = 1.0 / 3.0;
-  const sim::ScenarioConfig read = ScenarioFromYaml(
-      ScenarioToYaml(original), Mutated(original), "awkward.yaml");
+  const sim::ScenarioConfig read =
+      ScenarioFromYaml(ScenarioToYaml(original), Mutated(original), "awkward.yaml");
   EXPECT_EQ(Flatten(read), Flatten(original));
   EXPECT_EQ(read.world.name, original.world.name);
   EXPECT_EQ(read.world.id_worn_rate, 0.1 + 0.2);
@@ -144,7 +147,8 @@ TEST(ScenarioYamlTest, WritesReadableBlockYaml) {
   const std::string yaml = ScenarioToYaml(config);
   EXPECT_THAT(yaml, HasSubstr("\nworld:\n  name: \"lot\"\n"));
   EXPECT_THAT(yaml, HasSubstr("\n  hall: {min_x_m: 0, min_y_m: 0, max_x_m: 82, max_y_m: 50.5}\n"));
-  EXPECT_THAT(yaml, HasSubstr("\n  rows:\n    - kind: \"perpendicular\"\n      origin_m: [8, 5.6]\n"));
+  EXPECT_THAT(yaml,
+              HasSubstr("\n  rows:\n    - kind: \"perpendicular\"\n      origin_m: [8, 5.6]\n"));
   EXPECT_THAT(yaml, HasSubstr("\n  approach_m: [[-37, 9.1], [-10, 9.1]]\n"));
   EXPECT_THAT(yaml, HasSubstr("\n    confusion_rate: 0.05\n"));
   EXPECT_THAT(yaml, HasSubstr("\n    gyro_bias_walk_radps_per_sqrt_s: 5.0e-05\n"));
@@ -171,8 +175,8 @@ TEST(ScenarioYamlTest, AListReplacesTheBaseListWholeFromDefaults) {
   const sim::ScenarioConfig base = sim::DefaultScenario();
   ASSERT_GE(base.world.rows.size(), 2u);
   ASSERT_NE(base.world.rows[0].origin_m, Eigen::Vector2d(0.0, 0.0));
-  const sim::ScenarioConfig read = ScenarioFromYaml(
-      "world:\n  rows:\n    - count: 3\n      first_id: 50\n", base, "r.yaml");
+  const sim::ScenarioConfig read =
+      ScenarioFromYaml("world:\n  rows:\n    - count: 3\n      first_id: 50\n", base, "r.yaml");
   ASSERT_EQ(read.world.rows.size(), 1u);
   EXPECT_EQ(read.world.rows[0].count, 3);
   EXPECT_EQ(read.world.rows[0].first_id, 50);
@@ -199,19 +203,16 @@ TEST(ScenarioYamlTest, UnknownTopLevelKeyIsRejected) {
 }
 
 TEST(ScenarioYamlTest, WrongTypeNamesTheKeyPath) {
+  EXPECT_EQ(
+      ErrorOf([] { ScenarioFromYaml("route:\n  laps: two\n", sim::DefaultScenario(), "w.yaml"); }),
+      "w.yaml:2: route.laps: expected an integer, got 'two'");
   EXPECT_EQ(ErrorOf([] {
-              ScenarioFromYaml("route:\n  laps: two\n", sim::DefaultScenario(), "w.yaml");
-            }),
-            "w.yaml:2: route.laps: expected an integer, got 'two'");
-  EXPECT_EQ(ErrorOf([] {
-              ScenarioFromYaml("vehicle:\n  wheelbase_m: long\n", sim::DefaultScenario(),
-                               "w.yaml");
+              ScenarioFromYaml("vehicle:\n  wheelbase_m: long\n", sim::DefaultScenario(), "w.yaml");
             }),
             "w.yaml:2: vehicle.wheelbase_m: expected a number, got 'long'");
-  EXPECT_EQ(ErrorOf([] {
-              ScenarioFromYaml("world:\n  hall: 5\n", sim::DefaultScenario(), "w.yaml");
-            }),
-            "w.yaml:2: world.hall: expected a mapping of keys, got '5'");
+  EXPECT_EQ(
+      ErrorOf([] { ScenarioFromYaml("world:\n  hall: 5\n", sim::DefaultScenario(), "w.yaml"); }),
+      "w.yaml:2: world.hall: expected a mapping of keys, got '5'");
   EXPECT_EQ(ErrorOf([] {
               ScenarioFromYaml("route:\n  loop_m: [[1, 2], [3]]\n", sim::DefaultScenario(),
                                "w.yaml");
@@ -221,8 +222,7 @@ TEST(ScenarioYamlTest, WrongTypeNamesTheKeyPath) {
 
 TEST(ScenarioYamlTest, RejectsNonFiniteNumbersAndBadBooleans) {
   EXPECT_EQ(ErrorOf([] {
-              ScenarioFromYaml("world:\n  pillar_size_m: .nan\n", sim::DefaultScenario(),
-                               "w.yaml");
+              ScenarioFromYaml("world:\n  pillar_size_m: .nan\n", sim::DefaultScenario(), "w.yaml");
             }),
             "w.yaml:2: world.pillar_size_m: not a finite number");
   EXPECT_EQ(ErrorOf([] {
@@ -240,10 +240,9 @@ TEST(ScenarioYamlTest, RejectsAKeyGivenTwice) {
 }
 
 TEST(ScenarioYamlTest, InvalidYamlSyntaxNamesTheFile) {
-  EXPECT_THAT(ErrorOf([] {
-                ScenarioFromYaml("world: [1, 2\n", sim::DefaultScenario(), "bad.yaml");
-              }),
-              HasSubstr("bad.yaml:"));
+  EXPECT_THAT(
+      ErrorOf([] { ScenarioFromYaml("world: [1, 2\n", sim::DefaultScenario(), "bad.yaml"); }),
+      HasSubstr("bad.yaml:"));
 }
 
 TEST(ScenarioYamlTest, ApplyOverrideSetsNumbersStructsListsAndStrings) {
@@ -372,8 +371,7 @@ TEST(ScenarioYamlTest, LoadScenarioFileRejectsImplausibleQuantities) {
 
 TEST(ScenarioYamlTest, LoadScenarioFileOfAMissingFileNamesIt) {
   const TempDir dir;
-  EXPECT_THAT(ErrorOf([&] { LoadScenarioFile(dir / "absent.yaml"); }),
-              HasSubstr("absent.yaml"));
+  EXPECT_THAT(ErrorOf([&] { LoadScenarioFile(dir / "absent.yaml"); }), HasSubstr("absent.yaml"));
 }
 
 }  // namespace

@@ -29,8 +29,8 @@ TEST(ShippedConfigTest, EveryWorldFileLoadsAndIsValid) {
 }
 
 TEST(ShippedConfigTest, SmallWorldIsSmall) {
-  const sim::ScenarioConfig config = LoadScenarioFile(
-      std::filesystem::path(PARKSLAM_CONFIG_DIR) / "worlds" / "small.yaml");
+  const sim::ScenarioConfig config =
+      LoadScenarioFile(std::filesystem::path(PARKSLAM_CONFIG_DIR) / "worlds" / "small.yaml");
   EXPECT_EQ(config.world.name, "small");
   EXPECT_DOUBLE_EQ(config.world.hall.max_x_m - config.world.hall.min_x_m, 40.0);
   EXPECT_DOUBLE_EQ(config.world.hall.max_y_m - config.world.hall.min_y_m, 25.0);

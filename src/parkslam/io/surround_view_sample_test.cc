@@ -28,14 +28,15 @@ cv::Mat FusedSample() {
   const camera::HomographyTopView view(LoadHomographyRig(dir));
   std::array<cv::Mat, 4> images;
   const char* names[] = {"front", "back", "left", "right"};
-  for (int c = 0; c < 4; ++c) images[c] = cv::imread((dir / (std::string(names[c]) + ".png")).string());
+  for (int c = 0; c < 4; ++c)
+    images[c] = cv::imread((dir / (std::string(names[c]) + ".png")).string());
   cv::Mat grey;
   cv::cvtColor(view.Fuse(images), grey, cv::COLOR_BGR2GRAY);
   return grey;
 }
 
-#define SKIP_WITHOUT_SAMPLE()                                                          \
-  if (!std::filesystem::exists(SampleDir() / "front.yaml")) {                          \
+#define SKIP_WITHOUT_SAMPLE()                                                            \
+  if (!std::filesystem::exists(SampleDir() / "front.yaml")) {                            \
     GTEST_SKIP() << "real data not found at " << SampleDir() << " (shared/data absent)"; \
   }
 

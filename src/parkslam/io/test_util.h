@@ -31,11 +31,10 @@ std::string ErrorOf(F f) {
 class TempDir {
  public:
   TempDir() {
-    const ::testing::TestInfo* info =
-        ::testing::UnitTest::GetInstance()->current_test_info();
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
     path_ = std::filesystem::temp_directory_path() /
-            ("parkslam_io_" + std::string(info->test_suite_name()) + "_" +
-             info->name() + "_" + std::to_string(::getpid()));
+            ("parkslam_io_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
+             std::to_string(::getpid()));
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }

@@ -55,8 +55,8 @@ void AppendDouble(std::string* out, double value) {
 
 void AppendFixed(std::string* out, double value, int decimals) {
   char buffer[64];
-  auto result = std::to_chars(buffer, buffer + sizeof(buffer), value,
-                              std::chars_format::fixed, decimals);
+  auto result =
+      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, decimals);
   if (result.ec != std::errc()) {  // |value| too large for the buffer
     result = std::to_chars(buffer, buffer + sizeof(buffer), value);
   }
@@ -108,9 +108,8 @@ std::string BeyondPlausible(double value, double max_abs, std::string_view unit)
 std::string OutsidePlausible(double value, double min, double max, std::string_view unit) {
   std::string message;
   AppendDouble(&message, value);
-  return WithUnit(message + " is outside the plausible range [" + Limit(min) + ", " +
-                      Limit(max) + "]",
-                  unit);
+  return WithUnit(
+      message + " is outside the plausible range [" + Limit(min) + ", " + Limit(max) + "]", unit);
 }
 
 std::string_view Trim(std::string_view text) {

@@ -15,8 +15,8 @@ namespace parkslam::io {
 namespace {
 
 constexpr int kColumns = 8;
-constexpr std::array<const char*, kColumns> kColumnNames = {
-    "t", "x", "y", "z", "qx", "qy", "qz", "qw"};
+constexpr std::array<const char*, kColumns> kColumnNames = {"t",  "x",  "y",  "z",
+                                                            "qx", "qy", "qz", "qw"};
 constexpr int kPositionDecimals = 6;
 constexpr int kQuaternionDecimals = 10;
 // Larger times overflow int64 nanoseconds.
@@ -24,8 +24,8 @@ constexpr std::uint64_t kMaxWholeSeconds = 9'000'000'000ULL;
 
 // Exact text of a nanosecond time in seconds: "-12.000000500".
 void AppendSeconds(std::string* out, TimeNs t_ns) {
-  std::uint64_t magnitude = t_ns < 0 ? 0ULL - static_cast<std::uint64_t>(t_ns)
-                                     : static_cast<std::uint64_t>(t_ns);
+  std::uint64_t magnitude =
+      t_ns < 0 ? 0ULL - static_cast<std::uint64_t>(t_ns) : static_cast<std::uint64_t>(t_ns);
   if (t_ns < 0) out->push_back('-');
   const std::uint64_t ns_per_s = static_cast<std::uint64_t>(kNanosecondsPerSecond);
   out->append(std::to_string(magnitude / ns_per_s));
@@ -75,8 +75,7 @@ std::optional<TimeNs> ParsePlainSeconds(std::string_view text) {
   }
   for (int d = std::min(fraction_digits, 9); d < 9; ++d) fraction *= 10;
   const std::uint64_t ns =
-      whole * static_cast<std::uint64_t>(kNanosecondsPerSecond) + fraction +
-      (round_up ? 1 : 0);
+      whole * static_cast<std::uint64_t>(kNanosecondsPerSecond) + fraction + (round_up ? 1 : 0);
   const auto signed_ns = static_cast<TimeNs>(ns);
   return negative ? -signed_ns : signed_ns;
 }
@@ -91,8 +90,7 @@ TimeNs ParseTime(std::string_view text, const std::string& source, int line) {
 }
 
 // Splits at spaces and tabs; returns the number of fields found.
-int SplitWhitespace(std::string_view line,
-                    std::array<std::string_view, kColumns>* fields) {
+int SplitWhitespace(std::string_view line, std::array<std::string_view, kColumns>* fields) {
   int count = 0;
   std::size_t i = 0;
   while (true) {
@@ -110,8 +108,7 @@ TimedPose ParseLine(std::string_view line, const std::string& source, int line_n
   const int count = SplitWhitespace(line, &fields);
   if (count != kColumns) {
     ThrowIoError(source, line_number, "",
-                 "expected 8 columns (t x y z qx qy qz qw), got " +
-                     std::to_string(count));
+                 "expected 8 columns (t x y z qx qy qz qw), got " + std::to_string(count));
   }
   std::array<double, kColumns> values{};
   for (int c = 1; c < kColumns; ++c) {
@@ -148,8 +145,8 @@ void CheckWritable(const Trajectory& trajectory, const std::string& source) {
     }
     if (i > 0 && trajectory[i].t_ns <= trajectory[i - 1].t_ns) {
       ThrowIoError(source, 0, where,
-                   "t not strictly increasing (" + SecondsText(trajectory[i].t_ns) +
-                       " s after " + SecondsText(trajectory[i - 1].t_ns) + " s)");
+                   "t not strictly increasing (" + SecondsText(trajectory[i].t_ns) + " s after " +
+                       SecondsText(trajectory[i - 1].t_ns) + " s)");
     }
   }
 }
@@ -186,8 +183,8 @@ Trajectory ParseTum(std::string_view content, const std::string& source_name) {
     TimedPose pose = ParseLine(line, source_name, lines.line_number());
     if (!trajectory.empty() && pose.t_ns <= trajectory.back().t_ns) {
       ThrowIoError(source_name, lines.line_number(), "t",
-                   "not strictly increasing (" + SecondsText(pose.t_ns) +
-                       " s after " + SecondsText(trajectory.back().t_ns) + " s)");
+                   "not strictly increasing (" + SecondsText(pose.t_ns) + " s after " +
+                       SecondsText(trajectory.back().t_ns) + " s)");
     }
     trajectory.push_back(pose);
   }

@@ -43,8 +43,7 @@ TEST(TumTest, RoundTripKeepsTimesExactAndYawTo1e9) {
     EXPECT_EQ(read[i].t_ns, original[i].t_ns);
     EXPECT_NEAR(read[i].T_map_vehicle.x(), original[i].T_map_vehicle.x(), 5e-7);
     EXPECT_NEAR(read[i].T_map_vehicle.y(), original[i].T_map_vehicle.y(), 5e-7);
-    EXPECT_NEAR(AngleDiff(read[i].T_map_vehicle.yaw(), original[i].T_map_vehicle.yaw()),
-                0.0, 1e-9);
+    EXPECT_NEAR(AngleDiff(read[i].T_map_vehicle.yaw(), original[i].T_map_vehicle.yaw()), 0.0, 1e-9);
   }
 }
 
@@ -72,9 +71,9 @@ TEST(TumTest, FormatsNegativeTimesExactly) {
 }
 
 TEST(TumTest, SkipsCommentsAndBlankLinesAndAcceptsTabs) {
-  const Trajectory read = ParseTum(
-      "# header\n\n0.1 1 2 0 0 0 0 1\r\n  # indented comment\n0.2\t3\t4\t0\t0\t0\t0\t1\n",
-      "mem.tum");
+  const Trajectory read =
+      ParseTum("# header\n\n0.1 1 2 0 0 0 0 1\r\n  # indented comment\n0.2\t3\t4\t0\t0\t0\t0\t1\n",
+               "mem.tum");
   ASSERT_EQ(read.size(), 2u);
   EXPECT_EQ(read[0].t_ns, 100'000'000);
   EXPECT_EQ(read[1].t_ns, 200'000'000);
@@ -90,8 +89,7 @@ TEST(TumTest, RoundsTimeToTheNearestNanosecond) {
 
 TEST(TumTest, ReadsHeadingOfAnUnnormalizedQuaternion) {
   // 2 * (0, 0, sin 0.5, cos 0.5): a rotation of 1 rad about z.
-  const Trajectory read =
-      ParseTum("0 0 0 0 0 0 0.958851077208406 1.755165123780746\n", "m");
+  const Trajectory read = ParseTum("0 0 0 0 0 0 0.958851077208406 1.755165123780746\n", "m");
   EXPECT_NEAR(read[0].T_map_vehicle.yaw(), 1.0, 1e-12);
 }
 
@@ -100,8 +98,8 @@ TEST(TumTest, ReadsHeadingOfATiltedRotation) {
   const double cy = std::cos(0.15), sy = std::sin(0.15);
   const double cr = std::cos(0.1), sr = std::sin(0.1);
   const double qw = cy * cr, qx = cy * sr, qy = sy * sr, qz = sy * cr;
-  const std::string line = "0 0 0 0 " + std::to_string(qx) + " " + std::to_string(qy) +
-                           " " + std::to_string(qz) + " " + std::to_string(qw) + "\n";
+  const std::string line = "0 0 0 0 " + std::to_string(qx) + " " + std::to_string(qy) + " " +
+                           std::to_string(qz) + " " + std::to_string(qw) + "\n";
   EXPECT_NEAR(ParseTum(line, "m")[0].T_map_vehicle.yaw(), 0.3, 1e-5);
 }
 
@@ -142,13 +140,11 @@ TEST(TumTest, RejectsTimestampsThatDoNotIncrease) {
 }
 
 TEST(TumTest, RejectsAZeroQuaternion) {
-  EXPECT_THAT(ErrorOf([] { ParseTum("0 0 0 0 0 0 0 0\n", "t.tum"); }),
-              HasSubstr("t.tum:1:"));
+  EXPECT_THAT(ErrorOf([] { ParseTum("0 0 0 0 0 0 0 0\n", "t.tum"); }), HasSubstr("t.tum:1:"));
 }
 
 TEST(TumTest, RejectsAFileWithoutPoses) {
-  EXPECT_EQ(ErrorOf([] { ParseTum("# only a comment\n\n", "t.tum"); }),
-            "t.tum: no poses");
+  EXPECT_EQ(ErrorOf([] { ParseTum("# only a comment\n\n", "t.tum"); }), "t.tum: no poses");
   EXPECT_EQ(ErrorOf([] { ParseTum("", "t.tum"); }), "t.tum: no poses");
 }
 
@@ -160,8 +156,7 @@ TEST(TumTest, ReadingAMissingFileNamesIt) {
 TEST(TumTest, WritingRefusesANonFinitePose) {
   const TempDir dir;
   const Trajectory bad = {{0, SE2(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0)}};
-  EXPECT_THAT(ErrorOf([&] { WriteTum(dir / "bad.tum", bad); }),
-              HasSubstr("not a finite pose"));
+  EXPECT_THAT(ErrorOf([&] { WriteTum(dir / "bad.tum", bad); }), HasSubstr("not a finite pose"));
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.tum"));
 }
 

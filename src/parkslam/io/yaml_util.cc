@@ -26,16 +26,14 @@ std::size_t EditDistance(std::string_view a, std::string_view b) {
     row[0] = i;
     for (std::size_t j = 1; j <= b.size(); ++j) {
       const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1,
-                         diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
       diagonal = above;
     }
   }
   return row[b.size()];
 }
 
-std::string UnknownKeyMessage(std::string_view key,
-                              const std::vector<std::string_view>& known) {
+std::string UnknownKeyMessage(std::string_view key, const std::vector<std::string_view>& known) {
   constexpr std::size_t kMaxTypos = 2;
   std::string_view best;
   std::size_t best_distance = kMaxTypos + 1;
@@ -52,9 +50,9 @@ std::string UnknownKeyMessage(std::string_view key,
 }
 
 bool IsSpecialFloat(std::string_view text) {
-  static const std::set<std::string_view> kSpecial = {
-      ".inf", ".Inf", ".INF", "+.inf", "+.Inf", "+.INF", "-.inf",
-      "-.Inf", "-.INF", ".nan", ".NaN", ".NAN"};
+  static const std::set<std::string_view> kSpecial = {".inf",  ".Inf",  ".INF",  "+.inf",
+                                                      "+.Inf", "+.INF", "-.inf", "-.Inf",
+                                                      "-.INF", ".nan",  ".NaN",  ".NAN"};
   return kSpecial.count(text) > 0;
 }
 
@@ -78,8 +76,7 @@ YAML::Node LoadYaml(const std::string& text, const std::string& source) {
   } catch (const YAML::Exception& e) {
     std::string where = source;
     if (e.mark.line >= 0) {
-      where += ":" + std::to_string(e.mark.line + 1) + ":" +
-               std::to_string(e.mark.column + 1);
+      where += ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1);
     }
     ThrowIoError(where, 0, "", "invalid YAML: " + e.msg);
   }
@@ -112,15 +109,15 @@ double YamlReader::Double(const YAML::Node& node, const std::string& path) const
   return *value;
 }
 
-double YamlReader::BoundedDouble(const YAML::Node& node, const std::string& path,
-                                 double max_abs, std::string_view unit) const {
+double YamlReader::BoundedDouble(const YAML::Node& node, const std::string& path, double max_abs,
+                                 std::string_view unit) const {
   const double value = Double(node, path);
   if (std::abs(value) > max_abs) Fail(node, path, text::BeyondPlausible(value, max_abs, unit));
   return value;
 }
 
-double YamlReader::DoubleIn(const YAML::Node& node, const std::string& path, double min,
-                            double max, std::string_view unit) const {
+double YamlReader::DoubleIn(const YAML::Node& node, const std::string& path, double min, double max,
+                            std::string_view unit) const {
   const double value = Double(node, path);
   if (value < min || value > max) {
     Fail(node, path, text::OutsidePlausible(value, min, max, unit));
@@ -167,8 +164,7 @@ Eigen::Vector2d YamlReader::Point(const YAML::Node& node, const std::string& pat
   if (!node.IsDefined() || !node.IsSequence() || node.size() != 2) {
     Fail(node, path, "expected a point [x, y], got " + Describe(node));
   }
-  return Eigen::Vector2d(Double(node[0], IndexKey(path, 0)),
-                         Double(node[1], IndexKey(path, 1)));
+  return Eigen::Vector2d(Double(node[0], IndexKey(path, 0)), Double(node[1], IndexKey(path, 1)));
 }
 
 void YamlReader::ExpectMap(const YAML::Node& node, const std::string& path) const {
@@ -219,8 +215,7 @@ void AppendYamlDouble(std::string* out, double value) {
   text::AppendDouble(out, value);
   // YAML 1.1 readers want a '.' in a float with an exponent: 1e-05 -> 1.0e-05.
   const std::size_t exponent = out->find('e', begin);
-  if (exponent != std::string::npos &&
-      out->find('.', begin) == std::string::npos) {
+  if (exponent != std::string::npos && out->find('.', begin) == std::string::npos) {
     out->insert(exponent, ".0");
   }
 }

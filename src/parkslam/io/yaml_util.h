@@ -61,8 +61,7 @@ class YamlReader {
                   std::initializer_list<std::string_view> keys) const;
 
  private:
-  std::string Scalar(const YAML::Node& node, const std::string& path,
-                     const char* expected) const;
+  std::string Scalar(const YAML::Node& node, const std::string& path, const char* expected) const;
 
   std::string source_;
   bool use_lines_;
@@ -76,11 +75,10 @@ void AppendYamlString(std::string* out, std::string_view value);
 
 // The scenario under `node` (a mapping) overlaid onto *config; path prefixes
 // the key paths in messages. Defined in scenario_yaml.cc.
-void ReadScenarioNode(const YamlReader& reader, const YAML::Node& node,
-                      const std::string& path, sim::ScenarioConfig* config);
+void ReadScenarioNode(const YamlReader& reader, const YAML::Node& node, const std::string& path,
+                      sim::ScenarioConfig* config);
 // The scenario as block YAML, every line indented by `indent` spaces.
-void AppendScenarioYaml(const sim::ScenarioConfig& config, int indent,
-                        std::string* out);
+void AppendScenarioYaml(const sim::ScenarioConfig& config, int indent, std::string* out);
 
 }  // namespace parkslam::io::yaml_util
 

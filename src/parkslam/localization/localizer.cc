@@ -32,9 +32,12 @@ std::string ConfidentId(const SlotIdReading& id, double min_confidence) {
 
 const char* ToString(LocalizerState state) {
   switch (state) {
-    case LocalizerState::kUninitialized: return "uninitialized";
-    case LocalizerState::kTracking: return "tracking";
-    case LocalizerState::kLost: return "lost";
+    case LocalizerState::kUninitialized:
+      return "uninitialized";
+    case LocalizerState::kTracking:
+      return "tracking";
+    case LocalizerState::kLost:
+      return "lost";
   }
   return "uninitialized";
 }
@@ -49,9 +52,10 @@ bool LocalizerOptions::IsValid(std::string* error) const {
     return fail("noise floors must be positive");
   if (!(gate_probability > 0.5 && gate_probability < 1.0))
     return fail("gate_probability must be in (0.5, 1)");
-  if (!(nn_radius_m > 0 && lost_after_s > 0 && lost_min_rejected >= 1 && lost_position_sigma_m > 0 && reloc_window_s > 0 &&
-        reloc_inlier_m > 0 && reloc_min_inliers >= 2 && reloc_min_landmarks >= 1 &&
-        reloc_ambiguity_ratio > 0 && reloc_ambiguity_ratio <= 1))
+  if (!(nn_radius_m > 0 && lost_after_s > 0 && lost_min_rejected >= 1 &&
+        lost_position_sigma_m > 0 && reloc_window_s > 0 && reloc_inlier_m > 0 &&
+        reloc_min_inliers >= 2 && reloc_min_landmarks >= 1 && reloc_ambiguity_ratio > 0 &&
+        reloc_ambiguity_ratio <= 1))
     return fail("association, lost or relocalization settings out of range");
   return true;
 }
@@ -107,14 +111,14 @@ void Localizer::Predict(const odometry::OdometryEkf::RelativeMotion& motion) {
 
 template <int N>
 bool Localizer::Update(const Eigen::Matrix<double, N, 1>& innovation,
-                       const Eigen::Matrix<double, N, 3>& H,
-                       const Eigen::Matrix<double, N, N>& R) {
+                       const Eigen::Matrix<double, N, 3>& H, const Eigen::Matrix<double, N, N>& R) {
   const Eigen::Matrix<double, N, N> S = H * P_ * H.transpose() + R;
   const Eigen::LLT<Eigen::Matrix<double, N, N>> llt(S);
   if (llt.info() != Eigen::Success) return false;
   const double chi2 = innovation.dot(llt.solve(innovation));
   if (!(chi2 < gate_chi2_[N])) return false;
-  const Eigen::Matrix<double, 3, N> K = P_ * H.transpose() * llt.solve(Eigen::Matrix<double, N, N>::Identity());
+  const Eigen::Matrix<double, 3, N> K =
+      P_ * H.transpose() * llt.solve(Eigen::Matrix<double, N, N>::Identity());
   x_ += K * innovation;
   x_[2] = NormalizeAngle(x_[2]);
   const Eigen::Matrix3d I_KH = Eigen::Matrix3d::Identity() - K * H;
@@ -140,9 +144,11 @@ bool Localizer::UpdateSlot(const SlotObservation& obs) {
     const Eigen::Matrix2d Rt = pose.rotation().transpose();
     for (int j = 0; j < 2; ++j) {
       H->block<2, 2>(2 * j, 0) = -Rt;
-      H->block<2, 1>(2 * j, 2) = DRotTransposeDYaw(pose.yaw(), slot.corners_map[j] - pose.translation());
+      H->block<2, 1>(2 * j, 2) =
+          DRotTransposeDYaw(pose.yaw(), slot.corners_map[j] - pose.translation());
       const double map_sigma = std::max(slot.corner_sigma_m[j], options_.map_corner_sigma_floor_m);
-      R->block<2, 2>(2 * j, 2 * j) = Eigen::Matrix2d::Identity() * (Square(obs_sigma) + Square(map_sigma));
+      R->block<2, 2>(2 * j, 2 * j) =
+          Eigen::Matrix2d::Identity() * (Square(obs_sigma) + Square(map_sigma));
     }
   };
 
@@ -159,7 +165,8 @@ bool Localizer::UpdateSlot(const SlotObservation& obs) {
   }
   std::sort(near.begin(), near.end());
   for (const auto& [d, i] : near) {
-    if (std::find(candidates.begin(), candidates.end(), i) == candidates.end()) candidates.push_back(i);
+    if (std::find(candidates.begin(), candidates.end(), i) == candidates.end())
+      candidates.push_back(i);
   }
   for (int i : candidates) {
     Eigen::Matrix<double, 4, 3> H;
@@ -184,7 +191,8 @@ bool Localizer::UpdateTag(const TagObservation& obs) {
   H.block<2, 1>(0, 2) = DRotTransposeDYaw(pose.yaw(), tag.p_map - pose.translation());
   H(2, 2) = -1.0;
   Eigen::Matrix3d R = Eigen::Matrix3d::Zero();
-  R.topLeftCorner<2, 2>() = obs.covariance_vehicle + Eigen::Matrix2d::Identity() * Square(options_.tag_map_sigma_m);
+  R.topLeftCorner<2, 2>() =
+      obs.covariance_vehicle + Eigen::Matrix2d::Identity() * Square(options_.tag_map_sigma_m);
   R(2, 2) = Square(obs.yaw_sigma_rad) + Square(options_.tag_map_yaw_sigma_rad);
   return Update<3>(y, H, R);
 }
@@ -193,7 +201,8 @@ Localizer::Support Localizer::CountInliers(const SE2& T_map_now) const {
   const SE2 T_odom_now = buffer_.back().T_odom_vehicle;
   std::set<int> matched;
   Support support;
-  auto add = [&](const SE2& T_now_frame, const Eigen::Vector2d& p_frame, const Eigen::Vector2d& p_map) {
+  auto add = [&](const SE2& T_now_frame, const Eigen::Vector2d& p_frame,
+                 const Eigen::Vector2d& p_map) {
     ++support.inliers;
     support.points_now.push_back(T_now_frame * p_frame);
     support.points_map.push_back(p_map);
@@ -258,7 +267,8 @@ bool Localizer::TryRelocalize(TimeNs t_ns) {
     const int inliers = support.inliers;
     if (inliers > best_inliers) {
       // The old best becomes a rival unless it is the same place.
-      if (best >= 0 && (hypotheses[best].translation() - hypotheses[h].translation()).norm() > 1.0) {
+      if (best >= 0 &&
+          (hypotheses[best].translation() - hypotheses[h].translation()).norm() > 1.0) {
         rival_inliers = std::max(rival_inliers, best_inliers);
       }
       best = h;
@@ -327,7 +337,8 @@ std::optional<LocalizationEstimate> Localizer::Process(const SensorEvent& event)
     const bool any_accepted = std::any_of(recent_outcomes_.begin(), recent_outcomes_.end(),
                                           [](const auto& o) { return o.second; });
     const double position_sigma = std::sqrt(std::max(P_(0, 0), P_(1, 1)));
-    if ((!any_accepted && static_cast<int>(recent_outcomes_.size()) >= options_.lost_min_rejected) ||
+    if ((!any_accepted &&
+         static_cast<int>(recent_outcomes_.size()) >= options_.lost_min_rejected) ||
         position_sigma > options_.lost_position_sigma_m) {
       state_ = LocalizerState::kLost;
       recent_outcomes_.clear();

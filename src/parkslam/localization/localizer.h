@@ -106,8 +106,8 @@ class Localizer {
   void Predict(const odometry::OdometryEkf::RelativeMotion& motion);
   // EKF update with a stacked measurement; false when the gate rejects it.
   template <int N>
-  bool Update(const Eigen::Matrix<double, N, 1>& innovation,
-              const Eigen::Matrix<double, N, 3>& H, const Eigen::Matrix<double, N, N>& R);
+  bool Update(const Eigen::Matrix<double, N, 1>& innovation, const Eigen::Matrix<double, N, 3>& H,
+              const Eigen::Matrix<double, N, N>& R);
   bool UpdateSlot(const SlotObservation& observation);
   bool UpdateTag(const TagObservation& observation);
   bool TryRelocalize(TimeNs t_ns);

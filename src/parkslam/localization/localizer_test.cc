@@ -32,8 +32,9 @@ const Fixture& Default() {
 }
 
 Localizer MakeLocalizer(const Fixture& f) {
-  return Localizer(f.map, LocalizerOptions{},
-                   pipeline::EkfOptionsFromSensorSpec(f.scenario.sensors.odometry, f.scenario.vehicle));
+  return Localizer(
+      f.map, LocalizerOptions{},
+      pipeline::EkfOptionsFromSensorSpec(f.scenario.sensors.odometry, f.scenario.vehicle));
 }
 
 double PositionError(const Fixture& f, const LocalizationEstimate& e) {

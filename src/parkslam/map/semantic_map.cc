@@ -4,9 +4,12 @@ namespace parkslam {
 
 const char* ToString(SlotKind kind) {
   switch (kind) {
-    case SlotKind::kPerpendicular: return "perpendicular";
-    case SlotKind::kAngled: return "angled";
-    case SlotKind::kParallel: return "parallel";
+    case SlotKind::kPerpendicular:
+      return "perpendicular";
+    case SlotKind::kAngled:
+      return "angled";
+    case SlotKind::kParallel:
+      return "parallel";
   }
   return "perpendicular";
 }
@@ -18,9 +21,7 @@ std::optional<SlotKind> SlotKindFromString(const std::string& name) {
   return std::nullopt;
 }
 
-const char* ToString(ObstacleKind kind) {
-  return kind == ObstacleKind::kWall ? "wall" : "pillar";
-}
+const char* ToString(ObstacleKind kind) { return kind == ObstacleKind::kWall ? "wall" : "pillar"; }
 
 std::optional<ObstacleKind> ObstacleKindFromString(const std::string& name) {
   if (name == "pillar") return ObstacleKind::kPillar;

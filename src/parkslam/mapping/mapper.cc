@@ -3,11 +3,11 @@
 #include <ceres/ceres.h>
 
 #include <algorithm>
-#include <stdexcept>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <set>
+#include <stdexcept>
 
 #include "parkslam/common/angles.h"
 #include "parkslam/mapping/costs/angle.h"
@@ -110,10 +110,12 @@ bool MapperOptions::IsValid(std::string* error) const {
   if (!(window_keyframes >= 2 && window_history_observations >= 0 && online_iterations >= 1 &&
         batch_window_every >= 1 && final_iterations >= 1 && final_rounds >= 1))
     return fail("solver settings out of range");
-  if (!(max_records_per_landmark >= 0 && retire_check_min_records >= 1 && online_merge_every_keyframes >= 0 &&
-        prune_unconfirmed_after_keyframes >= 0))
-    return fail("max_records_per_landmark, online_merge_every_keyframes and prune_unconfirmed_after_keyframes "
-                "must be >= 0, retire_check_min_records >= 1");
+  if (!(max_records_per_landmark >= 0 && retire_check_min_records >= 1 &&
+        online_merge_every_keyframes >= 0 && prune_unconfirmed_after_keyframes >= 0))
+    return fail(
+        "max_records_per_landmark, online_merge_every_keyframes and "
+        "prune_unconfirmed_after_keyframes "
+        "must be >= 0, retire_check_min_records >= 1");
   // Ceres refuses a first radius outside its own bounds (min 1e-32, max
   // 1e16) and would leave the map unsolved without a word.
   if (!(initial_trust_region_radius >= 1e-32 && initial_trust_region_radius <= 1e16))
@@ -156,8 +158,8 @@ void Mapper::Process(const SensorEvent& event) {
   const auto* tag_frame = std::get_if<TagObservationFrame>(&event);
   if (slot_frame == nullptr && tag_frame == nullptr) return;
   const auto start = std::chrono::steady_clock::now();
-  const bool has_observations = slot_frame != nullptr ? !slot_frame->slots.empty()
-                                                     : !tag_frame->tags.empty();
+  const bool has_observations =
+      slot_frame != nullptr ? !slot_frame->slots.empty() : !tag_frame->tags.empty();
   // One camera frame set gives a slot frame and a tag frame of the same
   // time: the second joins the keyframe the first made (it has not moved,
   // so it would never make one of its own).
@@ -273,8 +275,8 @@ void Mapper::AssociateSlot(int keyframe, const SlotObservation& obs) {
     // The plain front-end of the paper's baseline: a confident ID decides;
     // otherwise the nearest neighbour within the gate; otherwise a new slot.
     int chosen = -1;
-    const bool confident = !obs.id.empty() && !obs.id.partial() &&
-                           obs.id.confidence() >= options_.id_confidence_min;
+    const bool confident =
+        !obs.id.empty() && !obs.id.partial() && obs.id.confidence() >= options_.id_confidence_min;
     if (confident) {
       const auto owner = id_owner_.find(obs.id.best());
       if (owner != id_owner_.end() && slots_[owner->second.first].alive) {
@@ -358,8 +360,8 @@ int Mapper::CreateSlot(int keyframe, const SlotObservation& obs) {
 void Mapper::UpdateIdOwner(int s) {
   for (const auto& [id, votes] : slots_[s].votes) {
     auto it = id_owner_.find(id);
-    if (it == id_owner_.end() || !slots_[it->second.first].alive ||
-        votes > it->second.second || it->second.first == s) {
+    if (it == id_owner_.end() || !slots_[it->second.first].alive || votes > it->second.second ||
+        it->second.first == s) {
       id_owner_[id] = {s, votes};
     }
   }
@@ -411,8 +413,8 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
   // fixed one).
   for (int k = std::max(1, first_free); k < count; ++k) {
     problem.AddResidualBlock(
-        OdometryFactor::Create(keyframes_[k].T_previous_this, keyframes_[k].covariance),
-        nullptr, add_pose(k - 1), add_pose(k));
+        OdometryFactor::Create(keyframes_[k].T_previous_this, keyframes_[k].covariance), nullptr,
+        add_pose(k - 1), add_pose(k));
   }
   if (count == 1) add_pose(0);
 
@@ -426,7 +428,8 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
   std::vector<size_t> slot_records_in_play;
   if (history == 0) {
     for (const SlotRecord& record : slot_records_) {
-      if (record.keyframe >= first_free) free_slots.insert(record.candidates.begin(), record.candidates.end());
+      if (record.keyframe >= first_free)
+        free_slots.insert(record.candidates.begin(), record.candidates.end());
     }
     for (size_t r = 0; r < slot_records_.size(); ++r) {
       const SlotRecord& record = slot_records_[r];
@@ -450,23 +453,24 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
     const SlotRecord& record = slot_records_[r];
     std::vector<CornerMeasurement> measurements;
     for (int j = 0; j < kSlotCorners; ++j) {
-      measurements.push_back({record.observation.corners_vehicle[j],
-                              Eigen::Matrix2d::Identity() *
-                                  Square(CornerSigma(record.observation, j, options_))});
+      measurements.push_back(
+          {record.observation.corners_vehicle[j],
+           Eigen::Matrix2d::Identity() * Square(CornerSigma(record.observation, j, options_))});
     }
     std::vector<double*> blocks{add_pose(record.keyframe)};
     for (int s : record.candidates) {
       for (int j = 0; j < kSlotCorners; ++j) blocks.push_back(slots_[s].corners[j].data());
       if (free_slots.count(s) == 0) fixed_slots.insert(s);
     }
-    auto* factor = new MaxMixtureCornerFactor(
-        measurements, record.weights, record.has_null ? options_.null_weight : 0.0,
-        options_.null_chi2);
+    auto* factor = new MaxMixtureCornerFactor(measurements, record.weights,
+                                              record.has_null ? options_.null_weight : 0.0,
+                                              options_.null_chi2);
     problem.AddResidualBlock(factor, nullptr, blocks);
     if (record.has_null || record.candidates.size() > 1) mixtures.push_back({r, factor, blocks});
   }
   for (int s : fixed_slots) {
-    for (int j = 0; j < kSlotCorners; ++j) problem.SetParameterBlockConstant(slots_[s].corners[j].data());
+    for (int j = 0; j < kSlotCorners; ++j)
+      problem.SetParameterBlockConstant(slots_[s].corners[j].data());
   }
   // The rectangular constraint of every slot in play (paper III-A).
   for (int s : free_slots) {
@@ -497,12 +501,11 @@ void Mapper::Solve(int first_free, int max_iterations, bool final) {
     if (!problem.HasParameterBlock(tag_block)) {
       problem.AddParameterBlock(tag_block, 3, &pose_manifold);
     }
-    problem.AddResidualBlock(
-        TagObservationFactor::Create(record.observation.p_vehicle,
-                                     record.observation.yaw_vehicle_rad,
-                                     record.observation.covariance_vehicle,
-                                     record.observation.yaw_sigma_rad),
-        nullptr, add_pose(record.keyframe), tag_block);
+    problem.AddResidualBlock(TagObservationFactor::Create(record.observation.p_vehicle,
+                                                          record.observation.yaw_vehicle_rad,
+                                                          record.observation.covariance_vehicle,
+                                                          record.observation.yaw_sigma_rad),
+                             nullptr, add_pose(record.keyframe), tag_block);
   }
 
   if (!final) {
@@ -563,7 +566,8 @@ void Mapper::MoveEvidence(const SlotRecord& record, int slot_index, int sign) {
   for (int j = 0; j < kSlotCorners; ++j) {
     slot.corner_observations[j] += sign * static_cast<int>(record.observation.corner_observed[j]);
   }
-  for (const IdHypothesis& h : FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
+  for (const IdHypothesis& h :
+       FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
     double& votes = slot.votes[h.id];
     votes += sign * h.probability;
     if (votes < 1e-9) slot.votes.erase(h.id);  // what a removal leaves of a vote
@@ -591,7 +595,8 @@ void Mapper::RetireOldRecords() {
   const int cap = options_.max_records_per_landmark;
   const size_t stored = slot_records_.size() + tag_records_.size();
   if (stored >= static_cast<size_t>(options_.retire_check_min_records)) long_drive_ = true;
-  if (cap <= 0 || stored < std::max(retire_check_at_, static_cast<size_t>(options_.retire_check_min_records))) {
+  if (cap <= 0 ||
+      stored < std::max(retire_check_at_, static_cast<size_t>(options_.retire_check_min_records))) {
     return;
   }
   // A landmark over the cap loses every second record outside the window:
@@ -600,7 +605,8 @@ void Mapper::RetireOldRecords() {
   // the oldest instead lets the map drift with the odometry (measured in
   // SoakTest). Records come in keyframe order, so each list is oldest
   // first and ends with the window's.
-  const int first_free = std::max(0, static_cast<int>(keyframes_.size()) - options_.window_keyframes);
+  const int first_free =
+      std::max(0, static_cast<int>(keyframes_.size()) - options_.window_keyframes);
   auto thin = [&](const std::vector<std::vector<size_t>>& index, auto keyframe_of,
                   std::vector<bool>* retire) {
     for (const std::vector<size_t>& own : index) {
@@ -614,9 +620,12 @@ void Mapper::RetireOldRecords() {
       }
     }
   };
-  std::vector<bool> retire_slot(slot_records_.size(), false), retire_tag(tag_records_.size(), false);
-  thin(slot_record_index_, [&](size_t r) { return slot_records_[r].keyframe; }, &retire_slot);
-  thin(tag_record_index_, [&](size_t r) { return tag_records_[r].keyframe; }, &retire_tag);
+  std::vector<bool> retire_slot(slot_records_.size(), false),
+      retire_tag(tag_records_.size(), false);
+  thin(
+      slot_record_index_, [&](size_t r) { return slot_records_[r].keyframe; }, &retire_slot);
+  thin(
+      tag_record_index_, [&](size_t r) { return tag_records_[r].keyframe; }, &retire_tag);
 
   // Compacted in place: storage that is reused, not reallocated, keeps the
   // resident size from creeping with the allocator's leftovers.
@@ -634,9 +643,11 @@ void Mapper::RetireOldRecords() {
     SlotLandmark& slot = slots_[record.chosen];
     ++slot.retired_observations;
     for (int j = 0; j < kSlotCorners; ++j) {
-      slot.retired_corner_observations[j] += static_cast<int>(record.observation.corner_observed[j]);
+      slot.retired_corner_observations[j] +=
+          static_cast<int>(record.observation.corner_observed[j]);
     }
-    for (const IdHypothesis& h : FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
+    for (const IdHypothesis& h :
+         FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
       slot.retired_votes[h.id] += h.probability;
     }
   }
@@ -663,7 +674,8 @@ void Mapper::CullKeyframes() {
   // (the map's anchor), and every keyframe a record names.
   std::vector<bool> keep(static_cast<size_t>(n), false);
   keep[0] = true;
-  for (int k = std::max(0, n - options_.window_keyframes - 1); k < n; ++k) keep[static_cast<size_t>(k)] = true;
+  for (int k = std::max(0, n - options_.window_keyframes - 1); k < n; ++k)
+    keep[static_cast<size_t>(k)] = true;
   for (const SlotRecord& record : slot_records_) keep[static_cast<size_t>(record.keyframe)] = true;
   for (const TagRecord& record : tag_records_) keep[static_cast<size_t>(record.keyframe)] = true;
 
@@ -701,8 +713,10 @@ void Mapper::CullKeyframes() {
   }
   if (static_cast<int>(kept) == n) return;
   keyframes_.resize(kept);
-  for (SlotRecord& record : slot_records_) record.keyframe = new_index[static_cast<size_t>(record.keyframe)];
-  for (TagRecord& record : tag_records_) record.keyframe = new_index[static_cast<size_t>(record.keyframe)];
+  for (SlotRecord& record : slot_records_)
+    record.keyframe = new_index[static_cast<size_t>(record.keyframe)];
+  for (TagRecord& record : tag_records_)
+    record.keyframe = new_index[static_cast<size_t>(record.keyframe)];
 }
 
 void Mapper::MaybeMergeOnline() {
@@ -745,7 +759,8 @@ bool Mapper::PruneUnconfirmedSlots() {
       weights.push_back(record.weights[i]);
     }
     if (candidates.empty()) continue;  // it only ever named pruned slots
-    if (record.chosen >= 0 && prune[static_cast<size_t>(record.chosen)]) record.chosen = candidates.front();
+    if (record.chosen >= 0 && prune[static_cast<size_t>(record.chosen)])
+      record.chosen = candidates.front();
     record.candidates = std::move(candidates);
     record.weights = std::move(weights);
     SlotRecord& into = slot_records_[kept++];
@@ -763,7 +778,8 @@ bool Mapper::PruneUnconfirmedSlots() {
 void Mapper::RebuildRecordIndexes() {
   slot_record_index_.assign(slots_.size(), {});
   for (size_t r = 0; r < slot_records_.size(); ++r) {
-    for (int c : slot_records_[r].candidates) slot_record_index_[static_cast<size_t>(c)].push_back(r);
+    for (int c : slot_records_[r].candidates)
+      slot_record_index_[static_cast<size_t>(c)].push_back(r);
   }
   tag_record_index_.assign(tags_.size(), {});
   for (size_t r = 0; r < tag_records_.size(); ++r) {

@@ -26,13 +26,13 @@ namespace parkslam::mapping {
 
 struct MapperStats {
   int keyframes = 0;
-  int slot_observations = 0;      // attached to keyframes
+  int slot_observations = 0;           // attached to keyframes
   int rejected_slot_observations = 0;  // malformed: not a plausible slot shape
-  int mixture_observations = 0;   // with more than one component
+  int mixture_observations = 0;        // with more than one component
   int slots_created = 0;
   int slots_merged = 0;
-  int records_retired = 0;  // slot and tag records (MapperOptions::max_records_per_landmark)
-  int slots_pruned = 0;     // unconfirmed (MapperOptions::prune_unconfirmed_after_keyframes)
+  int records_retired = 0;   // slot and tag records (MapperOptions::max_records_per_landmark)
+  int slots_pruned = 0;      // unconfirmed (MapperOptions::prune_unconfirmed_after_keyframes)
   int keyframes_culled = 0;  // no record left to name them (Mapper::CullKeyframes)
   int tag_observations = 0;
   std::vector<double> keyframe_update_ms;  // per keyframe: association and update
@@ -76,7 +76,7 @@ class Mapper {
   struct Keyframe {
     TimeNs t_ns = 0;
     std::array<double, 3> pose{};  // x_m, y_m, yaw_rad in the map frame
-    SE2 T_previous_this;            // odometry since the previous keyframe
+    SE2 T_previous_this;           // odometry since the previous keyframe
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
   };
   struct SlotLandmark {

@@ -61,7 +61,7 @@ struct MapperOptions {
   double id_min_votes = 1.5;      // summed reading probability to name a slot
 
   // Solver.
-  int window_keyframes = 30;          // online: free keyframes per update
+  int window_keyframes = 30;  // online: free keyframes per update
   // A landmark seen in the window brings at most this many of its older
   // observations (the latest; their poses held fixed) into the windowed
   // solve: enough to hold it where its history put it, and a bounded
@@ -90,9 +90,9 @@ struct MapperOptions {
   // "Soak").
   int prune_unconfirmed_after_keyframes = 300;
   int online_iterations = 5;
-  int batch_window_every = 10;        // batch: a windowed solve every n keyframes
+  int batch_window_every = 10;  // batch: a windowed solve every n keyframes
   int final_iterations = 50;
-  int final_rounds = 2;               // final solve, merge, re-choose, repeat
+  int final_rounds = 2;  // final solve, merge, re-choose, repeat
   TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
   // Measured (docs/results/solver_comparison.md): the same maps as the
   // default 1e4 in about half the time.

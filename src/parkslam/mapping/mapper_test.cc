@@ -36,8 +36,8 @@ using ReadingFn = std::function<SlotIdReading(int s, int f)>;
 // the top view seeing slots whose entrance corners are within 5 m of the car.
 // With tag_map, the front camera sees tag 7 there in every frame, facing -y,
 // in a tag frame of the slot frame's time (as one camera frame set gives).
-void Drive(Mapper& mapper, const std::vector<TestSlot>& slots, const ReadingFn& reading,
-           double x0, double x1, double y = 0.0, TimeNs t0 = 0, int frame0 = 0,
+void Drive(Mapper& mapper, const std::vector<TestSlot>& slots, const ReadingFn& reading, double x0,
+           double x1, double y = 0.0, TimeNs t0 = 0, int frame0 = 0,
            std::optional<Eigen::Vector2d> tag_map = std::nullopt) {
   const double speed = 1.0;
   const int steps = static_cast<int>((x1 - x0) / speed * 100);
@@ -100,7 +100,8 @@ const MapSlot* FindNear(const SemanticMap& map, const Eigen::Vector2d& corner0) 
 TEST(MapperTest, TwoSlotsWithCorrectIdsAreMappedOnce) {
   Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
   const std::vector<TestSlot> slots{SlotAt(5.0), SlotAt(7.5)};
-  Drive(mapper, slots, [](int s, int) { return Reading(s == 0 ? "38" : "39"); }, 0, 15);
+  Drive(
+      mapper, slots, [](int s, int) { return Reading(s == 0 ? "38" : "39"); }, 0, 15);
   mapper.Finish();
   const SemanticMap map = mapper.Map();
   ASSERT_EQ(map.slots.size(), 2u);
@@ -116,7 +117,8 @@ TEST(MapperTest, FirstReadingWrongThenCorrected) {
   // The paper's case: slot 39 read as 38 when first identified.
   Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
   const std::vector<TestSlot> slots{SlotAt(5.0)};
-  Drive(mapper, slots, [](int, int f) { return Reading(f < 3 ? "38" : "39"); }, 0, 12);
+  Drive(
+      mapper, slots, [](int, int f) { return Reading(f < 3 ? "38" : "39"); }, 0, 12);
   mapper.Finish();
   const SemanticMap map = mapper.Map();
   ASSERT_EQ(map.slots.size(), 1u);
@@ -127,8 +129,8 @@ TEST(MapperTest, TemporaryIdPromotedOnceReadingsAgree) {
   Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
   const std::vector<TestSlot> slots{SlotAt(5.0)};
   // Unreadable when first seen, then read from frame 60 on.
-  Drive(mapper, slots, [](int, int f) { return f < 60 ? SlotIdReading{} : Reading("12"); },
-        0, 12);
+  Drive(
+      mapper, slots, [](int, int f) { return f < 60 ? SlotIdReading{} : Reading("12"); }, 0, 12);
   mapper.Finish();
   ASSERT_EQ(mapper.Map().slots.size(), 1u);
   EXPECT_EQ(mapper.Map().slots[0].id, "12");
@@ -137,7 +139,8 @@ TEST(MapperTest, TemporaryIdPromotedOnceReadingsAgree) {
 
 TEST(MapperTest, NeverReadSlotKeepsTemporaryId) {
   Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
-  Drive(mapper, {SlotAt(5.0)}, [](int, int) { return SlotIdReading{}; }, 0, 12);
+  Drive(
+      mapper, {SlotAt(5.0)}, [](int, int) { return SlotIdReading{}; }, 0, 12);
   mapper.Finish();
   ASSERT_EQ(mapper.Map().slots.size(), 1u);
   EXPECT_TRUE(mapper.Map().slots[0].temporary);
@@ -146,11 +149,14 @@ TEST(MapperTest, NeverReadSlotKeepsTemporaryId) {
 
 TEST(MapperTest, PartialReadingsAssociateByGeometry) {
   Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
-  Drive(mapper, {SlotAt(5.0)}, [](int, int f) {
-          SlotIdReading r = Reading("45");
-          if (f % 3 == 1) r.digits[0] = DigitReading{};  // "?5"
-          return r;
-        }, 0, 12);
+  Drive(
+      mapper, {SlotAt(5.0)},
+      [](int, int f) {
+        SlotIdReading r = Reading("45");
+        if (f % 3 == 1) r.digits[0] = DigitReading{};  // "?5"
+        return r;
+      },
+      0, 12);
   mapper.Finish();
   ASSERT_EQ(mapper.Map().slots.size(), 1u);
   EXPECT_EQ(mapper.Map().slots[0].id, "45");
@@ -210,7 +216,8 @@ TEST(MapperTest, DuplicatesFromEagerCreationAreMerged) {
   o.null_chi2 = 1e-3;  // every observation wins as a new slot at first
   o.null_weight = 1.0;
   Mapper mapper(o, {}, SE2());
-  Drive(mapper, {SlotAt(5.0)}, [](int, int) { return Reading("21"); }, 0, 12);
+  Drive(
+      mapper, {SlotAt(5.0)}, [](int, int) { return Reading("21"); }, 0, 12);
   mapper.Finish();
   EXPECT_GT(mapper.stats().slots_created, 5);
   EXPECT_GT(mapper.stats().slots_merged, 5);
@@ -222,7 +229,8 @@ TEST(MapperTest, SpuriousSingleDetectionIsDropped) {
   Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
   const std::vector<TestSlot> slots{SlotAt(5.0)};
   // Frame 40 also sees a false slot far off the row.
-  Drive(mapper, slots, [](int, int) { return Reading("21"); }, 0, 12);
+  Drive(
+      mapper, slots, [](int, int) { return Reading("21"); }, 0, 12);
   SlotObservationFrame frame;
   frame.t_ns = 13'000 * kMs;
   SlotObservation ghost;
@@ -241,8 +249,9 @@ TEST(MapperTest, TagSeenWithSlotsInOneFrameSetIsMapped) {
   Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
   const std::vector<TestSlot> slots{SlotAt(3.0), SlotAt(5.5), SlotAt(8.0), SlotAt(10.5)};
   const Eigen::Vector2d tag_map(8.0, -4.0);
-  Drive(mapper, slots, [](int s, int) { return Reading(std::to_string(40 + s)); }, 0, 12, 0.0, 0,
-        0, tag_map);
+  Drive(
+      mapper, slots, [](int s, int) { return Reading(std::to_string(40 + s)); }, 0, 12, 0.0, 0, 0,
+      tag_map);
   mapper.Finish();
   // Every keyframe is a frame set with slots and the tag in view.
   EXPECT_GT(mapper.stats().keyframes, 50);
@@ -257,7 +266,8 @@ TEST(MapperTest, TagSeenWithSlotsInOneFrameSetIsMapped) {
 TEST(MapperTest, OnlineModeBuildsTheSameSlots) {
   Mapper mapper(Options(RobustMode::kMaxMixture, MappingMode::kOnline), {}, SE2());
   const std::vector<TestSlot> slots{SlotAt(5.0), SlotAt(7.5), SlotAt(10.0)};
-  Drive(mapper, slots, [](int s, int) { return Reading(std::to_string(40 + s)); }, 0, 18);
+  Drive(
+      mapper, slots, [](int s, int) { return Reading(std::to_string(40 + s)); }, 0, 18);
   mapper.Finish();
   const SemanticMap map = mapper.Map();
   ASSERT_EQ(map.slots.size(), 3u);
@@ -272,7 +282,8 @@ TEST(MapperTest, MalformedSlotObservationIsRejected) {
   TestSlot mirrored = SlotAt(5.0);
   std::swap(mirrored.corners_map[0], mirrored.corners_map[1]);
   std::swap(mirrored.corners_map[2], mirrored.corners_map[3]);
-  Drive(mapper, {mirrored}, [](int, int) { return Reading("21"); }, 0, 12);
+  Drive(
+      mapper, {mirrored}, [](int, int) { return Reading("21"); }, 0, 12);
   mapper.Finish();
   EXPECT_TRUE(mapper.Map().slots.empty());
   EXPECT_GT(mapper.stats().rejected_slot_observations, 0);

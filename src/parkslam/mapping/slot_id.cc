@@ -4,8 +4,8 @@
 
 namespace parkslam::mapping {
 
-std::vector<IdHypothesis> FullIdHypotheses(const SlotIdReading& reading,
-                                           double min_probability, int max_count) {
+std::vector<IdHypothesis> FullIdHypotheses(const SlotIdReading& reading, double min_probability,
+                                           int max_count) {
   if (reading.empty() || reading.partial()) return {};
   std::vector<IdHypothesis> partial_ids{{"", 1.0}};
   for (const DigitReading& digit : reading.digits) {
@@ -19,11 +19,10 @@ std::vector<IdHypothesis> FullIdHypotheses(const SlotIdReading& reading,
     }
     partial_ids = std::move(extended);
   }
-  std::sort(partial_ids.begin(), partial_ids.end(),
-            [](const IdHypothesis& a, const IdHypothesis& b) {
-              return a.probability > b.probability ||
-                     (a.probability == b.probability && a.id < b.id);
-            });
+  std::sort(
+      partial_ids.begin(), partial_ids.end(), [](const IdHypothesis& a, const IdHypothesis& b) {
+        return a.probability > b.probability || (a.probability == b.probability && a.id < b.id);
+      });
   if (static_cast<int>(partial_ids.size()) > max_count) partial_ids.resize(max_count);
   return partial_ids;
 }

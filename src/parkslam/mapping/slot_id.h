@@ -21,8 +21,8 @@ struct IdHypothesis {
 // the per-digit hypotheses, each with the product of its digits'
 // probabilities, those of at least min_probability, at most max_count.
 // Empty for an empty or partial reading.
-std::vector<IdHypothesis> FullIdHypotheses(const SlotIdReading& reading,
-                                           double min_probability, int max_count = 8);
+std::vector<IdHypothesis> FullIdHypotheses(const SlotIdReading& reading, double min_probability,
+                                           int max_count = 8);
 
 // "3?" for a partial reading ('?' for each unread digit), "" otherwise.
 std::string PartialPattern(const SlotIdReading& reading);

@@ -20,14 +20,20 @@ bool OdometryEkfOptions::IsValid(std::string* error) const {
     if (error != nullptr) *error = vehicle_error;
     return false;
   }
-  const double sigmas[] = {wheel_speed_sigma_mps, steering_wheel_sigma_rad,
-                           steering_model_sigma_radps, gyro_sigma_radps,
-                           heading_sigma_rad, accel_sigma_mps2_per_sqrt_hz,
+  const double sigmas[] = {wheel_speed_sigma_mps,
+                           steering_wheel_sigma_rad,
+                           steering_model_sigma_radps,
+                           gyro_sigma_radps,
+                           heading_sigma_rad,
+                           accel_sigma_mps2_per_sqrt_hz,
                            yaw_accel_sigma_radps2_per_sqrt_hz,
                            gyro_bias_walk_radps_per_sqrt_s,
-                           heading_bias_walk_rad_per_sqrt_s, initial_position_sigma_m,
-                           initial_speed_sigma_mps, initial_yaw_rate_sigma_radps,
-                           gyro_bias_sigma_radps, heading_bias_sigma_rad,
+                           heading_bias_walk_rad_per_sqrt_s,
+                           initial_position_sigma_m,
+                           initial_speed_sigma_mps,
+                           initial_yaw_rate_sigma_radps,
+                           gyro_bias_sigma_radps,
+                           heading_bias_sigma_rad,
                            wheel_scale_sigma};
   for (double s : sigmas) {
     if (!(std::isfinite(s) && s >= 0.0)) {
@@ -38,8 +44,9 @@ bool OdometryEkfOptions::IsValid(std::string* error) const {
   if (!(innovation_gate_chi2 > 0.0 && std::isfinite(gate_after_s) && gate_after_s >= 0.0 &&
         std::isfinite(fault_reset_after_s) && fault_reset_after_s >= 0.0)) {
     if (error != nullptr) {
-      *error = "innovation_gate_chi2 must be positive, gate_after_s and fault_reset_after_s "
-               "finite and non-negative";
+      *error =
+          "innovation_gate_chi2 must be positive, gate_after_s and fault_reset_after_s "
+          "finite and non-negative";
     }
     return false;
   }
@@ -178,8 +185,8 @@ void OdometryEkf::GatedUpdate(int channel, double innovation, const RowVector& h
   const double kept = P_(reset_state, reset_state);
   P_.row(reset_state).setZero();
   P_.col(reset_state).setZero();
-  P_(reset_state, reset_state) =
-      std::max({kept, Square(reset_sigma), Square(innovation / std::max(std::abs(h[reset_state]), 1e-9))});
+  P_(reset_state, reset_state) = std::max(
+      {kept, Square(reset_sigma), Square(innovation / std::max(std::abs(h[reset_state]), 1e-9))});
   ++stats_.resets[channel];
   rejecting_since_ns_[channel] = -1;
   Ph = P_ * h.transpose();
@@ -200,8 +207,8 @@ void OdometryEkf::UpdateWheelSpeed(const WheelSpeed& m) {
   h[kSpeed] = 1.0 + x_[kWheelScale];
   h[kWheelScale] = x_[kSpeed];
   NoteSample(OdometryEkfStats::kWheelSpeed);
-  GatedUpdate(OdometryEkfStats::kWheelSpeed, m.speed_mps - (1.0 + x_[kWheelScale]) * x_[kSpeed],
-              h, Square(options_.wheel_speed_sigma_mps), kSpeed, options_.initial_speed_sigma_mps);
+  GatedUpdate(OdometryEkfStats::kWheelSpeed, m.speed_mps - (1.0 + x_[kWheelScale]) * x_[kSpeed], h,
+              Square(options_.wheel_speed_sigma_mps), kSpeed, options_.initial_speed_sigma_mps);
 }
 
 void OdometryEkf::UpdateSteering(const SteeringAngle& m) {
@@ -213,13 +220,14 @@ void OdometryEkf::UpdateSteering(const SteeringAngle& m) {
   h[kYawRate] = 1.0;
   h[kSpeed] = -tan_delta / vehicle.wheelbase_m;
   // d(v tan(delta) / L)/d(steering) = v / (L ratio cos^2(delta)).
-  const double d_omega = v / (vehicle.wheelbase_m * vehicle.steering_ratio *
-                              Square(std::cos(delta)));
+  const double d_omega =
+      v / (vehicle.wheelbase_m * vehicle.steering_ratio * Square(std::cos(delta)));
   const double r = Square(d_omega * options_.steering_wheel_sigma_rad) +
                    Square(options_.steering_model_sigma_radps);
   NoteSample(OdometryEkfStats::kSteering);
-  GatedUpdate(OdometryEkfStats::kSteering, 0.0 - (x_[kYawRate] - v * tan_delta / vehicle.wheelbase_m),
-              h, r, kYawRate, options_.initial_yaw_rate_sigma_radps);
+  GatedUpdate(OdometryEkfStats::kSteering,
+              0.0 - (x_[kYawRate] - v * tan_delta / vehicle.wheelbase_m), h, r, kYawRate,
+              options_.initial_yaw_rate_sigma_radps);
 }
 
 void OdometryEkf::UpdateImu(const ImuSample& m) {
@@ -233,9 +241,8 @@ void OdometryEkf::UpdateImu(const ImuSample& m) {
   h[kYaw] = 1.0;
   h[kHeadingBias] = 1.0;
   // A heading jump is the AHRS's offset changing: the heading bias takes it.
-  GatedUpdate(OdometryEkfStats::kHeading, AngleDiff(m.heading_rad, x_[kYaw] + x_[kHeadingBias]),
-              h, Square(options_.heading_sigma_rad), kHeadingBias,
-              options_.heading_bias_sigma_rad);
+  GatedUpdate(OdometryEkfStats::kHeading, AngleDiff(m.heading_rad, x_[kYaw] + x_[kHeadingBias]), h,
+              Square(options_.heading_sigma_rad), kHeadingBias, options_.heading_bias_sigma_rad);
 }
 
 bool OdometryEkf::Process(const SensorEvent& event) {

@@ -77,7 +77,7 @@ struct OdometryEkfOptions {
 struct OdometryEkfStats {
   enum Channel { kWheelSpeed = 0, kSteering, kGyro, kHeading, kChannels };
   static const char* ChannelName(int channel);
-  int late_events = 0;  // older than the filter's time: dropped
+  int late_events = 0;           // older than the filter's time: dropped
   int rejected[kChannels] = {};  // updates refused by the gate
   int resets[kChannels] = {};    // faults accepted as a new level
   // The longest time between two samples of a sensor (wheel speed,
@@ -91,8 +91,17 @@ class OdometryEkf {
   using StateVector = Eigen::Matrix<double, kStateSize, 1>;
   using StateMatrix = Eigen::Matrix<double, kStateSize, kStateSize>;
   enum Index {
-    kX = 0, kY, kYaw, kSpeed, kYawRate, kGyroBias, kHeadingBias, kWheelScale,
-    kCloneX, kCloneY, kCloneYaw
+    kX = 0,
+    kY,
+    kYaw,
+    kSpeed,
+    kYawRate,
+    kGyroBias,
+    kHeadingBias,
+    kWheelScale,
+    kCloneX,
+    kCloneY,
+    kCloneYaw
   };
 
   // The motion from the cloned keyframe pose to the current pose,
@@ -109,8 +118,7 @@ class OdometryEkf {
   void Initialize(TimeNs t_ns, const SE2& T_map_vehicle, double yaw_sigma_rad);
   // Starts the filter at t_ns at a known position with the yaw read from the
   // AHRS heading, whose error is the heading bias plus its noise.
-  void InitializeFromHeading(TimeNs t_ns, const Eigen::Vector2d& p_map,
-                             double heading_rad);
+  void InitializeFromHeading(TimeNs t_ns, const Eigen::Vector2d& p_map, double heading_rad);
   bool initialized() const { return initialized_; }
 
   // Predicts to the event's time and applies it. Slot and tag frames are

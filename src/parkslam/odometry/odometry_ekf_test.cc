@@ -14,8 +14,8 @@ constexpr TimeNs kMs = 1'000'000;
 
 // Feeds perfect measurements of a vehicle moving at speed v on a circle of
 // road-wheel angle delta (straight for delta = 0) for `seconds`.
-void Drive(OdometryEkf& ekf, const OdometryEkfOptions& o, double v, double delta,
-           double gyro_bias, double seconds) {
+void Drive(OdometryEkf& ekf, const OdometryEkfOptions& o, double v, double delta, double gyro_bias,
+           double seconds) {
   const double omega = v * std::tan(delta) / o.vehicle.wheelbase_m;
   const TimeNs start = ekf.time_ns();
   double yaw = ekf.pose().yaw();
@@ -62,7 +62,8 @@ TEST(OdometryEkfTest, HeadingInitialisationCorrelatesYawAndBias) {
   OdometryEkf ekf(o);
   ekf.InitializeFromHeading(0, {1.0, 2.0}, 0.5);
   const auto& P = ekf.covariance();
-  EXPECT_NEAR(P(OdometryEkf::kYaw, OdometryEkf::kHeadingBias), -o.heading_bias_sigma_rad * o.heading_bias_sigma_rad, 1e-15);
+  EXPECT_NEAR(P(OdometryEkf::kYaw, OdometryEkf::kHeadingBias),
+              -o.heading_bias_sigma_rad * o.heading_bias_sigma_rad, 1e-15);
   EXPECT_NEAR(std::sqrt(P(OdometryEkf::kYaw, OdometryEkf::kYaw)),
               std::hypot(o.heading_bias_sigma_rad, o.heading_sigma_rad), 1e-12);
   EXPECT_EQ(ekf.pose().x(), 1.0);

@@ -7,9 +7,12 @@ namespace parkslam::perception {
 
 const char* ToString(CameraHealth health) {
   switch (health) {
-    case CameraHealth::kOk: return "ok";
-    case CameraHealth::kBlack: return "black";
-    case CameraHealth::kFrozen: return "frozen";
+    case CameraHealth::kOk:
+      return "ok";
+    case CameraHealth::kBlack:
+      return "black";
+    case CameraHealth::kFrozen:
+      return "frozen";
   }
   return "?";
 }

@@ -143,8 +143,8 @@ cv::Mat RenderDigitPatch(const DigitAugmentation& a, Random& rng) {
   const PatchFrame frame{a, px_per_height};
   const auto draw = [&](std::uint8_t segments, double x_shift, cv::Mat* mask) {
     render::DrawSevenSegments(
-        segments, 1.0, a.stroke,
-        [&](double x, double y) { return frame(x + x_shift, y); }, 255, mask);
+        segments, 1.0, a.stroke, [&](double x, double y) { return frame(x + x_shift, y); }, 255,
+        mask);
   };
 
   cv::Mat mask = cv::Mat::zeros(big, CV_8U);
@@ -164,11 +164,11 @@ cv::Mat RenderDigitPatch(const DigitAugmentation& a, Random& rng) {
       quad[i] = {static_cast<int>(std::lround(p.x() * kDrawShiftScale)),
                  static_cast<int>(std::lround(p.y() * kDrawShiftScale))};
     }
-    cv::fillConvexPoly(mask, quad.data(), 4, cv::Scalar(255), cv::LINE_AA,
-                       render::kGlyphDrawShift);
+    cv::fillConvexPoly(mask, quad.data(), 4, cv::Scalar(255), cv::LINE_AA, render::kGlyphDrawShift);
   }
   for (int f = 0; f < a.flakes; ++f) {
-    const double x = rng.Uniform(-render::kDigitGap / 2, render::kDigitWidth + render::kDigitGap / 2);
+    const double x =
+        rng.Uniform(-render::kDigitGap / 2, render::kDigitWidth + render::kDigitGap / 2);
     const double y = rng.Uniform(0.0, 1.0);
     const double r = rng.Uniform(a.min_flake_radius, a.max_flake_radius) * px_per_height;
     const Eigen::Vector2d c = frame(x, y);
@@ -187,8 +187,8 @@ cv::Mat RenderDigitPatch(const DigitAugmentation& a, Random& rng) {
     const std::uint8_t* m = mask.ptr<std::uint8_t>(r);
     float* g = grey.ptr<float>(r);
     for (int c = 0; c < big.width; ++c) {
-      const double ramp = (gc * (c - big.width / 2.0) / big.width +
-                           gs * (r - big.height / 2.0) / big.height);
+      const double ramp =
+          (gc * (c - big.width / 2.0) / big.width + gs * (r - big.height / 2.0) / big.height);
       const double contrast = a.paint_contrast_grey * (1.0 + a.gradient * ramp);
       g[c] = static_cast<float>(a.floor_grey + contrast * m[c] / 255.0);
     }
@@ -254,8 +254,7 @@ DigitClassifier DigitClassifier::Train(const DigitTrainingOptions& options) {
   int step = 0;
   for (int epoch = 0; epoch < options.epochs; ++epoch) {
     for (int i = n - 1; i > 0; --i) {
-      std::swap(order[static_cast<size_t>(i)],
-                order[rng.Index(static_cast<std::uint64_t>(i) + 1)]);
+      std::swap(order[static_cast<size_t>(i)], order[rng.Index(static_cast<std::uint64_t>(i) + 1)]);
     }
     for (int b = 0; b < batches; ++b, ++step) {
       const int begin = b * options.batch_size;
@@ -273,7 +272,8 @@ DigitClassifier DigitClassifier::Train(const DigitTrainingOptions& options) {
         residual(k, labels[static_cast<size_t>(order[static_cast<size_t>(begin + k)])]) -= 1.0f;
       }
       Weights gradient = residual.topRows(size).transpose() * batch.topRows(size) / size;
-      gradient.leftCols(kFeatures) += static_cast<float>(options.l2) * model.weights_.leftCols(kFeatures);
+      gradient.leftCols(kFeatures) +=
+          static_cast<float>(options.l2) * model.weights_.leftCols(kFeatures);
       const double progress = static_cast<double>(step) / steps;
       const auto rate = static_cast<float>(options.learning_rate * 0.5 *
                                            (1.0 + std::cos(std::numbers::pi * progress)));

@@ -85,7 +85,8 @@ TEST(DigitClassifierTest, ReadsHeldOutDigitsWithCalibratedConfidence) {
   int confident = 0, confident_right = 0, hesitant = 0, hesitant_right = 0;
   for (int i = 0; i < 200 * kDigitClasses; ++i) {
     const int label = i % kDigitClasses;
-    const ClassProbabilities p = classifier.Classify(RenderDigitPatch(RandomAugmentation(label, rng), rng));
+    const ClassProbabilities p =
+        classifier.Classify(RenderDigitPatch(RandomAugmentation(label, rng), rng));
     const int best = ArgMax(p);
     if (label < 10) {
       ++digits;

@@ -12,8 +12,8 @@
 namespace parkslam::perception {
 namespace {
 
-constexpr int kStride = 16;   // the network's output stride
-constexpr int kOutputs = 6;   // confidence, offset x, offset y, cos, sin, T
+constexpr int kStride = 16;  // the network's output stride
+constexpr int kOutputs = 6;  // confidence, offset x, offset y, cos, sin, T
 
 }  // namespace
 
@@ -26,7 +26,8 @@ bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
   if (input_size_px < kStride || input_size_px % kStride != 0) {
     return fail("input_size_px must be a positive multiple of 16");
   }
-  if (!(min_confidence > 0.0 && min_confidence < 1.0)) return fail("min_confidence must lie in (0, 1)");
+  if (!(min_confidence > 0.0 && min_confidence < 1.0))
+    return fail("min_confidence must lie in (0, 1)");
   if (flips != 1 && flips != 2 && flips != 4) return fail("flips must be 1, 2 or 4");
   if (!(nms_radius_px >= 0.0)) return fail("nms_radius_px must not be negative");
   if (!(classical_match_px > 0.0 && classical_match_rad > 0.0)) {
@@ -61,17 +62,20 @@ cv::Mat LearnedSlotDetector::Cells(const cv::Mat& top_view) const {
   cv::resize(top_view, resized, cv::Size(n, n), 0, 0, cv::INTER_AREA);
   if (resized.channels() == 1) cv::cvtColor(resized, resized, cv::COLOR_GRAY2BGR);
   const int g = n / kStride;
-  cv::Mat sum = network_->Forward(cv::dnn::blobFromImage(resized)).reshape(1, {kOutputs, g, g}).clone();
+  cv::Mat sum =
+      network_->Forward(cv::dnn::blobFromImage(resized)).reshape(1, {kOutputs, g, g}).clone();
   if (options_.flips == 1) return sum;
   // Mirrored views: flip code 1 mirrors x, 0 mirrors y, -1 both. A cell
   // (cx, cy) of the mirrored view is (g - 1 - cx, cy) of the view (x
   // mirrored), its offset 1 - offset and its direction's cos negated; the
   // same for y with sin.
-  const std::vector<int> codes = options_.flips == 2 ? std::vector<int>{1} : std::vector<int>{1, 0, -1};
+  const std::vector<int> codes =
+      options_.flips == 2 ? std::vector<int>{1} : std::vector<int>{1, 0, -1};
   for (const int code : codes) {
     cv::Mat flipped;
     cv::flip(resized, flipped, code);
-    const cv::Mat out = network_->Forward(cv::dnn::blobFromImage(flipped)).reshape(1, {kOutputs, g, g});
+    const cv::Mat out =
+        network_->Forward(cv::dnn::blobFromImage(flipped)).reshape(1, {kOutputs, g, g});
     const bool fx = code != 0, fy = code != 1;
     for (int cy = 0; cy < g; ++cy) {
       for (int cx = 0; cx < g; ++cx) {
@@ -122,13 +126,14 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
   SlotDetection result;
   const double r2 = options_.nms_radius_px * options_.nms_radius_px;
   for (const MarkingPoint& p : found) {
-    const bool near_kept = std::any_of(
-        result.marking_points.begin(), result.marking_points.end(),
-        [&](const MarkingPoint& q) { return (p.px - q.px).squaredNorm() < r2; });
+    const bool near_kept =
+        std::any_of(result.marking_points.begin(), result.marking_points.end(),
+                    [&](const MarkingPoint& q) { return (p.px - q.px).squaredNorm() < r2; });
     if (!near_kept) result.marking_points.push_back(p);
   }
   if (classical_ != nullptr) {
-    const std::vector<MarkingPoint> lines_points = classical_->Detect(top_view, mask).marking_points;
+    const std::vector<MarkingPoint> lines_points =
+        classical_->Detect(top_view, mask).marking_points;
     std::vector<MarkingPoint> checked;
     for (MarkingPoint p : result.marking_points) {
       const MarkingPoint* best = nullptr;

@@ -61,9 +61,9 @@ LearnedSlotIdReader::LearnedSlotIdReader(const LearnedSlotIdReaderOptions& optio
     : options_(options) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument("LearnedSlotIdReaderOptions: " + error);
-  network_ = std::make_unique<OnnxNetwork>(
-      options.model_path, std::vector<int>{1, 3, kCropHeightPx, kCropWidthPx},
-      std::vector<int>{1, kIdPositions, kClasses});
+  network_ = std::make_unique<OnnxNetwork>(options.model_path,
+                                           std::vector<int>{1, 3, kCropHeightPx, kCropWidthPx},
+                                           std::vector<int>{1, kIdPositions, kClasses});
 }
 
 cv::Mat LearnedSlotIdReader::Crop(const cv::Mat& top_view, const TextBox& box) {
@@ -80,8 +80,8 @@ cv::Mat LearnedSlotIdReader::Crop(const cv::Mat& top_view, const TextBox& box) {
     return cv::Point2f(static_cast<float>(p.x()), static_cast<float>(p.y()));
   };
   const cv::Point2f from[3] = {pt(tl), pt(tr), pt(bl)};
-  const cv::Point2f to[3] = {{0, 0}, {static_cast<float>(kCropWidthPx), 0},
-                             {0, static_cast<float>(kCropHeightPx)}};
+  const cv::Point2f to[3] = {
+      {0, 0}, {static_cast<float>(kCropWidthPx), 0}, {0, static_cast<float>(kCropHeightPx)}};
   cv::Mat crop;
   cv::warpAffine(top_view, crop, cv::getAffineTransform(from, to),
                  cv::Size(kCropWidthPx, kCropHeightPx), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
@@ -127,7 +127,8 @@ SlotIdReading LearnedSlotIdReader::ReadBox(const cv::Mat& top_view, const TextBo
               [](const DigitHypothesis& a, const DigitHypothesis& b) {
                 return a.probability > b.probability;
               });
-    if (digit.hypotheses.empty() || digit.hypotheses.front().probability < options_.min_digit_probability) {
+    if (digit.hypotheses.empty() ||
+        digit.hypotheses.front().probability < options_.min_digit_probability) {
       digit.hypotheses.clear();
     }
     reading.digits.push_back(digit);
@@ -139,7 +140,8 @@ SlotIdReading LearnedSlotIdReader::ReadBox(const cv::Mat& top_view, const TextBo
   return reading;
 }
 
-SlotIdReading LearnedSlotIdReader::Read(const cv::Mat& top_view, const EntranceInImage& entrance) const {
+SlotIdReading LearnedSlotIdReader::Read(const cv::Mat& top_view,
+                                        const EntranceInImage& entrance) const {
   const Eigen::Vector2d entrance_px = entrance.corner1_px - entrance.corner0_px;
   if (entrance_px.norm() < 1.0) return {};
   const double s = options_.pixels_per_m;

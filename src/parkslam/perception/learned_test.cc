@@ -152,13 +152,15 @@ TEST(LearnedSlotDetectorTest, FlippedCellsAreMirrorConsistent) {
   double plain_worst = 0.0;
   for (int cy = 0; cy < g; ++cy) {
     for (int cx = 0; cx < g; ++cx) {
-      plain_worst = std::max(plain_worst, static_cast<double>(std::abs(
-                                              pb.at<float>(0, cy, g - 1 - cx) - pa.at<float>(0, cy, cx))));
+      plain_worst = std::max(
+          plain_worst,
+          static_cast<double>(std::abs(pb.at<float>(0, cy, g - 1 - cx) - pa.at<float>(0, cy, cx))));
     }
   }
   EXPECT_GT(plain_worst, 10 * worst);
   options.flips = 3;
-  EXPECT_THAT(ErrorOf([&] { LearnedSlotDetector bad(options); }), HasSubstr("flips must be 1, 2 or 4"));
+  EXPECT_THAT(ErrorOf([&] { LearnedSlotDetector bad(options); }),
+              HasSubstr("flips must be 1, 2 or 4"));
 }
 
 MarkingPoint Point(double x, double y, double direction_rad, double score = 0.9) {
@@ -191,15 +193,20 @@ TEST(SlotPairingTest, PairsNeighboursOfARowOnly) {
 TEST(SlotPairingTest, RejectsDisagreeingOrImplausiblePairs) {
   const SlotPairingOptions o;
   // Directions 40 degrees apart.
-  EXPECT_TRUE(PairMarkingPoints({Point(400, 150, 0.0), Point(400, 300, 0.7)}, {600, 600}, o).empty());
+  EXPECT_TRUE(
+      PairMarkingPoints({Point(400, 150, 0.0), Point(400, 300, 0.7)}, {600, 600}, o).empty());
   // Separating lines along the entrance.
-  EXPECT_TRUE(PairMarkingPoints({Point(400, 150, M_PI / 2), Point(400, 300, M_PI / 2)}, {600, 600}, o)
-                  .empty());
+  EXPECT_TRUE(
+      PairMarkingPoints({Point(400, 150, M_PI / 2), Point(400, 300, M_PI / 2)}, {600, 600}, o)
+          .empty());
   // Too short (1 m) and too long (8 m).
-  EXPECT_TRUE(PairMarkingPoints({Point(400, 150, 0.0), Point(400, 210, 0.0)}, {600, 600}, o).empty());
-  EXPECT_TRUE(PairMarkingPoints({Point(550, -100, 0.0), Point(550, 380, 0.0)}, {600, 600}, o).empty());
+  EXPECT_TRUE(
+      PairMarkingPoints({Point(400, 150, 0.0), Point(400, 210, 0.0)}, {600, 600}, o).empty());
+  EXPECT_TRUE(
+      PairMarkingPoints({Point(550, -100, 0.0), Point(550, 380, 0.0)}, {600, 600}, o).empty());
   // Opening away from the car (separating lines run left on the right).
-  EXPECT_TRUE(PairMarkingPoints({Point(400, 150, M_PI), Point(400, 300, M_PI)}, {600, 600}, o).empty());
+  EXPECT_TRUE(
+      PairMarkingPoints({Point(400, 150, M_PI), Point(400, 300, M_PI)}, {600, 600}, o).empty());
   // A parallel slot: 5 m long, 2.5 m deep.
   const std::vector<DetectedSlot> parallel =
       PairMarkingPoints({Point(400, 150, 0.0), Point(400, 450, 0.0)}, {600, 600}, o);
@@ -217,7 +224,8 @@ TEST(LearnedSlotIdReaderTest, CropsTheBoxUpright) {
   box.text_height_px = 20;  // the crop: 32 x 96 px
   // The box's top is the reader's up: right (0, 1) turned anticlockwise on
   // screen is (1, 0), so the top lies at larger x.
-  cv::rectangle(view, cv::Point(302, 260), cv::Point(315, 340), cv::Scalar(255, 255, 255), cv::FILLED);
+  cv::rectangle(view, cv::Point(302, 260), cv::Point(315, 340), cv::Scalar(255, 255, 255),
+                cv::FILLED);
   const cv::Mat crop = LearnedSlotIdReader::Crop(view, box);
   ASSERT_EQ(crop.size(), cv::Size(96, 32));
   cv::Mat grey;

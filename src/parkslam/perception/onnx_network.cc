@@ -26,13 +26,15 @@ OnnxNetwork::OnnxNetwork(const std::string& path, const std::vector<int>& input_
     : path_(path), input_shape_(input_shape), output_shape_(output_shape) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
-    throw std::runtime_error(path + ": no such weights file (train it with scripts/learned/, or "
+    throw std::runtime_error(path +
+                             ": no such weights file (train it with scripts/learned/, or "
                              "pass the path of the committed one under models/)");
   }
   try {
     net_ = cv::dnn::readNetFromONNX(path);
   } catch (const cv::Exception&) {
-    throw std::runtime_error(path + ": not a network OpenCV's dnn module can read (a corrupt or "
+    throw std::runtime_error(path +
+                             ": not a network OpenCV's dnn module can read (a corrupt or "
                              "truncated ONNX file?)");
   }
   if (net_.empty()) throw std::runtime_error(path + ": the ONNX file holds no network");
@@ -40,8 +42,8 @@ OnnxNetwork::OnnxNetwork(const std::string& path, const std::vector<int>& input_
   net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   cv::Mat out;
   try {
-    out = Forward(cv::Mat(static_cast<int>(input_shape.size()), input_shape.data(), CV_32F,
-                          cv::Scalar(0)));
+    out = Forward(
+        cv::Mat(static_cast<int>(input_shape.size()), input_shape.data(), CV_32F, cv::Scalar(0)));
   } catch (const cv::Exception&) {
     throw std::runtime_error(path + ": the network does not run on an input of " +
                              ShapeText(input_shape));

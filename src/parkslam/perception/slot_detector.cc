@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <optional>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <stdexcept>
 #include <tuple>
 #include <utility>
@@ -85,8 +85,7 @@ int Percentile(const cv::Mat& image, double share) {
 // floor peaks across the line, along x or along y (every line but a purely
 // horizontal one peaks along x, and vice versa), by at least a quarter of
 // the threshold within half the widest line.
-cv::Mat Ridges(const cv::Mat& bright, const cv::Mat& paint, double max_width_px,
-               double threshold) {
+cv::Mat Ridges(const cv::Mat& bright, const cv::Mat& paint, double max_width_px, double threshold) {
   cv::Mat smooth;
   const double sigma = std::max(1.0, max_width_px / 6.0);
   cv::GaussianBlur(bright, smooth, cv::Size(0, 0), sigma);
@@ -151,7 +150,8 @@ std::pair<Eigen::Vector2d, Eigen::Vector2d> FitLine(const std::vector<Eigen::Vec
   mean /= static_cast<double>(pts.size());
   Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
   for (const Eigen::Vector2d& p : pts) scatter += (p - mean) * (p - mean).transpose();
-  Eigen::Vector2d dir = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(1);
+  Eigen::Vector2d dir =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(1);
   if (dir.dot(along) < 0) dir = -dir;
   return {mean, dir};
 }
@@ -188,8 +188,7 @@ std::vector<LineSample> GrowRun(const cv::Mat& bright, const PaintLine& rough, d
   const auto measure = [&](double t) -> std::optional<LineSample> {
     const Eigen::Vector2d on_rough = rough.point + t * rough.dir;
     const Eigen::Vector2d base = axis_point + (on_rough - axis_point).dot(axis_dir) * axis_dir;
-    if (base.x() < 0 || base.y() < 0 || base.x() > bright.cols - 1 ||
-        base.y() > bright.rows - 1) {
+    if (base.x() < 0 || base.y() < 0 || base.x() > bright.cols - 1 || base.y() > bright.rows - 1) {
       return std::nullopt;
     }
     const CrossSection c =
@@ -265,8 +264,7 @@ bool RefineLine(const cv::Mat& grey, const cv::Mat& bright, double global_thresh
   std::vector<LineSample> support;
   for (double t = line->t0 - margin; t <= line->t1 + margin; t += kStepPx) {
     const Eigen::Vector2d base = line->point + t * line->dir;
-    if (base.x() < 0 || base.y() < 0 || base.x() > bright.cols - 1 ||
-        base.y() > bright.rows - 1) {
+    if (base.x() < 0 || base.y() < 0 || base.x() > bright.cols - 1 || base.y() > bright.rows - 1) {
       continue;
     }
     const CrossSection c = MeasureCrossSection(bright, base, normal, half_window_px, threshold / 2);
@@ -341,7 +339,8 @@ std::vector<PaintLine> MergeSegments(const std::vector<cv::Vec4i>& segments, dou
     const Eigen::Vector2d a(s[0], s[1]), b(s[2], s[3]);
     segs.push_back({a, b, (b - a).norm()});
   }
-  std::sort(segs.begin(), segs.end(), [](const Seg& x, const Seg& y) { return x.length > y.length; });
+  std::sort(segs.begin(), segs.end(),
+            [](const Seg& x, const Seg& y) { return x.length > y.length; });
   std::vector<PaintLine> lines;
   constexpr double kMaxAngle = 0.09;  // about 5 degrees
   for (const Seg& s : segs) {
@@ -385,7 +384,8 @@ double Clutter(const cv::Mat& paint, const Eigen::Vector2d& x,
       const double a = 2 * kPi * k / kAngles;
       const Eigen::Vector2d d(std::cos(a), std::sin(a));
       const Eigen::Vector2d p = x + r * d;
-      const int px = static_cast<int>(std::lround(p.x())), py = static_cast<int>(std::lround(p.y()));
+      const int px = static_cast<int>(std::lround(p.x())),
+                py = static_cast<int>(std::lround(p.y()));
       if (px < 0 || py < 0 || px >= paint.cols || py >= paint.rows) continue;
       ++samples;
       if (paint.at<std::uint8_t>(py, px) == 0) continue;
@@ -463,8 +463,8 @@ double PointDistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a
 // the segment p-q, ends within tolerance_px of it in its middle 60 % and
 // leaves it towards `side`.
 bool LineEndsBetween(const std::vector<PaintLine>& lines, const Eigen::Vector2d& p,
-                     const Eigen::Vector2d& q, const Eigen::Vector2d& side,
-                     double min_length_px, double min_sin, double tolerance_px) {
+                     const Eigen::Vector2d& q, const Eigen::Vector2d& side, double min_length_px,
+                     double min_sin, double tolerance_px) {
   const Eigen::Vector2d pq = (q - p).normalized();
   for (const PaintLine& line : lines) {
     if (line.length() < min_length_px || std::abs(Cross(pq, line.dir)) < min_sin) continue;
@@ -489,12 +489,14 @@ bool SlotDetectorOptions::IsValid(std::string* error) const {
     if (error != nullptr) *error = message;
     return false;
   };
-  if (!(pixels_per_m > 1.0 && pixels_per_m < 1000.0)) return fail("pixels_per_m must be in (1, 1000)");
+  if (!(pixels_per_m > 1.0 && pixels_per_m < 1000.0))
+    return fail("pixels_per_m must be in (1, 1000)");
   if (!(min_line_width_m > 0.0 && max_line_width_m > min_line_width_m && max_line_width_m < 1.0))
     return fail("line widths must satisfy 0 < min_line_width_m < max_line_width_m < 1");
   if (!(min_entrance_m > 0.0 && max_entrance_m > min_entrance_m))
     return fail("entrance lengths must satisfy 0 < min_entrance_m < max_entrance_m");
-  if (!(standard_depth_m > 0.0 && parallel_depth_m > 0.0)) return fail("slot depths must be positive");
+  if (!(standard_depth_m > 0.0 && parallel_depth_m > 0.0))
+    return fail("slot depths must be positive");
   if (!(max_direction_difference_rad > 0.0 && max_direction_difference_rad < kPi / 2))
     return fail("max_direction_difference_rad must be in (0, pi/2)");
   if (!(on_line_tolerance_m > 0.0)) return fail("on_line_tolerance_m must be positive");
@@ -516,7 +518,8 @@ bool SlotDetectorOptions::IsValid(std::string* error) const {
   }
   if (!(min_two_sided_share >= 0.0 && min_two_sided_share <= 1.0))
     return fail("min_two_sided_share must be in [0, 1]");
-  if (!(mask_margin_m >= 0.0 && mask_margin_m < 1.0)) return fail("mask_margin_m must be in [0, 1)");
+  if (!(mask_margin_m >= 0.0 && mask_margin_m < 1.0))
+    return fail("mask_margin_m must be in [0, 1)");
   if (!(max_lines_nearby >= 0 && nearby_radius_m > 0.0))
     return fail("max_lines_nearby must be non-negative and nearby_radius_m positive");
   return true;
@@ -562,8 +565,7 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
     // Masked pixels take the mean of the rest, so that their border makes
     // no edge; a margin of mask_margin_m is ignored around them.
     grey.setTo(cv::mean(grey, seen), seen == 0);
-    cv::erode(seen, valid, cv::getStructuringElement(
-                               cv::MORPH_RECT, cv::Size(3, 3)),
+    cv::erode(seen, valid, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)),
               cv::Point(-1, -1), static_cast<int>(std::ceil(o.mask_margin_m * s)));
   }
 
@@ -606,7 +608,8 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
                     max_width_px, min_arm_px, &line)) {
       continue;
     }
-    if (line.width_px < o.min_line_width_m * s * 0.5 || line.width_px > max_width_px * 1.5) continue;
+    if (line.width_px < o.min_line_width_m * s * 0.5 || line.width_px > max_width_px * 1.5)
+      continue;
     if (line.two_sided_share < o.min_two_sided_share) continue;
     // Refinement may make two rough pieces one line: the first takes the
     // other's extent.
@@ -722,7 +725,8 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
         }
       }
       if (!valid.empty()) {
-        const int cx = static_cast<int>(std::lround(x.x())), cy = static_cast<int>(std::lround(x.y()));
+        const int cx = static_cast<int>(std::lround(x.x())),
+                  cy = static_cast<int>(std::lround(x.y()));
         if (valid.at<std::uint8_t>(cy, cx) == 0) continue;
       }
       std::vector<Eigen::Vector2d> arms{dir_a, dir_b};
@@ -753,8 +757,8 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
   });
   SlotDetection result;
   for (const PaintLine& line : lines) {
-    result.lines.push_back({line.point + line.t0 * line.dir, line.point + line.t1 * line.dir,
-                            line.width_px});
+    result.lines.push_back(
+        {line.point + line.t0 * line.dir, line.point + line.t1 * line.dir, line.width_px});
   }
   std::vector<double> other_direction, other_arm_px;
   const double nms_px = o.min_arm_m * s;
@@ -789,9 +793,9 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
       // other arm; for a T, its through line).
       const auto entrance_arm_ok = [&](size_t k, double used, const Eigen::Vector2d& to_partner) {
         if (mp[k].shape == MarkingShape::kL) {
-          const double unused =
-              std::abs(AngleDiff(used, mp[k].direction_rad)) < 1e-9 ? other_direction[k]
-                                                                    : mp[k].direction_rad;
+          const double unused = std::abs(AngleDiff(used, mp[k].direction_rad)) < 1e-9
+                                    ? other_direction[k]
+                                    : mp[k].direction_rad;
           if (Eigen::Vector2d(std::cos(unused), std::sin(unused)).dot(to_partner) < kCos45) {
             return false;
           }

@@ -40,7 +40,7 @@ struct DetectedSlot {
   std::array<Eigen::Vector2d, 4> corners_px{};
   std::array<bool, 4> corner_observed{true, true, false, false};
   Eigen::Vector2d depth_dir_px = Eigen::Vector2d::UnitY();  // into the slot
-  std::array<int, 2> marking_points{-1, -1};  // indices of corners 0 and 1
+  std::array<int, 2> marking_points{-1, -1};                // indices of corners 0 and 1
   double confidence = 0.0;
 };
 

@@ -61,7 +61,8 @@ class TopView {
 const DetectedSlot* FindSlot(const SlotDetection& d, const Eigen::Vector2d& c0,
                              const Eigen::Vector2d& c1, double tolerance_px = 2.0) {
   for (const DetectedSlot& s : d.slots) {
-    if ((s.corners_px[0] - c0).norm() < tolerance_px && (s.corners_px[1] - c1).norm() < tolerance_px) {
+    if ((s.corners_px[0] - c0).norm() < tolerance_px &&
+        (s.corners_px[1] - c1).norm() < tolerance_px) {
       return &s;
     }
   }
@@ -189,7 +190,7 @@ TEST(SlotDetectorTest, FindsAngledSlots) {
   const Eigen::Vector2d depth(std::cos(angle), -std::sin(angle));
   const double entrance_px = 2.5 / std::sin(angle) * kPxPerM;
   const Eigen::Vector2d c0(120, 220), c1 = c0 + Eigen::Vector2d(entrance_px, 0),
-                        c2 = c1 + Eigen::Vector2d(entrance_px, 0);
+                                      c2 = c1 + Eigen::Vector2d(entrance_px, 0);
   view.Slot(c0, c1, depth);
   view.Slot(c1, c2, depth);
   const SlotDetection d = SlotDetector().Detect(view.image());
@@ -248,8 +249,9 @@ TEST(SlotDetectorTest, FindsAFaintSlotAmongSpecksAndGlare) {
   for (int k = 0; k < 40; ++k) {
     const double x = k % 2 == 0 ? c0.x() : c1.x();
     const double y = 200.0 - rng.uniform(0.0, 150.0);
-    cv::circle(view.image(), cv::Point(static_cast<int>(x + (k % 4 < 2 ? -9 : 9)), static_cast<int>(y)),
-               2, cv::Scalar(20), cv::FILLED);
+    cv::circle(view.image(),
+               cv::Point(static_cast<int>(x + (k % 4 < 2 ? -9 : 9)), static_cast<int>(y)), 2,
+               cv::Scalar(20), cv::FILLED);
   }
   const SlotDetection d = SlotDetector().Detect(view.image());
   EXPECT_NE(FindPoint(d, c0, 1.5), nullptr);

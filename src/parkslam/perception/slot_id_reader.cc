@@ -131,7 +131,7 @@ std::optional<double> LinePaintGrey(const cv::Mat& image, const Eigen::Vector2d&
 
 struct Layout {
   int digits = 0;
-  double left_px = 0.0;  // left edge of the first digit, in region columns
+  double left_px = 0.0;    // left edge of the first digit, in region columns
   double stray_ink = 0.0;  // band ink outside its cells, as a share of the ink inside
   double score = -1e300;
 };
@@ -143,7 +143,8 @@ bool SlotIdReaderOptions::IsValid(std::string* error) const {
     if (error != nullptr) *error = message;
     return false;
   };
-  if (!(pixels_per_m > 0.0 && pixels_per_m <= 1000.0)) return fail("pixels_per_m must be in (0, 1000]");
+  if (!(pixels_per_m > 0.0 && pixels_per_m <= 1000.0))
+    return fail("pixels_per_m must be in (0, 1000]");
   if (!(id_height_m > 0.0 && id_height_m <= 3.0)) return fail("id_height_m must be in (0, 3]");
   if (!(id_height_m * pixels_per_m >= 12.0)) {
     return fail("id_height_m * pixels_per_m must be at least 12 px: smaller digits are not read");
@@ -157,7 +158,8 @@ bool SlotIdReaderOptions::IsValid(std::string* error) const {
     return fail("min_digit_probability must be in [min_hypothesis_probability, 1]");
   }
   if (!(max_offset_m >= 0.0 && max_offset_m <= 1.0)) return fail("max_offset_m must be in [0, 1]");
-  if (!(min_paint_ratio >= 0.0 && min_paint_ratio <= 1.0)) return fail("min_paint_ratio must be in [0, 1]");
+  if (!(min_paint_ratio >= 0.0 && min_paint_ratio <= 1.0))
+    return fail("min_paint_ratio must be in [0, 1]");
   return true;
 }
 
@@ -167,13 +169,15 @@ SlotIdReader::SlotIdReader(const SlotIdReaderOptions& options) : options_(option
   classifier_ = &DigitClassifier::Default();
 }
 
-SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInImage& entrance) const {
+SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey,
+                                 const EntranceInImage& entrance) const {
   return Read(top_view_grey, entrance, nullptr);
 }
 
 SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInImage& entrance,
                                  SlotIdReadDetails* details) const {
-  if (top_view_grey.type() != CV_8UC1) throw std::invalid_argument("SlotIdReader: expected an 8-bit grey image");
+  if (top_view_grey.type() != CV_8UC1)
+    throw std::invalid_argument("SlotIdReader: expected an 8-bit grey image");
   SlotIdReadDetails local;
   SlotIdReadDetails& d = details != nullptr ? *details : local;
   d = SlotIdReadDetails{};
@@ -255,8 +259,10 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
   // Layout: the digits' band (all digits span the full height), then how
   // many digits and where along it. Rows first, over the columns any ID
   // may cover.
-  const int window_begin = std::max(0, static_cast<int>(std::floor(center_col - max_width_px / 2 - shift_px)));
-  const int window_end = std::min(cols, static_cast<int>(std::ceil(center_col + max_width_px / 2 + shift_px)) + 1);
+  const int window_begin =
+      std::max(0, static_cast<int>(std::floor(center_col - max_width_px / 2 - shift_px)));
+  const int window_end =
+      std::min(cols, static_cast<int>(std::ceil(center_col + max_width_px / 2 + shift_px)) + 1);
   std::vector<double> row_ink(static_cast<size_t>(rows), 0.0);
   for (int r = 0; r < rows; ++r) {
     const float* k = ink.ptr<float>(r);
@@ -265,8 +271,8 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
   const ProfileSums row_sums(row_ink);
   double top = nominal_top, best_band = -1e300;
   for (double t = nominal_top - shift_px; t <= nominal_top + shift_px + 1e-9; t += kLayoutStepPx) {
-    const double score = row_sums.Sum(t, t + height_px) -
-                         kOffsetPenaltyPerPx * std::abs(t - nominal_top);
+    const double score =
+        row_sums.Sum(t, t + height_px) - kOffsetPenaltyPerPx * std::abs(t - nominal_top);
     if (score > best_band) {
       best_band = score;
       top = t;
@@ -326,8 +332,8 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
         inside += cell;
         right_strokes += col_sums.Sum(b - stroke_px, b);
       }
-      const double score = inside - (window_ink - inside) + right_strokes -
-                           kOffsetPenaltyPerPx * std::abs(shift);
+      const double score =
+          inside - (window_ink - inside) + right_strokes - kOffsetPenaltyPerPx * std::abs(shift);
       if (!explains) {
         double& open = best_open_score[static_cast<size_t>(n)];
         if (!ruled_out) open = std::max(open, score);
@@ -360,8 +366,10 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
   }
 
   // Worn paint: fainter than the slot's own lines.
-  const std::optional<double> line0 = LinePaintGrey(top_view_grey, entrance.corner0_px, up, right, ppm);
-  const std::optional<double> line1 = LinePaintGrey(top_view_grey, entrance.corner1_px, up, right, ppm);
+  const std::optional<double> line0 =
+      LinePaintGrey(top_view_grey, entrance.corner0_px, up, right, ppm);
+  const std::optional<double> line1 =
+      LinePaintGrey(top_view_grey, entrance.corner1_px, up, right, ppm);
   if (line0 || line1) {
     const double line_grey = std::max(line0.value_or(0.0), line1.value_or(0.0));
     d.paint_ratio = contrast_grey / std::max(line_grey - floor_grey, 1.0);

@@ -72,16 +72,16 @@ struct SlotIdReadDetails {
   // not seen", "no paint", "no digits", "stray paint", "maybe longer",
   // "not seen", "worn", "unread" (no digit classified confidently).
   std::string outcome;
-  int digits_found = 0;       // digit cells of the layout found
+  int digits_found = 0;  // digit cells of the layout found
   // Where the layout found the digits, from where the entrance puts them:
   // along the reading direction and into the slot, top-view pixels.
   Eigen::Vector2d offset_px = Eigen::Vector2d::Zero();
   // Ink in the band that no digit cell of the layout holds, as a share of
   // the ink its cells hold.
   double stray_ink = 0.0;
-  double contrast_grey = 0.0;  // paint over floor in the ID's region
-  double noise_grey = 0.0;     // the floor's noise there
-  double paint_ratio = -1.0;  // the ID's paint contrast over its lines'; -1: no line seen
+  double contrast_grey = 0.0;          // paint over floor in the ID's region
+  double noise_grey = 0.0;             // the floor's noise there
+  double paint_ratio = -1.0;           // the ID's paint contrast over its lines'; -1: no line seen
   std::vector<cv::Mat> digit_patches;  // the classifier's inputs, one per digit cell
 };
 

@@ -35,7 +35,8 @@ constexpr double kCenterPx = (kTopViewPx - 1) / 2.0;
 
 std::vector<std::string> TwoDigitIds() {
   std::vector<std::string> ids;
-  for (int k = 0; k < 10; ++k) ids.push_back({static_cast<char>('0' + k), static_cast<char>('0' + (7 * k + 3) % 10)});
+  for (int k = 0; k < 10; ++k)
+    ids.push_back({static_cast<char>('0' + k), static_cast<char>('0' + (7 * k + 3) % 10)});
   for (const char* id : {"11", "88", "38", "07"}) ids.push_back(id);
   return ids;
 }
@@ -67,14 +68,15 @@ sim::World MakeLot(bool legible) {
   std::vector<std::string> ids = TwoDigitIds();
   for (const std::string& id : ThreeDigitIds()) ids.push_back(id);
   for (size_t k = 0; k < ids.size(); ++k) {
-    world.slots.push_back(MakeSlot({2.5 * static_cast<double>(k), 0.0}, east, north, 2.5, 5.3,
-                                   ids[k], legible));
+    world.slots.push_back(
+        MakeSlot({2.5 * static_cast<double>(k), 0.0}, east, north, 2.5, 5.3, ids[k], legible));
   }
   // 60-degree angled slots (2.5 m between separating lines).
   const double angle = std::numbers::pi / 3;
   const Eigen::Vector2d slanted(std::cos(angle), std::sin(angle));
   const double angled_entrance_m = 2.5 / std::sin(angle);
-  const std::vector<std::string> angled = {"70", "81", "92", "03", "14", "25", "36", "47", "58", "69"};
+  const std::vector<std::string> angled = {"70", "81", "92", "03", "14",
+                                           "25", "36", "47", "58", "69"};
   for (size_t k = 0; k < angled.size(); ++k) {
     world.slots.push_back(MakeSlot({angled_entrance_m * static_cast<double>(k), -16.0}, east,
                                    slanted, angled_entrance_m, 5.3, angled[k], legible));
@@ -94,7 +96,8 @@ sim::World MakeLot(bool legible) {
 }
 
 const render::GroundRaster& LotRaster(bool legible) {
-  static const render::GroundRaster legible_raster(MakeLot(true), render::GroundRasterOptions{}, 11);
+  static const render::GroundRaster legible_raster(MakeLot(true), render::GroundRasterOptions{},
+                                                   11);
   static const render::GroundRaster worn_raster(MakeLot(false), render::GroundRasterOptions{}, 11);
   return legible ? legible_raster : worn_raster;
 }
@@ -140,13 +143,15 @@ View MakeView(const sim::WorldSlot& slot, bool legible, const Eigen::Vector2d& s
   const Eigen::Vector2d up_map = ((c[2] + c[3]) / 2 - mid).normalized();
   // screen (x, y) = (-v.y, -v.x) for a vehicle-frame vector v.
   const Eigen::Vector2d up_vehicle(-screen_dir.y(), -screen_dir.x());
-  const double yaw = std::atan2(up_map.y(), up_map.x()) - std::atan2(up_vehicle.y(), up_vehicle.x());
+  const double yaw =
+      std::atan2(up_map.y(), up_map.x()) - std::atan2(up_vehicle.y(), up_vehicle.x());
   const Eigen::Vector2d id_center = mid + up_map * 0.6;
   const SE2 T_map_vehicle(id_center - up_map * distance_m, yaw);
 
   const render::GroundRaster& raster = LotRaster(legible);
   const auto map_of_pixel = [&](double u, double v) {
-    return T_map_vehicle * Eigen::Vector2d((kCenterPx - v) / kPixelsPerM, (kCenterPx - u) / kPixelsPerM);
+    return T_map_vehicle *
+           Eigen::Vector2d((kCenterPx - v) / kPixelsPerM, (kCenterPx - u) / kPixelsPerM);
   };
   const Eigen::Vector2d o = raster.PixelOf(map_of_pixel(0, 0));
   const Eigen::Vector2d du = raster.PixelOf(map_of_pixel(1, 0)) - o;
@@ -173,10 +178,12 @@ View MakeView(const sim::WorldSlot& slot, bool legible, const Eigen::Vector2d& s
     return Eigen::Vector2d(kCenterPx - v.y() * kPixelsPerM, kCenterPx - v.x() * kPixelsPerM);
   };
   Random rng(seed);
-  view.entrance.corner0_px = pixel_of_map(c[0]) + Eigen::Vector2d(rng.Gaussian(error.corner_sigma_px),
-                                                                  rng.Gaussian(error.corner_sigma_px));
-  view.entrance.corner1_px = pixel_of_map(c[1]) + Eigen::Vector2d(rng.Gaussian(error.corner_sigma_px),
-                                                                  rng.Gaussian(error.corner_sigma_px));
+  view.entrance.corner0_px =
+      pixel_of_map(c[0]) +
+      Eigen::Vector2d(rng.Gaussian(error.corner_sigma_px), rng.Gaussian(error.corner_sigma_px));
+  view.entrance.corner1_px =
+      pixel_of_map(c[1]) +
+      Eigen::Vector2d(rng.Gaussian(error.corner_sigma_px), rng.Gaussian(error.corner_sigma_px));
   const double turn = rng.Gaussian(error.direction_sigma_rad);
   const Eigen::Rotation2Dd rotation(turn);
   view.entrance.depth_dir_px = rotation * screen_dir.normalized();
@@ -185,9 +192,12 @@ View MakeView(const sim::WorldSlot& slot, bool legible, const Eigen::Vector2d& s
 
 const std::vector<Eigen::Vector2d>& ScreenDirections() {
   // Depth direction up, down, left, right on screen, and two slanted ones.
-  static const std::vector<Eigen::Vector2d> directions = {
-      {0, -1}, {0, 1}, {-1, 0}, {1, 0}, Eigen::Vector2d(1, -2).normalized(),
-      Eigen::Vector2d(-3, 1).normalized()};
+  static const std::vector<Eigen::Vector2d> directions = {{0, -1},
+                                                          {0, 1},
+                                                          {-1, 0},
+                                                          {1, 0},
+                                                          Eigen::Vector2d(1, -2).normalized(),
+                                                          Eigen::Vector2d(-3, 1).normalized()};
   return directions;
 }
 
@@ -365,7 +375,8 @@ TEST(SlotIdReaderTest, NothingPaintedGivesAnEmptyReading) {
 }
 
 TEST(SlotIdReaderTest, RegionLeavingTheImageGivesAnEmptyReading) {
-  const View view = MakeView(SlotWithId("214"), true, {0, -1}, 2.0, Degradation{}, EntranceError{}, 6);
+  const View view =
+      MakeView(SlotWithId("214"), true, {0, -1}, 2.0, Degradation{}, EntranceError{}, 6);
   ASSERT_EQ(DefaultReader().Read(view.image, view.entrance).best(), "214");
   // Cut the image through the ID (between its first and second digit, and
   // through its last digit).
@@ -406,9 +417,9 @@ TEST(SlotIdReaderTest, DefacedDigitGivesAPartialReading) {
     const Eigen::Vector2d v = view.T_map_vehicle.inverse() * p_map;
     return Eigen::Vector2d(kCenterPx - v.y() * kPixelsPerM, kCenterPx - v.x() * kPixelsPerM);
   };
-  const Eigen::Vector2d foot_left = id.center_map - id.right_map * (id.width_m / 2) -
-                                    id.up_map * (id.height_m / 2) +
-                                    id.right_map * ((render::kDigitWidth + render::kDigitGap) * id.height_m);
+  const Eigen::Vector2d foot_left =
+      id.center_map - id.right_map * (id.width_m / 2) - id.up_map * (id.height_m / 2) +
+      id.right_map * ((render::kDigitWidth + render::kDigitGap) * id.height_m);
   const render::GlyphToPixel to_pixel = [&](double x, double y) {
     return pixel_of_map(foot_left + id.right_map * x + id.up_map * y);
   };
@@ -489,7 +500,8 @@ TEST(SlotIdReaderTest, InvalidOptionsAreRejected) {
 
 TEST(SlotIdReaderTest, ReadsTheDefaultLotInRenderedTopViews) {
   const sim::ScenarioConfig scenario = sim::DefaultScenario();
-  const sim::World world = sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
+  const sim::World world =
+      sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
   const camera::CameraRig rig = camera::DefaultRig();
   const render::Renderer renderer(world, rig, render::RenderOptions{}, 1);
   const std::vector<std::string> fisheyes = {"front", "rear", "left", "right"};
@@ -500,7 +512,8 @@ TEST(SlotIdReaderTest, ReadsTheDefaultLotInRenderedTopViews) {
   double driven_m = 0.0, last_frame_m = -1e9;
   int frames = 0;
   for (size_t i = 1; i < drive.size(); ++i) {
-    driven_m += (drive[i].T_map_vehicle.translation() - drive[i - 1].T_map_vehicle.translation()).norm();
+    driven_m +=
+        (drive[i].T_map_vehicle.translation() - drive[i - 1].T_map_vehicle.translation()).norm();
     if (driven_m - last_frame_m < 6.0) continue;
     last_frame_m = driven_m;
     ++frames;
@@ -516,9 +529,10 @@ TEST(SlotIdReaderTest, ReadsTheDefaultLotInRenderedTopViews) {
       bool visible = true;
       for (double a = -0.5; a <= 0.5 && visible; a += 0.1) {
         for (double b = -0.5; b <= 0.5 && visible; b += 0.1) {
-          const Eigen::Vector2d px =
-              pixel_of(id.center_map + id.right_map * (a * id.width_m) + id.up_map * (b * id.height_m));
-          visible = px.x() >= 0 && px.y() >= 0 && px.x() <= kTopViewPx - 1 && px.y() <= kTopViewPx - 1 &&
+          const Eigen::Vector2d px = pixel_of(id.center_map + id.right_map * (a * id.width_m) +
+                                              id.up_map * (b * id.height_m));
+          visible = px.x() >= 0 && px.y() >= 0 && px.x() <= kTopViewPx - 1 &&
+                    px.y() <= kTopViewPx - 1 &&
                     top.at<std::uint8_t>(static_cast<int>(px.y()), static_cast<int>(px.x())) != 0;
         }
       }
@@ -526,9 +540,9 @@ TEST(SlotIdReaderTest, ReadsTheDefaultLotInRenderedTopViews) {
       EntranceInImage entrance;
       entrance.corner0_px = pixel_of(slot.corners_map[0]);
       entrance.corner1_px = pixel_of(slot.corners_map[1]);
-      entrance.depth_dir_px =
-          (pixel_of((slot.corners_map[2] + slot.corners_map[3]) / 2) -
-           (entrance.corner0_px + entrance.corner1_px) / 2).normalized();
+      entrance.depth_dir_px = (pixel_of((slot.corners_map[2] + slot.corners_map[3]) / 2) -
+                               (entrance.corner0_px + entrance.corner1_px) / 2)
+                                  .normalized();
       (slot.id_legible ? legible : worn).Add(DefaultReader().Read(top, entrance), slot.painted_id);
     }
   }

@@ -7,7 +7,9 @@
 namespace parkslam::perception {
 namespace {
 
-double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
 
 // Distance from p to the segment a-b, and where along it (0 at a, 1 at b)
 // its foot lies.
@@ -29,7 +31,8 @@ bool SlotPairingOptions::IsValid(std::string* error) const {
   if (!(min_entrance_m > 0.0 && min_entrance_m < max_entrance_m)) {
     return fail("need 0 < min_entrance_m < max_entrance_m");
   }
-  if (!(standard_depth_m > 0.0 && parallel_depth_m > 0.0)) return fail("slot depths must be positive");
+  if (!(standard_depth_m > 0.0 && parallel_depth_m > 0.0))
+    return fail("slot depths must be positive");
   if (!(max_direction_difference_rad > 0.0 && max_direction_difference_rad < M_PI)) {
     return fail("max_direction_difference_rad must lie in (0, pi)");
   }

@@ -48,7 +48,8 @@ TagDetector::~TagDetector() = default;
 
 std::vector<DetectedTag> TagDetector::Detect(const cv::Mat& grey,
                                              const camera::CameraIntrinsics* intrinsics) const {
-  if (grey.type() != CV_8UC1) throw std::invalid_argument("tag detector: expected an 8-bit grey image");
+  if (grey.type() != CV_8UC1)
+    throw std::invalid_argument("tag detector: expected an 8-bit grey image");
   if (intrinsics != nullptr &&
       (grey.cols != intrinsics->width || grey.rows != intrinsics->height)) {
     throw std::invalid_argument("tag detector: image is " + std::to_string(grey.cols) + "x" +
@@ -79,7 +80,8 @@ std::vector<DetectedTag> TagDetector::Detect(const cv::Mat& grey,
     const std::vector<cv::Point3d> object{{-h, h, 0}, {h, h, 0}, {h, -h, 0}, {-h, -h, 0}};
     std::vector<cv::Point2d> image_points;
     for (const Eigen::Vector2d& c : tag.corners_px) image_points.emplace_back(c.x(), c.y());
-    const cv::Matx33d K(intrinsics->fx, 0, intrinsics->cx, 0, intrinsics->fy, intrinsics->cy, 0, 0, 1);
+    const cv::Matx33d K(intrinsics->fx, 0, intrinsics->cx, 0, intrinsics->fy, intrinsics->cy, 0, 0,
+                        1);
     const cv::Vec4d D(intrinsics->distortion[0], intrinsics->distortion[1],
                       intrinsics->distortion[2], intrinsics->distortion[3]);
     std::vector<cv::Mat> rvecs, tvecs;

@@ -20,11 +20,11 @@
 namespace parkslam::perception {
 
 struct TagDetectorOptions {
-  double tag_size_m = 0.488;     // edge of the black square
-  float quad_decimate = 2.0f;    // libapriltag: detect on a decimated image
+  double tag_size_m = 0.488;   // edge of the black square
+  float quad_decimate = 2.0f;  // libapriltag: detect on a decimated image
   bool refine_edges = true;
-  int max_hamming = 1;           // bit errors accepted
-  double max_range_m = 20.0;     // the paper discards tags at 20 m or more
+  int max_hamming = 1;        // bit errors accepted
+  double max_range_m = 20.0;  // the paper discards tags at 20 m or more
   // The PnP bearing must agree with the direct angle within this.
   double max_angle_disagreement_rad = 0.05;
 

@@ -45,7 +45,7 @@ TEST(TagDetectorTest, RealPhotosMatchTheReferenceCorners) {
   TagDetectorOptions options;
   options.quad_decimate = 1.0f;  // as the reference was made
   options.refine_edges = false;
-  options.max_hamming = 2;       // libapriltag's default, as the reference
+  options.max_hamming = 2;  // libapriltag's default, as the reference
   const TagDetector detector(options);
   int reference_tags = 0, matched = 0;
   double worst = 0.0;
@@ -54,7 +54,8 @@ TEST(TagDetectorTest, RealPhotosMatchTheReferenceCorners) {
     const cv::Mat grey = cv::imread(entry.path().string(), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(grey.empty()) << entry.path();
     const std::vector<DetectedTag> tags = detector.Detect(grey);
-    for (const auto& reference : ReadReference(std::filesystem::path(entry.path()).replace_extension(".txt"))) {
+    for (const auto& reference :
+         ReadReference(std::filesystem::path(entry.path()).replace_extension(".txt"))) {
       ++reference_tags;
       for (const DetectedTag& tag : tags) {
         // Ours are 0.5 px smaller (the project's pixel convention).
@@ -62,7 +63,8 @@ TEST(TagDetectorTest, RealPhotosMatchTheReferenceCorners) {
         ++matched;
         EXPECT_EQ(tag.tag_id, 0);
         for (int k = 0; k < 4; ++k) {
-          worst = std::max(worst, (tag.corners_px[k] + Eigen::Vector2d(0.5, 0.5) - reference[k]).norm());
+          worst = std::max(worst,
+                           (tag.corners_px[k] + Eigen::Vector2d(0.5, 0.5) - reference[k]).norm());
         }
         break;
       }

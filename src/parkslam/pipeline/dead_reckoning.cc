@@ -4,8 +4,8 @@
 
 namespace parkslam::pipeline {
 
-odometry::OdometryEkfOptions EkfOptionsFromSensorSpec(
-    const sim::OdometrySensorConfig& spec, const VehicleParameters& vehicle) {
+odometry::OdometryEkfOptions EkfOptionsFromSensorSpec(const sim::OdometrySensorConfig& spec,
+                                                      const VehicleParameters& vehicle) {
   odometry::OdometryEkfOptions o;
   o.vehicle = vehicle;
   o.wheel_speed_sigma_mps = spec.wheel_speed_sigma_mps;
@@ -59,8 +59,7 @@ DeadReckoningResult RunDeadReckoning(SensorSource& source,
     }
     ekf.Process(*event);
   }
-  if (ekf.initialized() &&
-      (result.poses.empty() || result.poses.back().t_ns < ekf.time_ns())) {
+  if (ekf.initialized() && (result.poses.empty() || result.poses.back().t_ns < ekf.time_ns())) {
     record(ekf.time_ns());
   }
   return result;

@@ -16,8 +16,8 @@ namespace parkslam::pipeline {
 
 // The EKF tuned from the sensors' specification (the dataset's
 // sensors.odometry section, as a datasheet would give it).
-odometry::OdometryEkfOptions EkfOptionsFromSensorSpec(
-    const sim::OdometrySensorConfig& spec, const VehicleParameters& vehicle);
+odometry::OdometryEkfOptions EkfOptionsFromSensorSpec(const sim::OdometrySensorConfig& spec,
+                                                      const VehicleParameters& vehicle);
 
 struct DeadReckoningOptions {
   double output_rate_hz = 50.0;

@@ -47,12 +47,14 @@ TEST(DeadReckoningTest, KnownInitialPoseIsUsed) {
   const DeadReckoningResult dr = RunDeadReckoning(
       source, EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle), options);
   EXPECT_NEAR((dr.poses.front().T_map_vehicle.translation() -
-               sim.states.front().T_map_vehicle.translation()).norm(), 0.0, 1e-9);
+               sim.states.front().T_map_vehicle.translation())
+                  .norm(),
+              0.0, 1e-9);
   // Without alignment the error stays small too: the map frame is known.
   eval::TrajectoryMetricsOptions no_align;
   no_align.align = false;
-  const auto m = eval::EvaluateTrajectory(sim::GroundTruthTrajectory(sim),
-                                          ToTrajectory(dr.poses), no_align);
+  const auto m =
+      eval::EvaluateTrajectory(sim::GroundTruthTrajectory(sim), ToTrajectory(dr.poses), no_align);
   EXPECT_LT(m.ate_max_m, 10.0);
 }
 
@@ -63,8 +65,8 @@ TEST(OdometryConsistencyTest, NeesInsideChiSquareBandOnDefaultDrive) {
   // [chi2(0.025, 60), chi2(0.975, 60)] / 20 = [40.48, 83.30] / 20.
   EXPECT_NEAR(c.band_lower, 2.024, 0.01);
   EXPECT_NEAR(c.band_upper, 4.165, 0.01);
-  std::cout << "ANEES mean " << c.mean_anees << ", share inside band "
-            << c.share_inside_band << " over " << c.anees.size() << " s\n";
+  std::cout << "ANEES mean " << c.mean_anees << ", share inside band " << c.share_inside_band
+            << " over " << c.anees.size() << " s\n";
   EXPECT_GT(c.mean_anees, c.band_lower);
   EXPECT_LT(c.mean_anees, c.band_upper);
   EXPECT_GT(c.share_inside_band, 0.9);

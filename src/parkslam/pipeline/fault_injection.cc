@@ -56,11 +56,16 @@ const char* ToString(FaultKind kind) {
 
 double DefaultMagnitude(FaultKind kind) {
   switch (kind) {
-    case FaultKind::kLateFrames: return 0.5;
-    case FaultKind::kImuSpikes: return 2.0;
-    case FaultKind::kHeadingJump: return 0.5;
-    case FaultKind::kClockJitter: return 0.02;
-    default: return 0.0;
+    case FaultKind::kLateFrames:
+      return 0.5;
+    case FaultKind::kImuSpikes:
+      return 2.0;
+    case FaultKind::kHeadingJump:
+      return 0.5;
+    case FaultKind::kClockJitter:
+      return 0.02;
+    default:
+      return 0.0;
   }
 }
 
@@ -91,7 +96,8 @@ SensorFault ParseSensorFault(const std::string& text) {
   if (!known) {
     std::string names;
     for (const KindName& k : kKindNames) names += std::string(names.empty() ? "" : ", ") + k.name;
-    throw std::invalid_argument("fault '" + text + "': unknown kind '" + kind + "' (" + names + ")");
+    throw std::invalid_argument("fault '" + text + "': unknown kind '" + kind + "' (" + names +
+                                ")");
   }
   std::string rest = text.substr(at + 1);
   std::vector<std::string> parts;
@@ -107,8 +113,8 @@ SensorFault ParseSensorFault(const std::string& text) {
   fault.start_s = ParseNumber(parts[0].substr(0, plus), "START", text);
   fault.duration_s = ParseNumber(parts[0].substr(plus + 1), "DURATION", text);
   if (fault.start_s < 0.0 || fault.duration_s <= 0.0 || fault.start_s + fault.duration_s > 1e6) {
-    throw std::invalid_argument("fault '" + text +
-                                "': START must be >= 0 and DURATION > 0 (seconds, under 1e6 in all)");
+    throw std::invalid_argument(
+        "fault '" + text + "': START must be >= 0 and DURATION > 0 (seconds, under 1e6 in all)");
   }
   for (std::size_t k = 1; k < parts.size(); ++k) {
     const std::size_t eq = parts[k].find('=');

@@ -46,7 +46,7 @@ const char* ToString(FaultKind kind);
 
 struct SensorFault {
   FaultKind kind = FaultKind::kCameraGap;
-  double start_s = 0.0;     // after the stream's first event
+  double start_s = 0.0;  // after the stream's first event
   double duration_s = 0.0;
   std::string camera = "left";  // camera-black, camera-frozen
   // late-frames: the delay (s); imu-spikes: the spike (rad/s and rad);
@@ -68,7 +68,7 @@ SensorFault ParseSensorFault(const std::string& text);
 
 // What the injector did.
 struct InjectedFaults {
-  int frames_dropped = 0;     // camera, slot and tag frames (camera-gap)
+  int frames_dropped = 0;  // camera, slot and tag frames (camera-gap)
   int images_blackened = 0;
   int images_frozen = 0;
   int frames_delayed = 0;

@@ -48,8 +48,9 @@ class WithCameras final : public SensorSource {
       frame.t_ns = EventTime(*e);
       for (const char* name : {"left", "right"}) {
         frame.cameras.push_back(name);
-        frame.images.push_back(
-            {2, 2, std::make_shared<const std::vector<std::uint8_t>>(4, static_cast<std::uint8_t>(7 + count_))});
+        frame.images.push_back({2, 2,
+                                std::make_shared<const std::vector<std::uint8_t>>(
+                                    4, static_cast<std::uint8_t>(7 + count_))});
       }
       ++count_;
       pending_ = std::move(e);
@@ -101,9 +102,8 @@ TEST(FaultInjectionTest, ParsesFaultsAndNamesWhatIsWrong) {
 TEST(FaultInjectionTest, CameraGapAndWheelDropoutRemoveTheirEventsInTheWindowOnly) {
   const SensorLog log = Log();
   WithCameras cameras(log);
-  FaultInjectingSource source(cameras,
-                              {ParseSensorFault("camera-gap@2+3"), ParseSensorFault("wheel-dropout@6+1")},
-                              1);
+  FaultInjectingSource source(
+      cameras, {ParseSensorFault("camera-gap@2+3"), ParseSensorFault("wheel-dropout@6+1")}, 1);
   const std::vector<SensorEvent> events = Drain(source);
   EXPECT_EQ(Count<SlotObservationFrame>(events, 2000 * kMs, 5000 * kMs), 0);
   EXPECT_EQ(Count<CameraFrame>(events, 2000 * kMs, 5000 * kMs), 0);
@@ -118,9 +118,10 @@ TEST(FaultInjectionTest, CameraGapAndWheelDropoutRemoveTheirEventsInTheWindowOnl
 TEST(FaultInjectionTest, BlackAndFrozenCamerasChangeOnlyThatCamera) {
   const SensorLog log = Log();
   WithCameras cameras(log);
-  FaultInjectingSource source(
-      cameras, {ParseSensorFault("camera-black@2+1,camera=left"),
-                ParseSensorFault("camera-frozen@5+1,camera=right")}, 1);
+  FaultInjectingSource source(cameras,
+                              {ParseSensorFault("camera-black@2+1,camera=left"),
+                               ParseSensorFault("camera-frozen@5+1,camera=right")},
+                              1);
   for (const SensorEvent& e : Drain(source)) {
     const auto* frame = std::get_if<CameraFrame>(&e);
     if (frame == nullptr) continue;
@@ -140,7 +141,8 @@ TEST(FaultInjectionTest, LateFramesArriveAfterLaterEvents) {
   SensorLogSource inner(log);
   FaultInjectingSource source(inner, {ParseSensorFault("late-frames@2+1,magnitude=0.3")}, 1);
   const std::vector<SensorEvent> events = Drain(source);
-  EXPECT_EQ(events.size(), log.wheel_speeds.size() + log.imu_samples.size() + log.slot_frames.size());
+  EXPECT_EQ(events.size(),
+            log.wheel_speeds.size() + log.imu_samples.size() + log.slot_frames.size());
   int out_of_order = 0;
   TimeNs latest = 0;
   for (const SensorEvent& e : events) {
@@ -159,10 +161,11 @@ TEST(FaultInjectionTest, ImuSpikesHeadingJumpAndJitterAreSeededAndBounded) {
   const SensorLog log = Log();
   const auto run = [&log](std::uint64_t seed) {
     SensorLogSource inner(log);
-    FaultInjectingSource source(inner,
-                                {ParseSensorFault("imu-spikes@1+2"), ParseSensorFault("heading-jump@4+1"),
-                                 ParseSensorFault("clock-jitter@6+1,magnitude=0.01")},
-                                seed);
+    FaultInjectingSource source(
+        inner,
+        {ParseSensorFault("imu-spikes@1+2"), ParseSensorFault("heading-jump@4+1"),
+         ParseSensorFault("clock-jitter@6+1,magnitude=0.01")},
+        seed);
     std::vector<SensorEvent> events = Drain(source);
     EXPECT_EQ(source.injected().imu_spikes, 4);
     EXPECT_EQ(source.injected().heading_samples_shifted, 100);

@@ -93,8 +93,8 @@ LocalizationRun LocalizeWith(const std::vector<SensorFault>& faults) {
     if (!true_pose) continue;
     const Eigen::Vector2d estimate_truth_frame =
         base.metrics.T_truth_map * estimate->T_map_vehicle.translation();
-    run.error_after_m = std::max(run.error_after_m,
-                                 (estimate_truth_frame - true_pose->translation()).norm());
+    run.error_after_m =
+        std::max(run.error_after_m, (estimate_truth_frame - true_pose->translation()).norm());
     ++checked;
   }
   EXPECT_GT(checked, 100);
@@ -122,10 +122,11 @@ void ExpectTolerated(FaultKind kind, MapRun* map_run = nullptr,
   const LocalizationRun localization = LocalizeWith({Fault(kind)});
   EXPECT_LT(localization.error_after_m, 0.10) << ToString(kind);
   // The figures of docs/robustness.md.
-  std::printf("%-14s corner RMSE %.4f m (fault-free %.4f m), %d of %d slots; localization "
-              "error 5-30 s after the fault at most %.3f m\n",
-              ToString(kind), run.metrics.slot_corner_rmse_m, base.metrics.slot_corner_rmse_m,
-              run.metrics.slots_matched, run.metrics.slots_true, localization.error_after_m);
+  std::printf(
+      "%-14s corner RMSE %.4f m (fault-free %.4f m), %d of %d slots; localization "
+      "error 5-30 s after the fault at most %.3f m\n",
+      ToString(kind), run.metrics.slot_corner_rmse_m, base.metrics.slot_corner_rmse_m,
+      run.metrics.slots_matched, run.metrics.slots_true, localization.error_after_m);
   if (map_run != nullptr) *map_run = run;
   if (localization_run != nullptr) *localization_run = localization;
 }
@@ -172,8 +173,8 @@ TEST(FaultToleranceTest, HeadingJumpIsTakenAsANewOffset) {
 TEST(FaultToleranceTest, WheelSpeedDropout) {
   MapRun run;
   ExpectTolerated(FaultKind::kWheelDropout, &run);
-  EXPECT_NEAR(run.odometry.longest_gap_s[odometry::OdometryEkfStats::kWheelSpeed],
-              kFaultDuration_s, 0.05);
+  EXPECT_NEAR(run.odometry.longest_gap_s[odometry::OdometryEkfStats::kWheelSpeed], kFaultDuration_s,
+              0.05);
 }
 
 TEST(FaultToleranceTest, ClockJitter) {

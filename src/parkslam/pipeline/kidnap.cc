@@ -38,8 +38,7 @@ KidnapResult RunKidnapTrials(const SemanticMap& map, const SensorLog& log, const
     } while ((wrong.translation() - true_pose.translation()).norm() < 5.0);
 
     localization::Localizer localizer(map, localizer_options, odometry_options);
-    localizer.SetPose(truth.front().T_map_vehicle,
-                      Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal());
+    localizer.SetPose(truth.front().T_map_vehicle, Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal());
     SensorLogSource source(log);
     bool kidnapped = false, noticed = false, recovered = false;
     double driving_s = 0.0;

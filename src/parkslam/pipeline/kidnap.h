@@ -31,9 +31,7 @@ struct KidnapResult {
   int trials = 0;
   int successes = 0;
   std::vector<double> recovery_s;  // driving time to recover, successful trials
-  double success_rate() const {
-    return trials > 0 ? static_cast<double>(successes) / trials : 0.0;
-  }
+  double success_rate() const { return trials > 0 ? static_cast<double>(successes) / trials : 0.0; }
 };
 
 // `truth` is the drive's ground truth in the map frame (the caller aligns it).

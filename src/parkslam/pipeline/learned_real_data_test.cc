@@ -31,16 +31,16 @@ namespace {
 constexpr double kMinPointPrecision = 0.70;  // measured 72.5 % (37 of 51)
 constexpr double kMinPointRecall = 0.72;     // measured 74 % (37 of 50)
 constexpr double kMinSlotRecall = 0.53;      // measured 57.1 % (16 of 28)
-constexpr int kMinRealIdsRight = 6;        // measured 6 of 11
+constexpr int kMinRealIdsRight = 6;          // measured 6 of 11
 
 std::filesystem::path SampleDir() {
   const char* root = std::getenv("PARKSLAM_SHARED_DATA");
   return std::filesystem::path(root != nullptr ? root : "../shared/data") / "ps2.0-sample";
 }
 
-#define SKIP_WITHOUT_REAL_DATA()                                                               \
-  if (!std::filesystem::is_directory(SampleDir())) {                                          \
-    GTEST_SKIP() << "real data not found at " << SampleDir() << " (shared/data absent)";       \
+#define SKIP_WITHOUT_REAL_DATA()                                                         \
+  if (!std::filesystem::is_directory(SampleDir())) {                                     \
+    GTEST_SKIP() << "real data not found at " << SampleDir() << " (shared/data absent)"; \
   }
 
 TEST(LearnedRealDataTest, MarkingPointsAndSlotsOnThePs2Sample) {
@@ -55,16 +55,19 @@ TEST(LearnedRealDataTest, MarkingPointsAndSlotsOnThePs2Sample) {
     ASSERT_FALSE(image.empty()) << name;
     const perception::SlotDetection found = detector.Detect(image);
     std::vector<eval::LabelledMarkingPoint> truth;
-    for (const io::Ps2MarkingPoint& p : labels.marking_points) truth.push_back({p.px, p.direction_rad, p.is_t});
+    for (const io::Ps2MarkingPoint& p : labels.marking_points)
+      truth.push_back({p.px, p.direction_rad, p.is_t});
     std::vector<eval::LabelledSlot> truth_slots;
     for (const io::Ps2Slot& s : labels.slots) truth_slots.push_back({s.a, s.b});
     points.Add(eval::MatchMarkingPoints(AsLabelled(found.marking_points), truth));
-    slots.Add(eval::MatchSlots(EntrancesOf(found.slots), eval::EntranceLinesOf(truth, truth_slots)));
+    slots.Add(
+        eval::MatchSlots(EntrancesOf(found.slots), eval::EntranceLinesOf(truth, truth_slots)));
   }
-  std::printf("real ps2.0 sample, learned: marking points precision %.1f %%, recall %.1f %%; "
-              "slots precision %.1f %%, recall %.1f %%\n",
-              100 * points.precision(), 100 * points.recall(), 100 * slots.precision(),
-              100 * slots.recall());
+  std::printf(
+      "real ps2.0 sample, learned: marking points precision %.1f %%, recall %.1f %%; "
+      "slots precision %.1f %%, recall %.1f %%\n",
+      100 * points.precision(), 100 * points.recall(), 100 * slots.precision(),
+      100 * slots.recall());
   EXPECT_GE(points.precision(), kMinPointPrecision);
   EXPECT_GE(points.recall(), kMinPointRecall);
   EXPECT_GE(slots.recall(), kMinSlotRecall);
@@ -80,8 +83,8 @@ TEST(LearnedRealDataTest, ReadsTheRealPaintedIds) {
   const perception::LearnedSlotIdReader reader(options);
   int right = 0, total = 0;
   for (const nlohmann::json& id : labels["ids"]) {
-    const cv::Mat image = cv::imread((SampleDir() / (id["image"].get<std::string>() + ".jpg")).string(),
-                                     cv::IMREAD_COLOR);
+    const cv::Mat image = cv::imread(
+        (SampleDir() / (id["image"].get<std::string>() + ".jpg")).string(), cv::IMREAD_COLOR);
     ASSERT_FALSE(image.empty());
     perception::TextBox box;
     box.centre_px = {id["centre_px"][0].get<double>(), id["centre_px"][1].get<double>()};
@@ -90,8 +93,9 @@ TEST(LearnedRealDataTest, ReadsTheRealPaintedIds) {
     box.text_height_px = id["text_height_px"].get<double>();
     const SlotIdReading reading = reader.ReadBox(image, box);
     const std::string text = id["text"].get<std::string>();
-    std::printf("  %s: painted %s, read '%s' (confidence %.2f)\n", id["image"].get<std::string>().c_str(),
-                text.c_str(), reading.best().c_str(), reading.confidence());
+    std::printf("  %s: painted %s, read '%s' (confidence %.2f)\n",
+                id["image"].get<std::string>().c_str(), text.c_str(), reading.best().c_str(),
+                reading.confidence());
     right += reading.best() == text ? 1 : 0;
     ++total;
   }

@@ -10,9 +10,8 @@
 
 namespace parkslam::pipeline {
 
-OdometryConsistency EvaluateOdometryConsistency(const sim::ScenarioConfig& scenario,
-                                                int runs, std::uint64_t first_seed,
-                                                double sample_period_s,
+OdometryConsistency EvaluateOdometryConsistency(const sim::ScenarioConfig& scenario, int runs,
+                                                std::uint64_t first_seed, double sample_period_s,
                                                 const std::function<void(int, int)>& on_run_done) {
   if (runs < 1) throw std::invalid_argument("runs must be at least 1");
   OdometryConsistency result;

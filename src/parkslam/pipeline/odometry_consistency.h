@@ -17,18 +17,16 @@ namespace parkslam::pipeline {
 // Applications to Tracking and Navigation", 5.4.2).
 struct OdometryConsistency {
   int runs = 0;
-  std::vector<double> times_s;   // sample times from the start
-  std::vector<double> anees;     // average NEES at each time
+  std::vector<double> times_s;  // sample times from the start
+  std::vector<double> anees;    // average NEES at each time
   double band_lower = 0.0, band_upper = 0.0;
   double share_inside_band = 0.0;  // of the sample times
   double mean_anees = 0.0;         // over time (3 is ideal)
 };
 
-OdometryConsistency EvaluateOdometryConsistency(const sim::ScenarioConfig& scenario,
-                                                int runs, std::uint64_t first_seed,
-                                                double sample_period_s = 1.0,
-                                                const std::function<void(int done, int total)>&
-                                                    on_run_done = {});
+OdometryConsistency EvaluateOdometryConsistency(
+    const sim::ScenarioConfig& scenario, int runs, std::uint64_t first_seed,
+    double sample_period_s = 1.0, const std::function<void(int done, int total)>& on_run_done = {});
 
 }  // namespace parkslam::pipeline
 

@@ -71,7 +71,8 @@ TopViewTruth TruthInTopView(const sim::World& world, const SE2& T_map_vehicle,
     const sim::WorldSlot& slot = world.slots[i];
     if ((slot.corners_map[0] - T_map_vehicle.translation()).norm() > reach_m) continue;
     eval::SlotCornersPx px;
-    for (size_t c = 0; c < 4; ++c) px[c] = fusion.VehicleToPixel(T_vehicle_map * slot.corners_map[c]);
+    for (size_t c = 0; c < 4; ++c)
+      px[c] = fusion.VehicleToPixel(T_vehicle_map * slot.corners_map[c]);
     // Corner k's separating line runs to corner 3 - k (0-3, 1-2).
     std::array<bool, 4> in_view{}, in_image{};
     for (size_t c = 0; c < 4; ++c) {
@@ -97,8 +98,9 @@ TopViewTruth TruthInTopView(const sim::World& world, const SE2& T_map_vehicle,
       const render::IdPlacement place = render::PlaceId(slot, paint);
       for (double u : {-0.5, 0.5}) {
         for (double v : {-0.5, 0.5}) {
-          const Eigen::Vector2d corner_map =
-              place.center_map + u * place.width_m * place.right_map + v * place.height_m * place.up_map;
+          const Eigen::Vector2d corner_map = place.center_map +
+                                             u * place.width_m * place.right_map +
+                                             v * place.height_m * place.up_map;
           if (!InView(fusion.VehicleToPixel(T_vehicle_map * corner_map), mask, 2.0, 2.0)) {
             id.readable = false;
           }
@@ -110,7 +112,8 @@ TopViewTruth TruthInTopView(const sim::World& world, const SE2& T_map_vehicle,
   return truth;
 }
 
-std::vector<eval::LabelledMarkingPoint> AsLabelled(const std::vector<perception::MarkingPoint>& points) {
+std::vector<eval::LabelledMarkingPoint> AsLabelled(
+    const std::vector<perception::MarkingPoint>& points) {
   std::vector<eval::LabelledMarkingPoint> out;
   for (const perception::MarkingPoint& p : points) {
     out.push_back({p.px, p.direction_rad, p.shape == perception::MarkingShape::kT});
@@ -133,17 +136,15 @@ std::vector<eval::SlotCornersPx> CornersOf(const std::vector<perception::Detecte
 std::vector<int> ScoredPoints(const std::vector<eval::LabelledMarkingPoint>& detected,
                               const std::vector<eval::LabelledMarkingPoint>& truth,
                               const std::vector<eval::LabelledMarkingPoint>& ignored) {
-  return Scored(detected, truth, ignored, [](const auto& d, const auto& t) {
-    return eval::MarkingPointsMatch(d, t);
-  });
+  return Scored(detected, truth, ignored,
+                [](const auto& d, const auto& t) { return eval::MarkingPointsMatch(d, t); });
 }
 
 std::vector<int> ScoredSlots(const std::vector<eval::EntranceLine>& detected,
                              const std::vector<eval::EntranceLine>& truth,
                              const std::vector<eval::EntranceLine>& ignored) {
-  return Scored(detected, truth, ignored, [](const auto& d, const auto& t) {
-    return eval::EntranceLinesMatch(d, t);
-  });
+  return Scored(detected, truth, ignored,
+                [](const auto& d, const auto& t) { return eval::EntranceLinesMatch(d, t); });
 }
 
 }  // namespace parkslam::pipeline

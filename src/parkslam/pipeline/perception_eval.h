@@ -41,7 +41,8 @@ TopViewTruth TruthInTopView(const sim::World& world, const SE2& T_map_vehicle,
                             double margin_px = 48.0, double min_footprint_gap_px = 12.0);
 
 // The detector's output in the metrics' terms.
-std::vector<eval::LabelledMarkingPoint> AsLabelled(const std::vector<perception::MarkingPoint>& points);
+std::vector<eval::LabelledMarkingPoint> AsLabelled(
+    const std::vector<perception::MarkingPoint>& points);
 std::vector<eval::EntranceLine> EntrancesOf(const std::vector<perception::DetectedSlot>& slots);
 std::vector<eval::SlotCornersPx> CornersOf(const std::vector<perception::DetectedSlot>& slots);
 

@@ -68,7 +68,8 @@ PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
     if (options_.tag_max_height_m > options_.tag_min_height_m && options_.tag_min_range_m > 0.0 &&
         std::abs(z_axis.z()) < 0.02 && y_axis.z() < -0.999) {
       const double d = options_.tag_min_range_m;
-      first = static_cast<int>(std::floor(k.cy - k.fy * (options_.tag_max_height_m - camera_z) / d));
+      first =
+          static_cast<int>(std::floor(k.cy - k.fy * (options_.tag_max_height_m - camera_z) / d));
       last = static_cast<int>(std::ceil(k.cy + k.fy * (camera_z - options_.tag_min_height_m) / d));
       first = std::clamp(first, 0, k.height - 1);
       last = std::clamp(last, first, k.height - 1);
@@ -79,8 +80,8 @@ PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
     tag_band_intrinsics_.height = tag_rows_;
     tag_band_intrinsics_.cy = k.cy - first;
   }
-  fusion_ = std::make_unique<camera::TopViewFusion>(rig, options_.fisheye_cameras,
-                                                    options_.top_view);
+  fusion_ =
+      std::make_unique<camera::TopViewFusion>(rig, options_.fisheye_cameras, options_.top_view);
   // The detector's scale follows the top view.
   const double pixels_per_m = options_.top_view.size_px / options_.top_view.extent_m;
   options_.slots.pixels_per_m = pixels_per_m;
@@ -201,8 +202,8 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame,
             fusion_->PixelToVehicle(slot.corners_px[static_cast<size_t>(c)]);
         obs.corner_observed[static_cast<size_t>(c)] = slot.corner_observed[static_cast<size_t>(c)];
         if (c < 2) {
-          far_m = std::max(far_m, (obs.corners_vehicle[static_cast<size_t>(c)] -
-                                   view_centre_vehicle).norm());
+          far_m = std::max(
+              far_m, (obs.corners_vehicle[static_cast<size_t>(c)] - view_centre_vehicle).norm());
         }
       }
       obs.corner_sigma_m = options_.corner_sigma_m + options_.corner_sigma_per_m * far_m;

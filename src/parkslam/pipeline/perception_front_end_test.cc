@@ -17,7 +17,8 @@ const std::vector<std::string> kCameras{"front", "rear", "left", "right", "front
 
 struct Lot {
   sim::ScenarioConfig scenario = sim::DefaultScenario();
-  sim::World world = sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
+  sim::World world =
+      sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
 };
 
 const Lot& DefaultLot() {
@@ -83,8 +84,9 @@ TEST(PerceptionFrontEndTest, LearnedSlotsInTheAisleLandOnTheTruth) {
   for (const SlotObservation& obs : out.slots.slots) {
     double best = 1e9;
     for (const sim::WorldSlot& slot : DefaultLot().world.slots) {
-      best = std::min(best, (T_vehicle_map * slot.corners_map[0] - obs.corners_vehicle[0]).norm() +
-                                (T_vehicle_map * slot.corners_map[1] - obs.corners_vehicle[1]).norm());
+      best =
+          std::min(best, (T_vehicle_map * slot.corners_map[0] - obs.corners_vehicle[0]).norm() +
+                             (T_vehicle_map * slot.corners_map[1] - obs.corners_vehicle[1]).norm());
     }
     ++(best < 0.06 ? on_truth : false_slots);
   }

@@ -32,8 +32,8 @@ std::optional<SensorEvent> RenderingSource::Next() {
     pending_ = inner_.Next();
     inner_done_ = !pending_.has_value();
   }
-  const bool frame_due = next_frame_ns_ <= truth_.back().t_ns &&
-                         (!pending_ || next_frame_ns_ < EventTime(*pending_));
+  const bool frame_due =
+      next_frame_ns_ <= truth_.back().t_ns && (!pending_ || next_frame_ns_ < EventTime(*pending_));
   if (frame_due) {
     const TimeNs t = next_frame_ns_;
     next_frame_ns_ += period_ns_;

@@ -22,7 +22,8 @@ struct Result {
   size_t keyframes_stored = 0;
 };
 
-Result MapLaps(int laps, int history, int records_per_landmark = mapping::MapperOptions().max_records_per_landmark,
+Result MapLaps(int laps, int history,
+               int records_per_landmark = mapping::MapperOptions().max_records_per_landmark,
                int retire_check_min_records = mapping::MapperOptions().retire_check_min_records) {
   sim::ScenarioConfig scenario = sim::DefaultScenario();
   scenario.route.laps = laps;
@@ -38,7 +39,8 @@ Result MapLaps(int laps, int history, int records_per_landmark = mapping::Mapper
   const size_t stored = mapper.slot_records().size() + mapper.tag_records().size();
   const size_t keyframes = mapper.keyframes().size();
   mapper.Finish();
-  return {mapper.stats(), eval::EvaluateMap(mapper.Map(), sim::ToSemanticMap(drive.world)), stored, keyframes};
+  return {mapper.stats(), eval::EvaluateMap(mapper.Map(), sim::ToSemanticMap(drive.world)), stored,
+          keyframes};
 }
 
 TEST(SoakTest, WindowedSolveStaysBoundedOverLapsAndTheMapIsTheSame) {
@@ -47,8 +49,7 @@ TEST(SoakTest, WindowedSolveStaysBoundedOverLapsAndTheMapIsTheSame) {
   const Result eight = MapLaps(8, defaults.window_history_observations);
   const Result eight_all = MapLaps(8, 0);  // every older observation enters
   // Bounded: eight laps need hardly larger windowed solves than two...
-  EXPECT_LT(eight.stats.max_window_residual_blocks,
-            1.25 * two.stats.max_window_residual_blocks);
+  EXPECT_LT(eight.stats.max_window_residual_blocks, 1.25 * two.stats.max_window_residual_blocks);
   // ...where taking the whole history makes them grow with the laps.
   EXPECT_GT(eight_all.stats.max_window_residual_blocks,
             2.0 * eight.stats.max_window_residual_blocks);
@@ -56,11 +57,12 @@ TEST(SoakTest, WindowedSolveStaysBoundedOverLapsAndTheMapIsTheSame) {
   EXPECT_EQ(eight.metrics.slots_matched, eight_all.metrics.slots_matched);
   EXPECT_NEAR(eight.metrics.slot_corner_rmse_m, eight_all.metrics.slot_corner_rmse_m, 0.002);
   EXPECT_NEAR(eight.metrics.id_accuracy, eight_all.metrics.id_accuracy, 0.01);
-  std::printf("windowed solve, most residual blocks: 2 laps %d, 8 laps %d (whole history: %d); "
-              "8 laps corner RMSE %.4f m (whole history %.4f m)\n",
-              two.stats.max_window_residual_blocks, eight.stats.max_window_residual_blocks,
-              eight_all.stats.max_window_residual_blocks, eight.metrics.slot_corner_rmse_m,
-              eight_all.metrics.slot_corner_rmse_m);
+  std::printf(
+      "windowed solve, most residual blocks: 2 laps %d, 8 laps %d (whole history: %d); "
+      "8 laps corner RMSE %.4f m (whole history %.4f m)\n",
+      two.stats.max_window_residual_blocks, eight.stats.max_window_residual_blocks,
+      eight_all.stats.max_window_residual_blocks, eight.metrics.slot_corner_rmse_m,
+      eight_all.metrics.slot_corner_rmse_m);
 }
 
 TEST(SoakTest, RetiredRecordsBoundTheStorageAndKeepTheMap) {
@@ -85,12 +87,12 @@ TEST(SoakTest, RetiredRecordsBoundTheStorageAndKeepTheMap) {
   EXPECT_EQ(capped.metrics.slots_spurious, all.metrics.slots_spurious);
   EXPECT_NEAR(capped.metrics.slot_corner_rmse_m, all.metrics.slot_corner_rmse_m, 0.003);
   EXPECT_NEAR(capped.metrics.id_accuracy, all.metrics.id_accuracy, 0.01);
-  std::printf("8 laps: %zu records stored, %d retired (every record kept: %zu); %zu of %d keyframes "
-              "stored; corner RMSE %.4f m (every record: %.4f m), ID accuracy %.3f (%.3f)\n",
-              capped.records_stored, capped.stats.records_retired, all.records_stored,
-              capped.keyframes_stored, capped.stats.keyframes,
-              capped.metrics.slot_corner_rmse_m, all.metrics.slot_corner_rmse_m,
-              capped.metrics.id_accuracy, all.metrics.id_accuracy);
+  std::printf(
+      "8 laps: %zu records stored, %d retired (every record kept: %zu); %zu of %d keyframes "
+      "stored; corner RMSE %.4f m (every record: %.4f m), ID accuracy %.3f (%.3f)\n",
+      capped.records_stored, capped.stats.records_retired, all.records_stored,
+      capped.keyframes_stored, capped.stats.keyframes, capped.metrics.slot_corner_rmse_m,
+      all.metrics.slot_corner_rmse_m, capped.metrics.id_accuracy, all.metrics.id_accuracy);
 }
 
 }  // namespace

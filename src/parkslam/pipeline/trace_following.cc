@@ -4,17 +4,17 @@
 #include <memory>
 #include <stdexcept>
 
+#include "parkslam/camera/camera_model.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
 #include "parkslam/control/safety_supervisor.h"
 #include "parkslam/control/trace.h"
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/pipeline/dead_reckoning.h"
-#include "parkslam/sim/live_simulator.h"
-#include "parkslam/camera/camera_model.h"
 #include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
+#include "parkslam/sim/live_simulator.h"
 
 namespace parkslam::pipeline {
 namespace {
@@ -46,14 +46,15 @@ class PoseSource {
       ekf_ = std::make_unique<odometry::OdometryEkf>(odometry_options);
       ekf_->Initialize(t0, start_map, std::sqrt(start_covariance(2, 2)));
     } else {
-      localizer_ = std::make_unique<localization::Localizer>(map, options.localizer,
-                                                             odometry_options);
+      localizer_ =
+          std::make_unique<localization::Localizer>(map, options.localizer, odometry_options);
       localizer_->SetPose(start_map, start_covariance);
     }
   }
 
   // Feeds an event; true at a camera frame (with the estimate in *pose).
-  bool Process(const SensorEvent& event, SE2* pose, bool* lost, int* used = nullptr, int* rejected = nullptr) {
+  bool Process(const SensorEvent& event, SE2* pose, bool* lost, int* used = nullptr,
+               int* rejected = nullptr) {
     const bool frame = std::holds_alternative<SlotObservationFrame>(event) ||
                        std::holds_alternative<TagObservationFrame>(event);
     if (odometry_only_) {
@@ -74,7 +75,8 @@ class PoseSource {
   SE2 Now() const { return odometry_only_ ? ekf_->pose() : localizer_->PredictedPose(); }
   // The position covariance of the last estimate (m^2).
   Eigen::Matrix2d PositionCovariance() const {
-    return odometry_only_ ? Eigen::Matrix2d::Zero() : Eigen::Matrix2d(localizer_->covariance().topLeftCorner<2, 2>());
+    return odometry_only_ ? Eigen::Matrix2d::Zero()
+                          : Eigen::Matrix2d(localizer_->covariance().topLeftCorner<2, 2>());
   }
 
  private:
@@ -129,8 +131,8 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
     sim::LiveSimulatorOptions simulator_options;
     simulator_options.dynamics = options.vehicle_dynamics;
     sim::LiveSimulator simulator(scenario, seed, true_start, simulator_options);
-    PoseSource source(map, options, odometry_options, T_map_world * start_world,
-                      start_covariance, simulator.time_ns());
+    PoseSource source(map, options, odometry_options, T_map_world * start_world, start_covariance,
+                      simulator.time_ns());
     control::PathFollower follower(trace, scenario.vehicle, options.follower);
     // Dead reckoning alone never knows it is lost: no supervisor there.
     const bool supervised = options.safety_stop && !options.odometry_only;

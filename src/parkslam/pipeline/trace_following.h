@@ -27,13 +27,13 @@ namespace parkslam::pipeline {
 struct TraceFollowingOptions {
   int runs = 10;
   double speed_kmh = 4.0;
-  std::uint64_t seed = 1;          // run r uses seed + r
-  bool odometry_only = false;      // steer from dead reckoning alone
+  std::uint64_t seed = 1;      // run r uses seed + r
+  bool odometry_only = false;  // steer from dead reckoning alone
   // The car starts near the trace's start: this far off, and the localizer
   // is told the trace's start with this uncertainty.
   double start_position_sigma_m = 0.2;
   double start_yaw_sigma_rad = 0.03;
-  double timeout_factor = 2.0;     // give up after factor x (length / speed) + 60 s
+  double timeout_factor = 2.0;  // give up after factor x (length / speed) + 60 s
   // Stations of the repeatability measure skip the start (the car is
   // still converging from its offset start) and the very end.
   double skip_start_m = 5.0;
@@ -61,22 +61,22 @@ struct TraceFollowingOptions {
 };
 
 struct TraceRun {
-  Trajectory truth_world;      // the true trajectory, 10 Hz
-  Trajectory estimate_map;     // the pose the controller steered by, at camera frames
+  Trajectory truth_world;   // the true trajectory, 10 Hz
+  Trajectory estimate_map;  // the pose the controller steered by, at camera frames
   bool finished = false;
   double duration_s = 0.0;
-  double localization_rmse_m = 0.0;   // estimate against truth, map frame
+  double localization_rmse_m = 0.0;  // estimate against truth, map frame
   double localization_yaw_rmse_rad = 0.0;
   int lost_frames = 0;
-  int camera_frames = 0;        // rendered live
-  int safety_interventions = 0; // times the supervisor made the car stop
-  double stopped_s = 0.0;       // time held at a standstill by it
+  int camera_frames = 0;         // rendered live
+  int safety_interventions = 0;  // times the supervisor made the car stop
+  double stopped_s = 0.0;        // time held at a standstill by it
 };
 
 struct TraceFollowingResult {
   std::vector<TraceRun> runs;
-  eval::TraceFollowingMetrics metrics;   // true runs against the trace, world frame
-  double localization_rmse_m = 0.0;       // over all runs
+  eval::TraceFollowingMetrics metrics;  // true runs against the trace, world frame
+  double localization_rmse_m = 0.0;     // over all runs
   double localization_yaw_rmse_rad = 0.0;
 };
 

@@ -101,7 +101,8 @@ TEST(TraceFollowingTest, MapInItsOwnFrameIsHandled) {
   TraceFollowingOptions options;
   options.runs = 2;
   options.speed_kmh = 10.0;
-  const TraceFollowingResult r = FollowTrace(scenario, map, T_map_world, HumanDrive(scenario), options);
+  const TraceFollowingResult r =
+      FollowTrace(scenario, map, T_map_world, HumanDrive(scenario), options);
   EXPECT_TRUE(r.runs[0].finished);
   EXPECT_LT(r.metrics.lateral_mean_all_m, 0.10);
 }
@@ -127,8 +128,10 @@ std::vector<std::pair<double, double>> SpeedsOf(const Trajectory& truth) {
   std::vector<std::pair<double, double>> speeds;
   for (size_t k = 1; k < truth.size(); ++k) {
     const double dt = ToSeconds(truth[k].t_ns - truth[k - 1].t_ns);
-    speeds.emplace_back(ToSeconds(truth[k].t_ns),
-                        (truth[k].T_map_vehicle.translation() - truth[k - 1].T_map_vehicle.translation()).norm() / dt);
+    speeds.emplace_back(
+        ToSeconds(truth[k].t_ns),
+        (truth[k].T_map_vehicle.translation() - truth[k - 1].T_map_vehicle.translation()).norm() /
+            dt);
   }
   return speeds;
 }
@@ -160,7 +163,8 @@ TEST(TraceFollowingTest, AKidnappedCarStopsAndGoesOnWhenRelocalized) {
   const double stopped_at = StoppedAt(run.truth_world, options.kidnap_at_s);
   ASSERT_GT(stopped_at, 0.0);
   std::printf("kidnap at %.1f s: stopped at %.1f s, %.1f s held, %d interventions, finished %d\n",
-              options.kidnap_at_s, stopped_at, run.stopped_s, run.safety_interventions, run.finished);
+              options.kidnap_at_s, stopped_at, run.stopped_s, run.safety_interventions,
+              run.finished);
   EXPECT_LT(stopped_at - options.kidnap_at_s, 2.0);
   EXPECT_TRUE(run.finished);
 }
@@ -186,7 +190,8 @@ TEST(TraceFollowingTest, ACameraBlackoutStopsTheCarUntilFramesReturn) {
   EXPECT_TRUE(run.finished);
   // Without the supervisor the car drives through the blackout.
   options.safety_stop = false;
-  const TraceRun blind = FollowTrace(scenario, TrueMap(scenario), SE2(), HumanDrive(scenario), options).runs.front();
+  const TraceRun blind =
+      FollowTrace(scenario, TrueMap(scenario), SE2(), HumanDrive(scenario), options).runs.front();
   const double blind_stop = StoppedAt(blind.truth_world, options.blackout_from_s);
   EXPECT_TRUE(blind_stop < 0.0 || blind_stop > options.blackout_to_s);
 }
@@ -241,7 +246,8 @@ TEST(TraceFollowingTest, SafetyStopsInRandomKidnapsAndBlackouts) {
       const double fault_s = rng.Uniform(20.0, 70.0);
       if (kidnap) {
         options.kidnap_at_s = fault_s;
-        options.kidnap_offset = Eigen::Vector3d(rng.Uniform(-3.0, 3.0), rng.Uniform(-1.5, 1.5), rng.Uniform(-0.2, 0.2));
+        options.kidnap_offset =
+            Eigen::Vector3d(rng.Uniform(-3.0, 3.0), rng.Uniform(-1.5, 1.5), rng.Uniform(-0.2, 0.2));
       } else {
         options.blackout_from_s = fault_s;
         options.blackout_to_s = fault_s + rng.Uniform(5.0, 30.0);
@@ -263,10 +269,12 @@ TEST(TraceFollowingTest, SafetyStopsInRandomKidnapsAndBlackouts) {
       }
       finished += run.finished;
     }
-    std::printf("%s: %d trials, stopped in all but %d, mean %.2f s, worst %.2f s after the fault; %d left the "
-                "drivable floor; %d finished the trace\n",
-                kidnap ? "closed-loop kidnaps" : "camera blackouts", trials, not_stopped,
-                sum_stop_s / std::max(1, trials - not_stopped), worst_stop_s, off_floor, finished);
+    std::printf(
+        "%s: %d trials, stopped in all but %d, mean %.2f s, worst %.2f s after the fault; %d left "
+        "the "
+        "drivable floor; %d finished the trace\n",
+        kidnap ? "closed-loop kidnaps" : "camera blackouts", trials, not_stopped,
+        sum_stop_s / std::max(1, trials - not_stopped), worst_stop_s, off_floor, finished);
     EXPECT_EQ(not_stopped, 0);
     EXPECT_LT(worst_stop_s, 2.0);
     EXPECT_EQ(off_floor, 0);

@@ -7,9 +7,9 @@
 namespace parkslam::render {
 namespace {
 
-constexpr std::array<std::uint8_t, 10> kDigitSegments = {
-    0b0111111, 0b0000110, 0b1011011, 0b1001111, 0b1100110,
-    0b1101101, 0b1111101, 0b0000111, 0b1111111, 0b1101111};
+constexpr std::array<std::uint8_t, 10> kDigitSegments = {0b0111111, 0b0000110, 0b1011011, 0b1001111,
+                                                         0b1100110, 0b1101101, 0b1111101, 0b0000111,
+                                                         0b1111111, 0b1101111};
 
 constexpr double kDrawScale = 1 << kGlyphDrawShift;
 
@@ -28,13 +28,20 @@ std::uint8_t DigitSegments(char digit) {
 std::array<double, 4> SegmentBox(int segment, double width, double height, double stroke) {
   const double w = width, h = height, t = stroke;
   switch (segment) {
-    case 0: return {0, w, h - t, h};
-    case 1: return {w - t, w, h / 2, h};
-    case 2: return {w - t, w, 0, h / 2};
-    case 3: return {0, w, 0, t};
-    case 4: return {0, t, 0, h / 2};
-    case 5: return {0, t, h / 2, h};
-    default: return {0, w, h / 2 - t / 2, h / 2 + t / 2};
+    case 0:
+      return {0, w, h - t, h};
+    case 1:
+      return {w - t, w, h / 2, h};
+    case 2:
+      return {w - t, w, 0, h / 2};
+    case 3:
+      return {0, w, 0, t};
+    case 4:
+      return {0, t, 0, h / 2};
+    case 5:
+      return {0, t, h / 2, h};
+    default:
+      return {0, w, h / 2 - t / 2, h / 2 + t / 2};
   }
 }
 
@@ -44,8 +51,8 @@ double IdWidth(int characters, double height) {
   return height * (n * kDigitWidth + (n - 1) * kDigitGap);
 }
 
-void DrawSevenSegmentDigit(char digit, double height, double stroke,
-                           const GlyphToPixel& to_pixel, double value, cv::Mat* image) {
+void DrawSevenSegmentDigit(char digit, double height, double stroke, const GlyphToPixel& to_pixel,
+                           double value, cv::Mat* image) {
   DrawSevenSegments(DigitSegments(digit), height, stroke, to_pixel, value, image);
 }
 
@@ -61,8 +68,7 @@ void DrawSevenSegments(std::uint8_t segments, double height, double stroke,
     const auto [x0, x1, y0, y1] = SegmentBox(s, width, height, stroke);
     const std::array<cv::Point, 4> corners = {Fixed(to_pixel(x0, y0)), Fixed(to_pixel(x1, y0)),
                                               Fixed(to_pixel(x1, y1)), Fixed(to_pixel(x0, y1))};
-    cv::fillConvexPoly(*image, corners.data(), 4, cv::Scalar(value), cv::LINE_AA,
-                       kGlyphDrawShift);
+    cv::fillConvexPoly(*image, corners.data(), 4, cv::Scalar(value), cv::LINE_AA, kGlyphDrawShift);
   }
 }
 

@@ -46,8 +46,8 @@ using GlyphToPixel = std::function<Eigen::Vector2d(double x, double y)>;
 // height, segments `stroke` thick) with `value`, antialiased, into an 8-bit
 // single-channel image; segments are drawn one by one, a to g. Nothing is
 // drawn for a character that is not a digit.
-void DrawSevenSegmentDigit(char digit, double height, double stroke,
-                           const GlyphToPixel& to_pixel, double value, cv::Mat* image);
+void DrawSevenSegmentDigit(char digit, double height, double stroke, const GlyphToPixel& to_pixel,
+                           double value, cv::Mat* image);
 
 // Fills the segments whose bits are set in `segments` (as DigitSegments
 // gives them), the same way; any set of segments, digit or not.

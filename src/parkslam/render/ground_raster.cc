@@ -9,8 +9,8 @@
 
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
-#include "parkslam/render/digit_font.h"
 #include "parkslam/common/seed_mix.h"
+#include "parkslam/render/digit_font.h"
 
 namespace parkslam::render {
 namespace {
@@ -37,8 +37,7 @@ struct RasterFrame {
   double min_x_m, max_y_m, resolution_m;
 
   Eigen::Vector2d Pixel(const Eigen::Vector2d& p_map) const {
-    return {(p_map.x() - min_x_m) / resolution_m - 0.5,
-            (max_y_m - p_map.y()) / resolution_m - 0.5};
+    return {(p_map.x() - min_x_m) / resolution_m - 0.5, (max_y_m - p_map.y()) / resolution_m - 0.5};
   }
   // Fixed-point point for OpenCV drawing, relative to pixel `origin`.
   cv::Point Fixed(const Eigen::Vector2d& p_map, const cv::Point& origin) const {
@@ -48,8 +47,8 @@ struct RasterFrame {
   }
 };
 
-void FillQuad(const RasterFrame& frame, const Quad& quad_map, double value,
-              const cv::Point& origin, cv::Mat* mask) {
+void FillQuad(const RasterFrame& frame, const Quad& quad_map, double value, const cv::Point& origin,
+              cv::Mat* mask) {
   std::array<cv::Point, 4> pts;
   for (int i = 0; i < 4; ++i) pts[i] = frame.Fixed(quad_map[i], origin);
   cv::fillConvexPoly(*mask, pts.data(), 4, cv::Scalar(value), cv::LINE_AA, kDrawShift);
@@ -183,8 +182,8 @@ void DrawId(const RasterFrame& frame, const sim::WorldSlot& slot, const GroundRa
     // Flakes: round holes until about the requested share of the box is gone.
     constexpr double kMeanFlakeRadiusM = 0.055;
     const double box_area_m2 = id.width_m * id.height_m;
-    const int flakes = static_cast<int>(std::lround(
-        o.worn_id_broken_fraction * box_area_m2 / (kPi * kMeanFlakeRadiusM * kMeanFlakeRadiusM)));
+    const int flakes = static_cast<int>(std::lround(o.worn_id_broken_fraction * box_area_m2 /
+                                                    (kPi * kMeanFlakeRadiusM * kMeanFlakeRadiusM)));
     for (int f = 0; f < flakes; ++f) {
       const Eigen::Vector2d p = box[0] + id.right_map * rng.Uniform(0.0, id.width_m) +
                                 id.up_map * rng.Uniform(0.0, id.height_m);
@@ -241,10 +240,9 @@ Eigen::Vector2d SlotCentroid(const sim::WorldSlot& slot) {
 // Oil stains: blurred dark ellipses, most of them where cars stand.
 void DrawStains(const sim::World& world, const RasterFrame& frame, const GroundRasterOptions& o,
                 Random& rng, cv::Mat* image) {
-  const double area_m2 = world.floor_area_m2 > 0.0
-                             ? world.floor_area_m2
-                             : (world.hall.max_x_m - world.hall.min_x_m) *
-                                   (world.hall.max_y_m - world.hall.min_y_m);
+  const double area_m2 = world.floor_area_m2 > 0.0 ? world.floor_area_m2
+                                                   : (world.hall.max_x_m - world.hall.min_x_m) *
+                                                         (world.hall.max_y_m - world.hall.min_y_m);
   const int count = static_cast<int>(std::lround(area_m2 / 100.0 * o.stains_per_100m2));
   for (int k = 0; k < count; ++k) {
     Eigen::Vector2d p;
@@ -266,15 +264,16 @@ void DrawStains(const sim::World& world, const RasterFrame& frame, const GroundR
                 cv::Scalar(1.0), cv::FILLED);
     cv::GaussianBlur(mask, mask, cv::Size(0, 0), 0.25 * std::min(rx_px, ry_px));
     const Eigen::Vector2d c = frame.Pixel(p);
-    Darken(mask, cv::Point(static_cast<int>(std::lround(c.x())) - half,
-                           static_cast<int>(std::lround(c.y())) - half),
+    Darken(mask,
+           cv::Point(static_cast<int>(std::lround(c.x())) - half,
+                     static_cast<int>(std::lround(c.y())) - half),
            darkness, image);
   }
 }
 
 // Tyre marks: two faint dark tracks curving from the aisle into a slot.
-void DrawTyreMarks(const sim::World& world, const RasterFrame& frame,
-                   const GroundRasterOptions& o, Random& rng, cv::Mat* image) {
+void DrawTyreMarks(const sim::World& world, const RasterFrame& frame, const GroundRasterOptions& o,
+                   Random& rng, cv::Mat* image) {
   constexpr double kTrackHalfM = 0.8, kTyreWidthM = 0.18;
   const int count = static_cast<int>(
       std::lround(static_cast<double>(world.slots.size()) * o.tyre_marks_per_slot));
@@ -315,8 +314,8 @@ void DrawTyreMarks(const sim::World& world, const RasterFrame& frame,
 }
 
 // Walls and pillars as black footprints.
-void DrawObstacles(const sim::World& world, const RasterFrame& frame,
-                   const GroundRasterOptions& o, cv::Mat* image) {
+void DrawObstacles(const sim::World& world, const RasterFrame& frame, const GroundRasterOptions& o,
+                   cv::Mat* image) {
   const cv::Point origin(0, 0);
   for (const sim::WorldWall& wall : world.walls) {
     FillQuad(frame, Stripe(wall.a_map, wall.b_map, o.wall_thickness_m), 0, origin, image);
@@ -324,8 +323,9 @@ void DrawObstacles(const sim::World& world, const RasterFrame& frame,
   for (const sim::WorldPillar& p : world.pillars) {
     const double h = p.half_size_m;
     const Eigen::Vector2d c = p.center_map;
-    FillQuad(frame, {c + Eigen::Vector2d(-h, -h), c + Eigen::Vector2d(h, -h),
-                     c + Eigen::Vector2d(h, h), c + Eigen::Vector2d(-h, h)},
+    FillQuad(frame,
+             {c + Eigen::Vector2d(-h, -h), c + Eigen::Vector2d(h, -h), c + Eigen::Vector2d(h, h),
+              c + Eigen::Vector2d(-h, h)},
              0, origin, image);
   }
 }
@@ -337,22 +337,27 @@ bool GroundRasterOptions::IsValid(std::string* error) const {
     if (error != nullptr) *error = what;
     return false;
   };
-  if (!(resolution_m >= 0.005 && resolution_m <= 0.2)) return fail("resolution_m must be in [0.005, 0.2]");
+  if (!(resolution_m >= 0.005 && resolution_m <= 0.2))
+    return fail("resolution_m must be in [0.005, 0.2]");
   if (!(margin_m >= 0.0)) return fail("margin_m must be non-negative");
-  if (!(concrete_grey >= 0.0 && concrete_grey <= 255.0)) return fail("concrete_grey must be in [0, 255]");
+  if (!(concrete_grey >= 0.0 && concrete_grey <= 255.0))
+    return fail("concrete_grey must be in [0, 255]");
   if (!(paint_grey >= 0.0 && paint_grey <= 255.0)) return fail("paint_grey must be in [0, 255]");
-  if (!(shading_amplitude_grey >= 0.0 && mottling_amplitude_grey >= 0.0 && grain_sigma_grey >= 0.0)) {
+  if (!(shading_amplitude_grey >= 0.0 && mottling_amplitude_grey >= 0.0 &&
+        grain_sigma_grey >= 0.0)) {
     return fail("concrete amplitudes must be non-negative");
   }
   if (!(line_width_m > 0.0 && line_width_m < 1.0)) return fail("line_width_m must be in (0, 1)");
   if (!(entrance_stub_m >= 0.0)) return fail("entrance_stub_m must be non-negative");
   if (!(id_height_m > 0.0 && id_height_m < 3.0)) return fail("id_height_m must be in (0, 3)");
   if (!(id_setback_m >= 0.0)) return fail("id_setback_m must be non-negative");
-  if (!(worn_id_opacity >= 0.0 && worn_id_opacity <= 1.0)) return fail("worn_id_opacity must be in [0, 1]");
+  if (!(worn_id_opacity >= 0.0 && worn_id_opacity <= 1.0))
+    return fail("worn_id_opacity must be in [0, 1]");
   if (!(worn_id_broken_fraction >= 0.0 && worn_id_broken_fraction <= 1.0)) {
     return fail("worn_id_broken_fraction must be in [0, 1]");
   }
-  if (!(stains_per_100m2 >= 0.0 && tyre_marks_per_slot >= 0.0)) return fail("dirt rates must be non-negative");
+  if (!(stains_per_100m2 >= 0.0 && tyre_marks_per_slot >= 0.0))
+    return fail("dirt rates must be non-negative");
   if (!(wall_thickness_m > 0.0)) return fail("wall_thickness_m must be positive");
   return true;
 }
@@ -378,9 +383,8 @@ GroundRaster::GroundRaster(const sim::World& world, const GroundRasterOptions& o
   const double res = options.resolution_m;
   min_x_m_ = b.min_x - options.margin_m;
   max_y_m_ = b.max_y + options.margin_m;
-  const cv::Size size(
-      static_cast<int>(std::ceil((b.max_x + options.margin_m - min_x_m_) / res)),
-      static_cast<int>(std::ceil((max_y_m_ - (b.min_y - options.margin_m)) / res)));
+  const cv::Size size(static_cast<int>(std::ceil((b.max_x + options.margin_m - min_x_m_) / res)),
+                      static_cast<int>(std::ceil((max_y_m_ - (b.min_y - options.margin_m)) / res)));
   const RasterFrame frame{min_x_m_, max_y_m_, res};
 
   image_ = DrawConcrete(size, options, seed);

@@ -36,7 +36,7 @@ struct GroundRasterOptions {
   // id_setback_m behind the entrance, upright for a reader in the aisle.
   double id_height_m = 0.6;
   double id_setback_m = 0.3;
-  double worn_id_opacity = 0.4;         // paint left on a worn ID
+  double worn_id_opacity = 0.4;          // paint left on a worn ID
   double worn_id_broken_fraction = 0.3;  // share of a worn ID's box flaked off
 
   // Dirt: oil stains (mostly inside slots) and tyre marks at slot entrances.
@@ -69,8 +69,7 @@ class GroundRaster {
  public:
   // Draws the floor of `world`. Deterministic by seed (concrete, dirt and the
   // flaking of worn IDs). Throws std::invalid_argument on invalid options.
-  GroundRaster(const sim::World& world, const GroundRasterOptions& options,
-               std::uint64_t seed);
+  GroundRaster(const sim::World& world, const GroundRasterOptions& options, std::uint64_t seed);
 
   // CV_8UC1; north up: columns grow with map x, rows grow with -y.
   const cv::Mat& image() const { return image_; }

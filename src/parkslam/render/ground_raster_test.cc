@@ -66,7 +66,7 @@ TEST(GroundRasterTest, SeparatingLineIsPaintedAndConcreteBesideItIsNot) {
   const Eigen::Vector2d across = (slot.corners_map[1] - slot.corners_map[0]).normalized();
   const Eigen::Vector2d on_line = entrance + 2.0 * side;
   EXPECT_GT(raster.At(on_line), 190);
-  EXPECT_GT(raster.At(on_line + 0.06 * across), 190);   // half of the 15 cm width
+  EXPECT_GT(raster.At(on_line + 0.06 * across), 190);  // half of the 15 cm width
   EXPECT_LT(raster.At(on_line + 0.3 * across), 140);
   EXPECT_LT(raster.At(on_line - 0.3 * across), 140);
 }

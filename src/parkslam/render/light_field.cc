@@ -85,11 +85,11 @@ LightField::LightField(const sim::World& world, double min_x_m, double max_y_m, 
   for (int r = 0; r < grid_.rows; ++r) {
     for (int c = 0; c < grid_.cols; ++c) {
       const Eigen::Vector2d p(min_x_m_ + (c + 0.5) * kCellM, max_y_m_ - (r + 0.5) * kCellM);
-      double light = (1.0 - options.uneven_light) +
-                     options.uneven_light * grid_.at<float>(r, c) / mean;
+      double light =
+          (1.0 - options.uneven_light) + options.uneven_light * grid_.at<float>(r, c) / mean;
       for (const Eigen::Vector2d& o : openings) {
-        light *= 1.0 + 3.0 * options.overexposure_near_entrance *
-                           std::exp(-(p - o).norm() / kGlowDecayM);
+        light *= 1.0 +
+                 3.0 * options.overexposure_near_entrance * std::exp(-(p - o).norm() / kGlowDecayM);
       }
       grid_.at<float>(r, c) = static_cast<float>(light);
     }
@@ -117,8 +117,7 @@ bool LightField::IsLamp(float x_m, float y_m) const {
     if (static_cast<float>(k) > cells) --k;
     return std::abs(v - static_cast<float>(k) * spacing_m_);
   };
-  return offset(x_m - lamp_x0_m_) < kLampHalfLengthM &&
-         offset(y_m - lamp_y0_m_) < kLampHalfWidthM;
+  return offset(x_m - lamp_x0_m_) < kLampHalfLengthM && offset(y_m - lamp_y0_m_) < kLampHalfWidthM;
 }
 
 }  // namespace parkslam::render

@@ -31,9 +31,9 @@ TEST(LightFieldTest, DaylightOverexposesTheEntranceOnly) {
   options.uneven_light = 0.0;
   options.overexposure_near_entrance = 0.5;
   const LightField field = FieldOver(world, options);
-  EXPECT_NEAR(field.At(-40.0, 9.1), 2.5, 0.05);   // 1 + 3 x 0.5 at the opening
-  EXPECT_NEAR(field.At(-30.0, 9.1), 1.2, 0.05);   // 10 m in: 1 + 1.5 exp(-2)
-  EXPECT_NEAR(field.At(40.0, 25.0), 1.0, 1e-3);   // deep in the hall
+  EXPECT_NEAR(field.At(-40.0, 9.1), 2.5, 0.05);  // 1 + 3 x 0.5 at the opening
+  EXPECT_NEAR(field.At(-30.0, 9.1), 1.2, 0.05);  // 10 m in: 1 + 1.5 exp(-2)
+  EXPECT_NEAR(field.At(40.0, 25.0), 1.0, 1e-3);  // deep in the hall
   options.overexposure_near_entrance = 0.0;
   EXPECT_NEAR(FieldOver(world, options).At(-40.0, 9.1), 1.0, 1e-3);
 }

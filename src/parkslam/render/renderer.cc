@@ -13,8 +13,8 @@
 
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
-#include "parkslam/render/light_field.h"
 #include "parkslam/common/seed_mix.h"
+#include "parkslam/render/light_field.h"
 #include "parkslam/render/sensor_noise.h"
 #include "parkslam/render/tag_texture.h"
 
@@ -64,13 +64,13 @@ enum PixelKind : std::uint8_t { kInvalid, kGround, kCeiling, kFar, kEgo };
 
 // Per pixel, read every frame.
 struct HotRay {
-  float x_m = 0, y_m = 0;  // ground or ceiling hit in the vehicle frame; ego: its radiance
-  float env_s_m = 0;       // horizontal distance to that hit (max range when none)
-  float gain = 0;          // brightness x vignetting
+  float x_m = 0, y_m = 0;     // ground or ceiling hit in the vehicle frame; ego: its radiance
+  float env_s_m = 0;          // horizontal distance to that hit (max range when none)
+  float gain = 0;             // brightness x vignetting
   std::uint16_t azimuth = 0;  // of the ray in the vehicle frame, 1/65536 turn
   std::uint8_t kind = kInvalid;
-  std::uint8_t lod = 0;    // ground pyramid level
-  std::uint8_t haze = 0;   // weight of haze at env_s_m, 0..255
+  std::uint8_t lod = 0;   // ground pyramid level
+  std::uint8_t haze = 0;  // weight of haze at env_s_m, 0..255
 };
 
 // Per pixel, read only where an obstacle may be in the way.
@@ -143,10 +143,10 @@ struct Frame {
 };
 
 struct Hit {
-  float s_m;             // horizontal distance
+  float s_m;  // horizontal distance
   int candidate = -1;
-  float u = 0;           // face: fraction along a-b
-  int side = 0;          // car: 0 front/back, 1 sides, 2 roof
+  float u = 0;   // face: fraction along a-b
+  int side = 0;  // car: 0 front/back, 1 sides, 2 roof
 };
 
 std::uint16_t ToTurnUnits(double angle_rad) {
@@ -243,11 +243,11 @@ struct Renderer::Impl {
   cv::Mat RenderCamera(const CameraLut& lut, size_t camera_index, const SE2& T_map_vehicle,
                        TimeNs t_ns) const;
   // Radiance of an obstacle hit by the ray (dx, dy, slope) from the camera.
-  float ShadeHit(const Frame& frame, const Candidate& candidate, const Hit& hit, float dx,
-                 float dy, float slope, float pixel_angle_rad) const;
+  float ShadeHit(const Frame& frame, const Candidate& candidate, const Hit& hit, float dx, float dy,
+                 float slope, float pixel_angle_rad) const;
   // Albedo of the tag (with its white margin) at a face point; false off it.
-  bool TagAlbedo(const TagPatch& tag, const Eigen::Vector2d& p_map, double z_m,
-                 double footprint_m, float* albedo) const;
+  bool TagAlbedo(const TagPatch& tag, const Eigen::Vector2d& p_map, double z_m, double footprint_m,
+                 float* albedo) const;
 };
 
 namespace {
@@ -274,8 +274,8 @@ void ValidateOrThrow(const RenderOptions& options) {
 
 }  // namespace
 
-Renderer::Impl::Impl(const sim::World& world, const camera::CameraRig& rig,
-                     const RenderOptions& o, std::uint64_t s)
+Renderer::Impl::Impl(const sim::World& world, const camera::CameraRig& rig, const RenderOptions& o,
+                     std::uint64_t s)
     : options((ValidateOrThrow(o), o)),
       seed(s),
       ground(world, GroundOptionsOf(o), s),
@@ -402,13 +402,16 @@ void Renderer::Impl::BuildObstacles(const sim::World& world) {
   }
   Random rng = Random::Derive(seed, kCarStreamTag + 1);
   for (const ParkedCar& car : cars) {
-    car_bodies.push_back({car.center_map, {std::cos(car.yaw_rad), std::sin(car.yaw_rad)},
-                          car.length_m / 2, car.width_m / 2, car.height_m,
+    car_bodies.push_back({car.center_map,
+                          {std::cos(car.yaw_rad), std::sin(car.yaw_rad)},
+                          car.length_m / 2,
+                          car.width_m / 2,
+                          car.height_m,
                           static_cast<float>(rng.Uniform(30.0, 210.0))});
   }
   for (const Pedestrian& p : pedestrians) {
-    persons.push_back({p.center_map, p.radius_m, p.height_m,
-                       static_cast<float>(rng.Uniform(30.0, 120.0))});
+    persons.push_back(
+        {p.center_map, p.radius_m, p.height_m, static_cast<float>(rng.Uniform(30.0, 120.0))});
   }
 }
 
@@ -427,8 +430,8 @@ CameraLut Renderer::Impl::BuildLut(const camera::CameraConfig& config) const {
   double max_off_axis_rad = 1e-9;
   for (int v = 0; v < lut.height; ++v) {
     for (int u = 0; u < lut.width; ++u) {
-      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(lut.width) +
-                       static_cast<size_t>(u);
+      const size_t i =
+          static_cast<size_t>(v) * static_cast<size_t>(lut.width) + static_cast<size_t>(u);
       const std::optional<Eigen::Vector3d> ray = model.Unproject(Eigen::Vector2d(u, v));
       if (!ray) continue;
       valid[i] = true;
@@ -454,15 +457,15 @@ CameraLut Renderer::Impl::BuildLut(const camera::CameraConfig& config) const {
   const auto angle_to = [&](size_t i, int du, int dv, int u, int v) -> double {
     const int u2 = u + du, v2 = v + dv;
     if (u2 < 0 || v2 < 0 || u2 >= lut.width || v2 >= lut.height) return -1.0;
-    const size_t j = static_cast<size_t>(v2) * static_cast<size_t>(lut.width) +
-                     static_cast<size_t>(u2);
+    const size_t j =
+        static_cast<size_t>(v2) * static_cast<size_t>(lut.width) + static_cast<size_t>(u2);
     if (!valid[j]) return -1.0;
     return (rays[i] - rays[j]).norm();  // the chord: the angle, for neighbours
   };
   for (int v = 0; v < lut.height; ++v) {
     for (int u = 0; u < lut.width; ++u) {
-      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(lut.width) +
-                       static_cast<size_t>(u);
+      const size_t i =
+          static_cast<size_t>(v) * static_cast<size_t>(lut.width) + static_cast<size_t>(u);
       HotRay& hot = lut.hot[i];
       ColdRay& cold = lut.cold[i];
       if (!valid[i]) continue;
@@ -485,8 +488,8 @@ CameraLut Renderer::Impl::BuildLut(const camera::CameraConfig& config) const {
       cold.pixel_angle_rad = static_cast<float>(pixel_angle);
       hot.azimuth = ToTurnUnits(std::atan2(d.y(), d.x()));
       const double vignette = off_axis_rad[i] / max_off_axis_rad;
-      hot.gain = static_cast<float>(options.brightness *
-                                    (1.0 - options.vignetting * vignette * vignette));
+      hot.gain =
+          static_cast<float>(options.brightness * (1.0 - options.vignetting * vignette * vignette));
 
       double env_s = range;
       hot.kind = kFar;
@@ -506,8 +509,8 @@ CameraLut Renderer::Impl::BuildLut(const camera::CameraConfig& config) const {
       hot.x_m = static_cast<float>(lut.c_vehicle.x() + env_s * cold.dx);
       hot.y_m = static_cast<float>(lut.c_vehicle.y() + env_s * cold.dy);
       hot.env_s_m = static_cast<float>(env_s);
-      const double haze = std::clamp((env_s - kHazeStart * range) / ((1 - kHazeStart) * range),
-                                     0.0, 1.0);
+      const double haze =
+          std::clamp((env_s - kHazeStart * range) / ((1 - kHazeStart) * range), 0.0, 1.0);
       hot.haze = static_cast<std::uint8_t>(std::lround(255 * haze));
 
       if (draw_body) {
@@ -627,10 +630,10 @@ ObstacleBins BinObstacles(const std::vector<Face>& faces, const std::vector<CarB
       SetAllBins(&c);
     } else {
       const Eigen::Vector2d l = b.half_length_m * b.axis_map, w = b.half_width_m * across;
-      SetBinsAround(C, b.center_map,
-                    {b.center_map + l + w, b.center_map + l - w, b.center_map - l + w,
-                     b.center_map - l - w},
-                    &c);
+      SetBinsAround(
+          C, b.center_map,
+          {b.center_map + l + w, b.center_map + l - w, b.center_map - l + w, b.center_map - l - w},
+          &c);
     }
     cands.push_back(c);
   }
@@ -795,11 +798,11 @@ bool Renderer::Impl::TagAlbedo(const TagPatch& tag, const Eigen::Vector2d& p_map
   float texel = 255.0f;
   if (u >= 0.0 && v >= 0.0 && u < kTagTotalCells && v < kTagTotalCells) {
     const double texel0_m = tag.cell_m / kTagPixelsPerCell;
-    const int level = std::clamp(static_cast<int>(std::floor(std::log2(footprint_m / texel0_m))),
-                                 0, kTagLevels - 1);
+    const int level = std::clamp(static_cast<int>(std::floor(std::log2(footprint_m / texel0_m))), 0,
+                                 kTagLevels - 1);
     const double per_cell = static_cast<double>(kTagPixelsPerCell >> level);
-    texel = Bilinear(tag.texture[static_cast<size_t>(level)], u * per_cell - 0.5,
-                     v * per_cell - 0.5);
+    texel =
+        Bilinear(tag.texture[static_cast<size_t>(level)], u * per_cell - 0.5, v * per_cell - 0.5);
   }
   *albedo = kTagBlack + (kTagWhite - kTagBlack) * texel / 255.0f;
   return true;
@@ -813,7 +816,8 @@ float Renderer::Impl::ShadeHit(const Frame& frame, const Candidate& candidate, c
   switch (candidate.shape) {
     case Shape::kFace: {
       const Face& face = faces[static_cast<size_t>(candidate.index)];
-      const float cos_incidence = static_cast<float>(dx * face.normal_map.x() + dy * face.normal_map.y());
+      const float cos_incidence =
+          static_cast<float>(dx * face.normal_map.x() + dy * face.normal_map.y());
       facing = 0.6f + 0.4f * std::abs(cos_incidence);
       if (face.tag >= 0 && cos_incidence < 0.0f) {
         const double footprint_m = hit.s_m * std::sqrt(1.0 + slope * slope) * pixel_angle_rad /
@@ -844,7 +848,7 @@ float Renderer::Impl::ShadeHit(const Frame& frame, const Candidate& candidate, c
         const float d_local = hit.side == 0 ? dx * candidate.ex + dy * candidate.ey
                                             : -dx * candidate.ey + dy * candidate.ex;
         facing = 0.6f + 0.4f * std::abs(d_local);
-        albedo = z < 0.3f ? kTyreAlbedo
+        albedo = z < 0.3f                           ? kTyreAlbedo
                  : (z > 0.62f * h && z < 0.92f * h) ? car.albedo * kGlassFactor
                                                     : car.albedo;
       }
@@ -917,8 +921,12 @@ cv::Mat Renderer::Impl::RenderCamera(const CameraLut& lut, size_t camera_index,
           const Candidate& cand = bins.candidates[static_cast<size_t>(index)];
           if (cand.min_dist_m >= hit.s_m) break;
           switch (cand.shape) {
-            case Shape::kFace: IntersectFace(cand, dx, dy, index, &hit); break;
-            case Shape::kCar: IntersectCar(cand, dx, dy, c.slope, frame.cz_m, index, &hit); break;
+            case Shape::kFace:
+              IntersectFace(cand, dx, dy, index, &hit);
+              break;
+            case Shape::kCar:
+              IntersectCar(cand, dx, dy, c.slope, frame.cz_m, index, &hit);
+              break;
             case Shape::kPerson:
               IntersectPerson(cand, dx, dy, c.slope, frame.cz_m, index, &hit);
               break;
@@ -926,21 +934,20 @@ cv::Mat Renderer::Impl::RenderCamera(const CameraLut& lut, size_t camera_index,
         }
         if (hit.candidate >= 0) {
           hit_obstacle = true;
-          radiance = ShadeHit(frame, bins.candidates[static_cast<size_t>(hit.candidate)], hit,
-                              dx, dy, c.slope, c.pixel_angle_rad);
+          radiance = ShadeHit(frame, bins.candidates[static_cast<size_t>(hit.candidate)], hit, dx,
+                              dy, c.slope, c.pixel_angle_rad);
           const float range = static_cast<float>(options.max_range_m);
-          const float haze = std::clamp(
-              (hit.s_m - static_cast<float>(kHazeStart) * range) /
-                  (static_cast<float>(1 - kHazeStart) * range),
-              0.0f, 1.0f);
+          const float haze = std::clamp((hit.s_m - static_cast<float>(kHazeStart) * range) /
+                                            (static_cast<float>(1 - kHazeStart) * range),
+                                        0.0f, 1.0f);
           radiance += (frame.haze_radiance - radiance) * haze;
         }
       }
       if (!hit_obstacle) {
         if (h.kind == kGround) {
-          radiance = kGroundRadianceScale *
-                     SampleFloor(levels[h.lod], fx0 + fx1 * h.x_m + fx2 * h.y_m,
-                                 fy0 + fy1 * h.x_m + fy2 * h.y_m);
+          radiance =
+              kGroundRadianceScale * SampleFloor(levels[h.lod], fx0 + fx1 * h.x_m + fx2 * h.y_m,
+                                                 fy0 + fy1 * h.x_m + fy2 * h.y_m);
         } else if (h.kind == kCeiling) {
           // The ceiling is lit by the floor's reflection: evenly, as at the camera.
           const float x = tx + frame.cos_yaw * h.x_m - frame.sin_yaw * h.y_m;
@@ -975,15 +982,18 @@ bool RenderOptions::IsValid(std::string* error) const {
     return fail("overexposure_near_entrance must be in [0, 5]");
   }
   if (!(noise_sigma >= 0.0 && noise_sigma <= 100.0)) return fail("noise_sigma must be in [0, 100]");
-  if (!(blur_sigma_px >= 0.0 && blur_sigma_px <= 20.0)) return fail("blur_sigma_px must be in [0, 20]");
+  if (!(blur_sigma_px >= 0.0 && blur_sigma_px <= 20.0))
+    return fail("blur_sigma_px must be in [0, 20]");
   if (!(vignetting >= 0.0 && vignetting <= 1.0)) return fail("vignetting must be in [0, 1]");
   if (parked_cars < 0 || pedestrians < 0) return fail("parked_cars and pedestrians must be >= 0");
   if (!(ego_body_height_m > kEgoBodyBottomM)) return fail("ego_body_height_m must exceed 0.25");
-  if (!(wall_height_m > 0.5 && wall_height_m < 20.0)) return fail("wall_height_m must be in (0.5, 20)");
+  if (!(wall_height_m > 0.5 && wall_height_m < 20.0))
+    return fail("wall_height_m must be in (0.5, 20)");
   if (!(tag_center_height_m > 0.0 && tag_center_height_m < wall_height_m)) {
     return fail("tag_center_height_m must be in (0, wall_height_m)");
   }
-  if (!(tag_margin_cells >= 0.0 && tag_margin_cells <= 10.0)) return fail("tag_margin_cells must be in [0, 10]");
+  if (!(tag_margin_cells >= 0.0 && tag_margin_cells <= 10.0))
+    return fail("tag_margin_cells must be in [0, 10]");
   if (!(lamp_spacing_m >= 1.0)) return fail("lamp_spacing_m must be at least 1");
   if (!(max_range_m > 1.0 && max_range_m <= 200.0)) return fail("max_range_m must be in (1, 200]");
   std::string vehicle_error;

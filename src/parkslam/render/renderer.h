@@ -29,9 +29,10 @@ namespace parkslam::render {
 
 struct RenderOptions {
   // Exposure and optics.
-  double brightness = 1.0;     // gain on every pixel
-  double uneven_light = 0.3;   // 0: even light; 1: pools of light under the lamps, dim between
-  double overexposure_near_entrance = 0.5;  // daylight at the corridor's open end; 1: light x4 there
+  double brightness = 1.0;    // gain on every pixel
+  double uneven_light = 0.3;  // 0: even light; 1: pools of light under the lamps, dim between
+  double overexposure_near_entrance =
+      0.5;                     // daylight at the corridor's open end; 1: light x4 there
   double noise_sigma = 3.0;    // sensor noise, grey levels, new every frame
   double blur_sigma_px = 0.0;  // Gaussian blur of the image; 0: none
   double vignetting = 0.25;    // light fall-off at the edge of the field of view (share lost)

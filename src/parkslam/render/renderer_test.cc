@@ -123,9 +123,8 @@ TEST(RendererTest, SlotLineAppearsWhereTheCameraModelProjectsIt) {
     ASSERT_TRUE(line_px && beside_px) << depth_m;
     const int line_value = image.at<std::uint8_t>(static_cast<int>(std::lround(line_px->y())),
                                                   static_cast<int>(std::lround(line_px->x())));
-    const int beside_value =
-        image.at<std::uint8_t>(static_cast<int>(std::lround(beside_px->y())),
-                               static_cast<int>(std::lround(beside_px->x())));
+    const int beside_value = image.at<std::uint8_t>(static_cast<int>(std::lround(beside_px->y())),
+                                                    static_cast<int>(std::lround(beside_px->x())));
     EXPECT_GT(line_value, 150) << "depth " << depth_m << " at " << line_px->transpose();
     EXPECT_LT(beside_value, 120) << "depth " << depth_m << " at " << beside_px->transpose();
     EXPECT_GT(line_value - beside_value, 60) << depth_m;
@@ -136,7 +135,7 @@ TEST(RendererTest, SlotLineAppearsWhereTheCameraModelProjectsIt) {
 
 struct Detection {
   int id;
-  Eigen::Vector2d center_px;              // camera-model convention
+  Eigen::Vector2d center_px;  // camera-model convention
   std::array<Eigen::Vector2d, 4> corners_px;
 };
 
@@ -205,12 +204,12 @@ TEST(RendererTest, TagsDecodeWithTheirIdsWhereTheyProject) {
     bool found = false;
     for (const Detection& d : detections) {
       ASSERT_TRUE(tags_by_id.count(d.id)) << "decoded an ID the world lacks: " << d.id;
-      const auto expected = ProjectMapPoint(mono, view.T_map_vehicle,
-                                            TagCenter3d(*tags_by_id[d.id], options));
+      const auto expected =
+          ProjectMapPoint(mono, view.T_map_vehicle, TagCenter3d(*tags_by_id[d.id], options));
       ASSERT_TRUE(expected.has_value()) << d.id;
       EXPECT_LT((d.center_px - *expected).norm(), 2.0)
-          << "tag " << d.id << " at " << distance_m << " m: " << d.center_px.transpose()
-          << " vs " << expected->transpose();
+          << "tag " << d.id << " at " << distance_m << " m: " << d.center_px.transpose() << " vs "
+          << expected->transpose();
       found |= d.id == view.tag->tag_id;
     }
     EXPECT_TRUE(found) << "tag " << view.tag->tag_id << " at " << distance_m << " m";
@@ -238,8 +237,8 @@ TEST(RendererTest, PnpOnDetectedCornersGivesTheTagDistanceWithinFivePercent) {
     std::vector<cv::Point2d> corners;
     for (const Eigen::Vector2d& p : target->corners_px) corners.emplace_back(p.x(), p.y());
     cv::Vec3d rvec, tvec;
-    ASSERT_TRUE(cv::solvePnP(object, corners, K, distortion, rvec, tvec, false,
-                             cv::SOLVEPNP_IPPE_SQUARE));
+    ASSERT_TRUE(
+        cv::solvePnP(object, corners, K, distortion, rvec, tvec, false, cv::SOLVEPNP_IPPE_SQUARE));
     const Eigen::Isometry3d T_map_camera =
         VehiclePose3d(view.T_map_vehicle) * mono.T_vehicle_camera;
     const double truth_m =
@@ -313,8 +312,8 @@ TEST(RendererTest, ParkedCarOccludesTheFloorOfItsSlot) {
   const Eigen::Vector2d out_of_slot =
       ((slot.corners_map[0] + slot.corners_map[1]) / 2 - car.center_map).normalized();
   const Eigen::Vector2d c_map = car.center_map + 7.0 * out_of_slot;
-  const SE2 pose = VehiclePoseForCamera(
-      mono, c_map, std::atan2(-out_of_slot.y(), -out_of_slot.x()));
+  const SE2 pose =
+      VehiclePoseForCamera(mono, c_map, std::atan2(-out_of_slot.y(), -out_of_slot.x()));
   const auto px = ProjectMapPoint(mono, pose, {car.center_map.x(), car.center_map.y(), 0.7});
   ASSERT_TRUE(px.has_value());
   const cv::Rect patch(static_cast<int>(px->x()) - 10, static_cast<int>(px->y()) - 10, 21, 21);

@@ -27,8 +27,7 @@ cv::Mat Tag36h11Image(int tag_id, int pixels_per_cell) {
   }
   if (pixels_per_cell < 1) throw std::invalid_argument("pixels_per_cell must be at least 1");
   // apriltag_to_image does not modify the family; its C signature lacks const.
-  image_u8_t* rendered =
-      apriltag_to_image(const_cast<apriltag_family_t*>(Family()), tag_id);
+  image_u8_t* rendered = apriltag_to_image(const_cast<apriltag_family_t*>(Family()), tag_id);
   const cv::Mat view(rendered->height, rendered->width, CV_8UC1, rendered->buf,
                      static_cast<size_t>(rendered->stride));
   cv::Mat cells = view.clone();

@@ -15,8 +15,8 @@ TEST(TagTextureTest, IsTenCellsWithWhiteOuterRingAndBlackBorder) {
   ASSERT_EQ(tag.type(), CV_8UC1);
   EXPECT_EQ(tag.cols, kTagTotalCells * 4);
   EXPECT_EQ(tag.rows, kTagTotalCells * 4);
-  EXPECT_EQ(tag.at<std::uint8_t>(0, 0), 255);  // white outer cell
-  EXPECT_EQ(tag.at<std::uint8_t>(4, 4), 0);    // black border cell
+  EXPECT_EQ(tag.at<std::uint8_t>(0, 0), 255);              // white outer cell
+  EXPECT_EQ(tag.at<std::uint8_t>(4, 4), 0);                // black border cell
   EXPECT_EQ(tag.at<std::uint8_t>(4 * 9 + 2, 4 * 5), 255);  // bottom white ring
 }
 

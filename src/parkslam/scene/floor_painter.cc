@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "parkslam/common/angles.h"
-#include "parkslam/common/seed_mix.h"
 #include "parkslam/common/random.h"
+#include "parkslam/common/seed_mix.h"
 
 namespace parkslam::scene {
 namespace {
@@ -16,13 +16,12 @@ namespace {
 constexpr double kLightGridM = 0.5;
 constexpr double kLightHalfExtentM = 24.0;  // the light grid covers +-this around the car
 constexpr int kGrainBankSize = 1024;
-constexpr int kShift = 4;                   // sub-pixel bits of the polygon filler
+constexpr int kShift = 4;  // sub-pixel bits of the polygon filler
 constexpr float kSubPixel = 1 << kShift;
 
-
 float Hash01(std::uint64_t seed, std::int64_t a, std::int64_t b) {
-  const std::uint64_t h = MixSeed(seed, static_cast<std::uint64_t>(a) * 0x1f1f1f1full +
-                                        static_cast<std::uint64_t>(b));
+  const std::uint64_t h =
+      MixSeed(seed, static_cast<std::uint64_t>(a) * 0x1f1f1f1full + static_cast<std::uint64_t>(b));
   return static_cast<float>(h >> 40) * (1.0f / 16777216.0f);
 }
 
@@ -54,7 +53,8 @@ cv::Rect Bounds(const std::vector<Eigen::Vector2d>& px, int margin, cv::Size siz
     x1 = std::max(x1, p.x());
     y1 = std::max(y1, p.y());
   }
-  const cv::Rect r(static_cast<int>(std::floor(x0)) - margin, static_cast<int>(std::floor(y0)) - margin,
+  const cv::Rect r(static_cast<int>(std::floor(x0)) - margin,
+                   static_cast<int>(std::floor(y0)) - margin,
                    static_cast<int>(std::ceil(x1 - x0)) + 2 * margin + 2,
                    static_cast<int>(std::ceil(y1 - y0)) + 2 * margin + 2);
   return r & cv::Rect(0, 0, size.width, size.height);
@@ -82,8 +82,9 @@ std::vector<Eigen::Vector2d> StrokePolygon(const Canvas& c, const Eigen::Vector2
 std::vector<Eigen::Vector2d> BoxPolygon(const Canvas& c, const Eigen::Vector2d& center, double yaw,
                                         double half_l, double half_w) {
   const Eigen::Vector2d ax(std::cos(yaw), std::sin(yaw)), ay(-ax.y(), ax.x());
-  return {c.PixelOf(center + ax * half_l + ay * half_w), c.PixelOf(center - ax * half_l + ay * half_w),
-          c.PixelOf(center - ax * half_l - ay * half_w), c.PixelOf(center + ax * half_l - ay * half_w)};
+  return {
+      c.PixelOf(center + ax * half_l + ay * half_w), c.PixelOf(center - ax * half_l + ay * half_w),
+      c.PixelOf(center - ax * half_l - ay * half_w), c.PixelOf(center + ax * half_l - ay * half_w)};
 }
 
 // img = img (1 - a) + colour a over roi, a = mask / 255 x scale (x weight).
@@ -122,7 +123,11 @@ class Painter {
  public:
   Painter(const Scene& scene, const LightMap& light, const FloorPainterOptions& options,
           FontBook* fonts, Canvas* canvas)
-      : scene_(scene), light_(light), options_(options), fonts_(fonts), c_(*canvas),
+      : scene_(scene),
+        light_(light),
+        options_(options),
+        fonts_(fonts),
+        c_(*canvas),
         rng_(MixSeed(scene.seed, 0xf100)) {
     img_ = cv::Mat(canvas->bgr.size(), CV_32FC3);
   }
@@ -159,7 +164,8 @@ class Painter {
       return b;
     }();
     const int w = std::min(size.width, kGrainBankSize), h = std::min(size.height, kGrainBankSize);
-    const cv::Rect window(rng_.uniform(0, kGrainBankSize - w + 1), rng_.uniform(0, kGrainBankSize - h + 1), w, h);
+    const cv::Rect window(rng_.uniform(0, kGrainBankSize - w + 1),
+                          rng_.uniform(0, kGrainBankSize - h + 1), w, h);
     if (w == size.width && h == size.height) return bank(window);
     cv::Mat tiled;
     cv::resize(bank(window), tiled, size, 0, 0, cv::INTER_NEAREST);
@@ -172,8 +178,9 @@ class Painter {
     // Octaves above 0.2 m are summed on a coarse grid (and its colour drift
     // beside them), then enlarged once; the grain is added per pixel.
     const double coarse_m = std::max(c_.resolution_m, 0.1);
-    const cv::Size coarse(static_cast<int>(std::ceil(size.width * c_.resolution_m / coarse_m)) + 1,
-                          static_cast<int>(std::ceil(size.height * c_.resolution_m / coarse_m)) + 1);
+    const cv::Size coarse(
+        static_cast<int>(std::ceil(size.width * c_.resolution_m / coarse_m)) + 1,
+        static_cast<int>(std::ceil(size.height * c_.resolution_m / coarse_m)) + 1);
     cv::Mat low = cv::Mat::zeros(coarse, CV_32F);
     cv::Mat lum = cv::Mat::zeros(size, CV_32F);
     const auto add_noise = [&](double cell_m, double amplitude) {
@@ -181,7 +188,8 @@ class Painter {
       if (Px(cell_m) < 1.5) {
         cv::scaleAdd(Grain(size), amplitude, lum, lum);
       } else {
-        low += static_cast<float>(amplitude) * SmoothNoise(coarse, std::max(1.0, cell_m / coarse_m), rng_);
+        low += static_cast<float>(amplitude) *
+               SmoothNoise(coarse, std::max(1.0, cell_m / coarse_m), rng_);
       }
     };
     add_noise(4.0, 14.0 * f.blotches);
@@ -213,14 +221,17 @@ class Painter {
     cv::Mat merged, enlarged;
     cv::merge(layers, 3, merged);
     const double scale = coarse_m / c_.resolution_m;
-    cv::resize(merged, enlarged, cv::Size(static_cast<int>(coarse.width * scale), static_cast<int>(coarse.height * scale)),
-               0, 0, cv::INTER_LINEAR);
+    cv::resize(
+        merged, enlarged,
+        cv::Size(static_cast<int>(coarse.width * scale), static_cast<int>(coarse.height * scale)),
+        0, 0, cv::INTER_LINEAR);
     cv::Mat smooth[3];
     cv::split(enlarged(cv::Rect(0, 0, size.width, size.height)), smooth);
     lum += smooth[0];
     const cv::Mat& chroma_b = smooth[1];
     const cv::Mat& chroma_r = smooth[2];
-    const bool pattern = f.material == FloorMaterial::kBricks || f.material == FloorMaterial::kTiles;
+    const bool pattern =
+        f.material == FloorMaterial::kBricks || f.material == FloorMaterial::kTiles;
     const double cy = std::cos(f.pattern_yaw_rad), sy = std::sin(f.pattern_yaw_rad);
     const std::uint64_t pseed = MixSeed(scene_.seed, 0xb41c);
     const double unit = f.unit_m;
@@ -242,7 +253,8 @@ class Painter {
           double uu = u, vv = v;
           if (f.herringbone) {
             // Basket weave: 2 x 2 blocks alternate the bricks' direction.
-            const auto block = static_cast<std::int64_t>(std::floor(u / unit) + std::floor(v / unit));
+            const auto block =
+                static_cast<std::int64_t>(std::floor(u / unit) + std::floor(v / unit));
             if (block % 2 != 0) std::swap(uu, vv);
             bv = unit / 2;
           }
@@ -255,10 +267,13 @@ class Painter {
           const double fv = vv - row * bv;
           const double du = std::min(fu, bu - fu), dv = std::min(fv, bv - fv);
           const double d = std::min(du, dv);
-          joint = static_cast<float>(std::clamp(1.0 - (d - joint_m / 2) / c_.resolution_m, 0.0, 1.0));
+          joint =
+              static_cast<float>(std::clamp(1.0 - (d - joint_m / 2) / c_.resolution_m, 0.0, 1.0));
           const float spread = f.material == FloorMaterial::kBricks ? 0.2f : 0.08f;
-          const float tone = 1.0f - spread / 2 + spread * Hash01(pseed, static_cast<std::int64_t>(row),
-                                                   static_cast<std::int64_t>(std::floor((uu + offset) / bu)));
+          const float tone =
+              1.0f - spread / 2 +
+              spread * Hash01(pseed, static_cast<std::int64_t>(row),
+                              static_cast<std::int64_t>(std::floor((uu + offset) / bu)));
           base = base * tone;
         }
         const float k = 1.0f + l[col] * scale_base;
@@ -281,7 +296,8 @@ class Painter {
     const cv::Mat mid = SmoothNoise(size, Px(0.4), rng_);
     cv::Mat grain(size, CV_32F);
     rng_.fill(grain, cv::RNG::NORMAL, 0.0, 1.0);
-    const Colour grass = Colour(50, 125, 85) * static_cast<float>(0.7 + 0.5 * rng_.uniform(0.0, 1.0));
+    const Colour grass =
+        Colour(50, 125, 85) * static_cast<float>(0.7 + 0.5 * rng_.uniform(0.0, 1.0));
     const Colour dry(70, 130, 150);
     const Colour kerb(175, 178, 178);
     const double kerb_m = f.kerb ? 0.15 : 0.0;
@@ -295,17 +311,20 @@ class Painter {
         cv::Vec3f& p = out[col];
         if (s < kerb_m) {
           const float edge = s < 0.02 ? 0.55f : 1.0f;
-          for (int k = 0; k < 3; ++k) p[k] = kerb[k] * edge * (1.0f + 0.04f * grain.at<float>(r, col));
+          for (int k = 0; k < 3; ++k)
+            p[k] = kerb[k] * edge * (1.0f + 0.04f * grain.at<float>(r, col));
           continue;
         }
-        const float n = fine.at<float>(r, col), m = mid.at<float>(r, col), g = grain.at<float>(r, col);
+        const float n = fine.at<float>(r, col), m = mid.at<float>(r, col),
+                    g = grain.at<float>(r, col);
         if (f.verge_gravel) {
           const float v = 120.0f + 35.0f * g + 20.0f * n;
           p = cv::Vec3f(v * 0.95f, v, v * 1.05f);
         } else {
           const float dryness = std::clamp(0.5f + 0.6f * m, 0.0f, 1.0f);
           const float shade = 1.0f + 0.35f * n + 0.2f * g;
-          for (int k = 0; k < 3; ++k) p[k] = (grass[k] + (dry[k] - grass[k]) * dryness * 0.6f) * shade;
+          for (int k = 0; k < 3; ++k)
+            p[k] = (grass[k] + (dry[k] - grass[k]) * dryness * 0.6f) * shade;
         }
       }
     }
@@ -316,11 +335,15 @@ class Painter {
     cv::Mat mask(roi.size(), CV_8UC1, cv::Scalar(0));
     const cv::Point2f centre(static_cast<float>(c_.PixelOf(d.center).x() - roi.x),
                              static_cast<float>(c_.PixelOf(d.center).y() - roi.y));
-    cv::ellipse(mask, cv::RotatedRect(centre, cv::Size2f(static_cast<float>(Px(d.length_m)), static_cast<float>(Px(d.width_m))),
-                                      static_cast<float>(-RadToDeg(d.yaw_rad))),
+    cv::ellipse(mask,
+                cv::RotatedRect(centre,
+                                cv::Size2f(static_cast<float>(Px(d.length_m)),
+                                           static_cast<float>(Px(d.width_m))),
+                                static_cast<float>(-RadToDeg(d.yaw_rad))),
                 cv::Scalar(255), -1, cv::LINE_AA);
     cv::RNG local(MixSeed(d.seed, 7));
-    const cv::Mat noise = SmoothNoise(roi.size(), std::max(2.0, Px(std::max(d.width_m, 0.2) / 3)), local);
+    const cv::Mat noise =
+        SmoothNoise(roi.size(), std::max(2.0, Px(std::max(d.width_m, 0.2) / 3)), local);
     cv::Mat m32;
     mask.convertTo(m32, CV_32F, 1.0 / 255);
     m32 = m32.mul(1.0f + 0.8f * noise) - 0.3f;
@@ -332,7 +355,8 @@ class Painter {
 
   cv::Rect DecalRoi(const Decal& d, double extra_m) const {
     const double r = std::hypot(d.length_m, d.width_m) / 2 + extra_m;
-    return Bounds({c_.PixelOf(d.center + Eigen::Vector2d(-r, -r)), c_.PixelOf(d.center + Eigen::Vector2d(r, r))},
+    return Bounds({c_.PixelOf(d.center + Eigen::Vector2d(-r, -r)),
+                   c_.PixelOf(d.center + Eigen::Vector2d(r, r))},
                   2, img_.size());
   }
 
@@ -369,13 +393,15 @@ class Painter {
         cv::RNG local(MixSeed(d.seed, 3));
         const int n = static_cast<int>(40 * d.length_m * d.width_m);
         for (int i = 0; i < n; ++i) {
-          const Eigen::Vector2d p = d.center + Eigen::Vector2d(local.uniform(-1.0, 1.0) * d.length_m / 2,
-                                                               local.uniform(-1.0, 1.0) * d.width_m / 2);
+          const Eigen::Vector2d p =
+              d.center + Eigen::Vector2d(local.uniform(-1.0, 1.0) * d.length_m / 2,
+                                         local.uniform(-1.0, 1.0) * d.width_m / 2);
           const Eigen::Vector2d px = c_.PixelOf(p);
-          const Colour colour = local.uniform(0, 2) == 0 ? Colour(30, 80, 120) : Colour(40, 100, 70);
+          const Colour colour =
+              local.uniform(0, 2) == 0 ? Colour(30, 80, 120) : Colour(40, 100, 70);
           cv::circle(img_, cv::Point(static_cast<int>(px.x()), static_cast<int>(px.y())),
-                     std::max(1, static_cast<int>(Px(0.03))), cv::Scalar(colour[0], colour[1], colour[2]),
-                     -1, cv::LINE_AA);
+                     std::max(1, static_cast<int>(Px(0.03))),
+                     cv::Scalar(colour[0], colour[1], colour[2]), -1, cv::LINE_AA);
         }
         break;
       }
@@ -388,11 +414,12 @@ class Painter {
         const int steps = 16;
         for (int i = 0; i <= steps; ++i) {
           const double a = (static_cast<double>(i) / steps - 0.5) * d.length_m / radius;
-          const Eigen::Vector2d dir(std::cos(d.yaw_rad - kPi / 2 + a), std::sin(d.yaw_rad - kPi / 2 + a));
+          const Eigen::Vector2d dir(std::cos(d.yaw_rad - kPi / 2 + a),
+                                    std::sin(d.yaw_rad - kPi / 2 + a));
           pts.push_back(Fixed(c_.PixelOf(centre + dir * radius) - Eigen::Vector2d(roi.x, roi.y)));
         }
-        cv::polylines(mask, pts, false, cv::Scalar(255), std::max(1, static_cast<int>(Px(d.width_m))),
-                      cv::LINE_AA, kShift);
+        cv::polylines(mask, pts, false, cv::Scalar(255),
+                      std::max(1, static_cast<int>(Px(d.width_m))), cv::LINE_AA, kShift);
         cv::GaussianBlur(mask, mask, cv::Size(), std::max(0.8, Px(0.03)));
         Darken(img_, roi, mask, 0.35f * s);
         break;
@@ -420,10 +447,14 @@ class Painter {
         if (round) {
           const int rad = static_cast<int>(Px(d.length_m / 2) * kSubPixel);
           cv::circle(mask, centre, rad, cv::Scalar(255), -1, cv::LINE_AA, kShift);
-          cv::circle(inner, centre, static_cast<int>(rad * 0.85), cv::Scalar(255), -1, cv::LINE_AA, kShift);
+          cv::circle(inner, centre, static_cast<int>(rad * 0.85), cv::Scalar(255), -1, cv::LINE_AA,
+                     kShift);
         } else {
-          FillPolygon(BoxPolygon(c_, d.center, d.yaw_rad, d.length_m / 2, d.length_m / 2), roi, &mask);
-          FillPolygon(BoxPolygon(c_, d.center, d.yaw_rad, d.length_m / 2 - 0.05, d.length_m / 2 - 0.05), roi, &inner);
+          FillPolygon(BoxPolygon(c_, d.center, d.yaw_rad, d.length_m / 2, d.length_m / 2), roi,
+                      &mask);
+          FillPolygon(
+              BoxPolygon(c_, d.center, d.yaw_rad, d.length_m / 2 - 0.05, d.length_m / 2 - 0.05),
+              roi, &inner);
         }
         Blend(img_, roi, mask, metal * 0.8f, 1.0f);
         // A chequered or ribbed cover.
@@ -431,7 +462,8 @@ class Painter {
         cv::Mat pattern(roi.size(), CV_8UC1, cv::Scalar(0));
         for (int r = 0; r < roi.height; ++r) {
           for (int col = 0; col < roi.width; ++col) {
-            const bool on = (static_cast<int>(r / period) + static_cast<int>(col / period)) % 2 == 0;
+            const bool on =
+                (static_cast<int>(r / period) + static_cast<int>(col / period)) % 2 == 0;
             pattern.at<std::uint8_t>(r, col) = on ? inner.at<std::uint8_t>(r, col) : 0;
           }
         }
@@ -467,7 +499,8 @@ class Painter {
     const PaintKind paint = Hash01(d.seed, 5, 5) < 0.7 ? PaintKind::kWhite : PaintKind::kYellow;
     if (d.kind == DecalKind::kArrow) {
       const double shaft = d.width_m * 0.3, head = d.length_m * 0.35;
-      FillPolygon(StrokePolygon(c_, d.center - ax * (d.length_m / 2), d.center + ax * (d.length_m / 2 - head), shaft),
+      FillPolygon(StrokePolygon(c_, d.center - ax * (d.length_m / 2),
+                                d.center + ax * (d.length_m / 2 - head), shaft),
                   roi, &mask);
       FillPolygon({c_.PixelOf(d.center + ax * (d.length_m / 2)),
                    c_.PixelOf(d.center + ax * (d.length_m / 2 - head) + ay * (d.width_m / 2)),
@@ -491,7 +524,9 @@ class Painter {
     const Eigen::Vector2d ax(std::cos(d.yaw_rad), std::sin(d.yaw_rad)), ay(-ax.y(), ax.x());
     cv::Mat mask(roi.size(), CV_8UC1, cv::Scalar(0));
     // Its shadow on the floor, then the body.
-    FillPolygon(BoxPolygon(c_, d.center + ay * (d.width_m * 0.4), d.yaw_rad, d.length_m / 2, d.width_m / 2), roi, &mask);
+    FillPolygon(
+        BoxPolygon(c_, d.center + ay * (d.width_m * 0.4), d.yaw_rad, d.length_m / 2, d.width_m / 2),
+        roi, &mask);
     cv::GaussianBlur(mask, mask, cv::Size(), std::max(0.7, Px(0.03)));
     Darken(img_, roi, mask, 0.5f);
     mask.setTo(0);
@@ -501,7 +536,8 @@ class Painter {
     if (d.kind == DecalKind::kSpeedBump || yellow) {
       cv::Mat stripes(roi.size(), CV_8UC1, cv::Scalar(0));
       for (double t = -d.length_m / 2; t < d.length_m / 2; t += 0.5) {
-        FillPolygon(BoxPolygon(c_, d.center + ax * (t + 0.125), d.yaw_rad, 0.125, d.width_m / 2), roi, &stripes);
+        FillPolygon(BoxPolygon(c_, d.center + ax * (t + 0.125), d.yaw_rad, 0.125, d.width_m / 2),
+                    roi, &stripes);
       }
       cv::bitwise_and(stripes, mask, stripes);
       Blend(img_, roi, stripes, Colour(30, 30, 30), 1.0f);
@@ -554,7 +590,8 @@ class Painter {
                                      : fonts_->Draw(t.text, t.font, cap_px);
     if (t.bold) {
       const int k = std::max(1, static_cast<int>(std::lround(cap_px / 14)));
-      cv::dilate(glyphs, glyphs, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * k + 1, 2 * k + 1)));
+      cv::dilate(glyphs, glyphs,
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * k + 1, 2 * k + 1)));
     }
     if (t.stencil) {
       // The bridges of a stencil: gaps across the strokes every glyph.
@@ -564,8 +601,13 @@ class Painter {
       const int gap = std::max(1, static_cast<int>(std::lround(cap_px * 0.08)));
       for (int i = 0; i < n; ++i) {
         const int x = static_cast<int>(margin + advance * (i + 0.5));
-        cv::rectangle(glyphs, cv::Rect(x - gap / 2, 0, gap, static_cast<int>(margin + cap_px * 0.3)), cv::Scalar(0), -1);
-        cv::rectangle(glyphs, cv::Rect(x - gap / 2, static_cast<int>(margin + cap_px * 0.7), gap, glyphs.rows), cv::Scalar(0), -1);
+        cv::rectangle(glyphs,
+                      cv::Rect(x - gap / 2, 0, gap, static_cast<int>(margin + cap_px * 0.3)),
+                      cv::Scalar(0), -1);
+        cv::rectangle(
+            glyphs,
+            cv::Rect(x - gap / 2, static_cast<int>(margin + cap_px * 0.7), gap, glyphs.rows),
+            cv::Scalar(0), -1);
       }
     }
     // Glyph pixel (gx, gy) -> canvas: centred on t.center, x along right,
@@ -581,9 +623,11 @@ class Painter {
     A(0, 2) = center_px.x() - (A(0, 0) * gcx + A(0, 1) * gcy);
     A(1, 2) = center_px.y() - (A(1, 0) * gcx + A(1, 1) * gcy);
     std::vector<Eigen::Vector2d> corners;
-    for (const auto& g : {Eigen::Vector2d(0, 0), Eigen::Vector2d(glyphs.cols, 0),
-                          Eigen::Vector2d(0, glyphs.rows), Eigen::Vector2d(glyphs.cols, glyphs.rows)}) {
-      corners.emplace_back(A(0, 0) * g.x() + A(0, 1) * g.y() + A(0, 2), A(1, 0) * g.x() + A(1, 1) * g.y() + A(1, 2));
+    for (const auto& g :
+         {Eigen::Vector2d(0, 0), Eigen::Vector2d(glyphs.cols, 0), Eigen::Vector2d(0, glyphs.rows),
+          Eigen::Vector2d(glyphs.cols, glyphs.rows)}) {
+      corners.emplace_back(A(0, 0) * g.x() + A(0, 1) * g.y() + A(0, 2),
+                           A(1, 0) * g.x() + A(1, 1) * g.y() + A(1, 2));
     }
     const cv::Rect roi = Bounds(corners, 2, img_.size());
     if (roi.area() <= 0) return;
@@ -604,7 +648,8 @@ class Painter {
       const float* f = factor.ptr<float>(r);
       cv::Vec3b* out = c_.bgr.ptr<cv::Vec3b>(r);
       for (int col = 0; col < img_.cols; ++col) {
-        for (int k = 0; k < 3; ++k) out[col][k] = cv::saturate_cast<std::uint8_t>(row[col][k] * f[col] * tint[k]);
+        for (int k = 0; k < 3; ++k)
+          out[col][k] = cv::saturate_cast<std::uint8_t>(row[col][k] * f[col] * tint[k]);
       }
     }
   }
@@ -615,7 +660,8 @@ class Painter {
     const Lighting& l = scene_.light;
     cv::Mat mask(img_.size(), CV_8UC1, cv::Scalar(0));
     const cv::Rect all(0, 0, img_.cols, img_.rows);
-    const Eigen::Vector2d away = -Eigen::Vector2d(std::cos(l.sun_azimuth_rad), std::sin(l.sun_azimuth_rad));
+    const Eigen::Vector2d away =
+        -Eigen::Vector2d(std::cos(l.sun_azimuth_rad), std::sin(l.sun_azimuth_rad));
     const double reach = 1.0 / std::tan(std::max(0.2, l.sun_elevation_rad));
     const auto cast = [&](const Eigen::Vector2d& c, double yaw, double hx, double hy, double z1,
                           bool round) {
@@ -655,7 +701,8 @@ class Painter {
         const Eigen::Vector2d c(local.uniform(-4.0, 7.0), local.uniform(-6.0, 6.0));
         const double radius = local.uniform(1.5, 3.5);
         const cv::Rect roi = Bounds({c_.PixelOf(c - Eigen::Vector2d(radius, radius)),
-                                     c_.PixelOf(c + Eigen::Vector2d(radius, radius))}, 2, img_.size());
+                                     c_.PixelOf(c + Eigen::Vector2d(radius, radius))},
+                                    2, img_.size());
         if (roi.area() <= 0) continue;
         const cv::Mat leaves = SmoothNoise(roi.size(), Px(0.25), local);
         for (int r = 0; r < roi.height; ++r) {
@@ -663,7 +710,8 @@ class Painter {
             const double dx = (roi.x + col - c_.PixelOf(c).x()) * c_.resolution_m;
             const double dy = (roi.y + r - c_.PixelOf(c).y()) * c_.resolution_m;
             const double fall = 1.0 - std::hypot(dx, dy) / radius;
-            if (fall > 0 && leaves.at<float>(r, col) + fall > 0.6) mask.at<std::uint8_t>(roi.y + r, roi.x + col) = 255;
+            if (fall > 0 && leaves.at<float>(r, col) + fall > 0.6)
+              mask.at<std::uint8_t>(roi.y + r, roi.x + col) = 255;
           }
         }
       }
@@ -698,7 +746,9 @@ class Painter {
 }  // namespace
 
 Canvas::Canvas(double min_x, double max_y, double width_m, double height_m, double resolution)
-    : min_x_m(min_x), max_y_m(max_y), resolution_m(resolution),
+    : min_x_m(min_x),
+      max_y_m(max_y),
+      resolution_m(resolution),
       bgr(static_cast<int>(std::lround(height_m / resolution)),
           static_cast<int>(std::lround(width_m / resolution)), CV_8UC3, cv::Scalar::all(0)) {}
 
@@ -722,7 +772,8 @@ LightMap::LightMap(const Lighting& l) {
         const double fy = std::round((y - l.lamp_offset.y()) / l.lamp_spacing_m);
         for (int i = -1; i <= 1; ++i) {
           for (int j = -1; j <= 1; ++j) {
-            const auto ix = static_cast<std::int64_t>(fx) + i, iy = static_cast<std::int64_t>(fy) + j;
+            const auto ix = static_cast<std::int64_t>(fx) + i,
+                       iy = static_cast<std::int64_t>(fy) + j;
             if (!lit[static_cast<size_t>(((ix * 7 + iy * 13) % 64 + 64) % 64)]) continue;
             const double lx = l.lamp_offset.x() + static_cast<double>(ix) * l.lamp_spacing_m;
             const double ly = l.lamp_offset.y() + static_cast<double>(iy) * l.lamp_spacing_m;
@@ -747,11 +798,13 @@ LightMap::LightMap(const Lighting& l) {
 float LightMap::At(double x_m, double y_m) const {
   const double c = (x_m + kLightHalfExtentM) / kLightGridM - 0.5;
   const double r = (kLightHalfExtentM - y_m) / kLightGridM - 0.5;
-  const double cc = std::clamp(c, 0.0, grid_.cols - 1.001), rr = std::clamp(r, 0.0, grid_.rows - 1.001);
+  const double cc = std::clamp(c, 0.0, grid_.cols - 1.001),
+               rr = std::clamp(r, 0.0, grid_.rows - 1.001);
   const int ic = static_cast<int>(cc), ir = static_cast<int>(rr);
   const float wc = static_cast<float>(cc - ic), wr = static_cast<float>(rr - ir);
   const float top = grid_.at<float>(ir, ic) * (1 - wc) + grid_.at<float>(ir, ic + 1) * wc;
-  const float bottom = grid_.at<float>(ir + 1, ic) * (1 - wc) + grid_.at<float>(ir + 1, ic + 1) * wc;
+  const float bottom =
+      grid_.at<float>(ir + 1, ic) * (1 - wc) + grid_.at<float>(ir + 1, ic + 1) * wc;
   return top * (1 - wr) + bottom * wr;
 }
 

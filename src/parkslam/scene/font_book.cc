@@ -16,10 +16,11 @@ namespace {
 // Faces that look like floor paint: plain sans-serif, condensed and mono
 // families (and one bold serif), by file-name prefix.
 constexpr std::array<const char*, 20> kFamilies = {
-    "DejaVuSans",      "LiberationSans", "LiberationMono",   "FreeSans",   "FreeMono",
-    "NimbusSans",      "NimbusMonoPS",   "URWGothic",        "NotoSans-",  "NotoSansMono-",
-    "NotoSansDisplay-", "OpenSans",      "Roboto-",          "RobotoCondensed-", "Cantarell",
-    "DroidSansMono",   "NotoMono",       "LiberationSansNarrow", "RobotoMono-", "FreeSerifBold"};
+    "DejaVuSans", "LiberationSans",       "LiberationMono",   "FreeSans",
+    "FreeMono",   "NimbusSans",           "NimbusMonoPS",     "URWGothic",
+    "NotoSans-",  "NotoSansMono-",        "NotoSansDisplay-", "OpenSans",
+    "Roboto-",    "RobotoCondensed-",     "Cantarell",        "DroidSansMono",
+    "NotoMono",   "LiberationSansNarrow", "RobotoMono-",      "FreeSerifBold"};
 
 constexpr std::array<int, 4> kStrokeFonts = {cv::FONT_HERSHEY_SIMPLEX, cv::FONT_HERSHEY_DUPLEX,
                                              cv::FONT_HERSHEY_COMPLEX, cv::FONT_HERSHEY_TRIPLEX};
@@ -34,9 +35,8 @@ bool Usable(const std::filesystem::path& path) {
   for (const char* bad : {"italic", "oblique", "math", "fallback", "light", "thin", "symbol"}) {
     if (lower.find(bad) != std::string::npos) return false;
   }
-  return std::any_of(kFamilies.begin(), kFamilies.end(), [&](const char* family) {
-    return name.rfind(family, 0) == 0;
-  });
+  return std::any_of(kFamilies.begin(), kFamilies.end(),
+                     [&](const char* family) { return name.rfind(family, 0) == 0; });
 }
 
 }  // namespace
@@ -109,7 +109,10 @@ cv::Mat FontBook::DrawSevenSegment(const std::string& text, double cap_height_px
     const double foot = margin + h;
     render::DrawSevenSegmentDigit(
         text[k], h, stroke,
-        [&](double x, double y) -> Eigen::Vector2d { return {left + x, foot - y}; }, 255, &mask);
+        [&](double x, double y) -> Eigen::Vector2d {
+          return {left + x, foot - y};
+        },
+        255, &mask);
   }
   return mask;
 }

@@ -21,7 +21,9 @@ TEST(FontBookTest, StrokeFontsAreAlwaysThere) {
 
 TEST(FontBookTest, SystemFontsDrawDigitsAtTheirCapHeight) {
   const std::vector<std::filesystem::path> files = FindFloorFonts();
-  if (files.empty()) GTEST_SKIP() << "no font packages under /usr/share/fonts (scripts/install_deps.sh installs them)";
+  if (files.empty())
+    GTEST_SKIP()
+        << "no font packages under /usr/share/fonts (scripts/install_deps.sh installs them)";
   for (const auto& f : files) {
     const std::string name = f.filename().string();
     EXPECT_EQ(name.find("Italic"), std::string::npos) << name;

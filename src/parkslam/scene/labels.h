@@ -31,9 +31,9 @@ struct LabelledSlot {
 };
 
 struct IdCrop {
-  std::string text;   // the painted ID; empty when it cannot be read
-  cv::Mat image;      // CV_8UC3, upright for the reader
-  int slot = -1;      // index into Scene::slots
+  std::string text;  // the painted ID; empty when it cannot be read
+  cv::Mat image;     // CV_8UC3, upright for the reader
+  int slot = -1;     // index into Scene::slots
 };
 
 struct TopViewLabels {

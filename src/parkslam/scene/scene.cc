@@ -70,17 +70,34 @@ std::string SampleId(Random& rng, int row_letter, int number, bool digits_only) 
   const int style = Choose(rng, {0.3, 0.25, 0.12, 0.12, 0.08, 0.08, 0.05});
   if (digits_only) {
     const int width = 1 + style % 3;
-    std::snprintf(text, sizeof(text), "%0*d", width, number % (width == 1 ? 10 : width == 2 ? 100 : 1000));
+    std::snprintf(text, sizeof(text), "%0*d", width,
+                  number % (width == 1   ? 10
+                            : width == 2 ? 100
+                                         : 1000));
     return text;
   }
   switch (style) {
-    case 0: std::snprintf(text, sizeof(text), "%d", number % 1000); break;
-    case 1: std::snprintf(text, sizeof(text), "%d", 10 + number % 90); break;
-    case 2: std::snprintf(text, sizeof(text), "%c%d", letter, number % 100); break;
-    case 3: std::snprintf(text, sizeof(text), "%c%02d", letter, number % 100); break;
-    case 4: std::snprintf(text, sizeof(text), "%c-%02d", letter, number % 100); break;
-    case 5: std::snprintf(text, sizeof(text), "%03d", number % 1000); break;
-    default: std::snprintf(text, sizeof(text), "%d%c", number % 100, letter); break;
+    case 0:
+      std::snprintf(text, sizeof(text), "%d", number % 1000);
+      break;
+    case 1:
+      std::snprintf(text, sizeof(text), "%d", 10 + number % 90);
+      break;
+    case 2:
+      std::snprintf(text, sizeof(text), "%c%d", letter, number % 100);
+      break;
+    case 3:
+      std::snprintf(text, sizeof(text), "%c%02d", letter, number % 100);
+      break;
+    case 4:
+      std::snprintf(text, sizeof(text), "%c-%02d", letter, number % 100);
+      break;
+    case 5:
+      std::snprintf(text, sizeof(text), "%03d", number % 1000);
+      break;
+    default:
+      std::snprintf(text, sizeof(text), "%d%c", number % 100, letter);
+      break;
   }
   return text;
 }
@@ -95,7 +112,8 @@ struct RowStyle {
   double stub_m = 0.5;
   bool back_line = false;
   bool ids = true;
-  int id_placement = 0;  // 0: inside, read from the aisle; 1: inside, read from the slot; 2: along the separating line; 3: in the aisle
+  int id_placement = 0;  // 0: inside, read from the aisle; 1: inside, read from the slot; 2: along
+                         // the separating line; 3: in the aisle
   double id_height_m = 0.5;
   double id_setback_m = 0.3;
   int font = 0;
@@ -133,7 +151,10 @@ RowStyle SampleRowStyle(Random& rng, const SceneSamplerOptions& options, bool ou
     s.bold = s.stencil = false;
     s.stretch = std::clamp(s.stretch, 0.85, 1.15);
   }
-  s.id_paint = rng.Bernoulli(0.6) ? s.paint : Pick(rng, std::vector<PaintKind>{PaintKind::kWhite, PaintKind::kYellow, PaintKind::kYellow});
+  s.id_paint = rng.Bernoulli(0.6)
+                   ? s.paint
+                   : Pick(rng, std::vector<PaintKind>{PaintKind::kWhite, PaintKind::kYellow,
+                                                      PaintKind::kYellow});
   s.car_probability = rng.Uniform(0.0, options.parked_car_probability_max);
   s.pillars = !outdoor && rng.Bernoulli(0.35);
   s.wall = !outdoor && rng.Bernoulli(0.3);
@@ -259,9 +280,7 @@ void AddRow(Random& rng, const SceneSamplerOptions& options, bool left, bool out
     k_last = std::max(k_first + 1, static_cast<int>(std::ceil(rng.Uniform(-1.0, 6.0) / step)));
     ends = true;
   }
-  const auto junction = [&](int k) {
-    return Eigen::Vector2d(origin + u * (phase + k * step));
-  };
+  const auto junction = [&](int k) { return Eigen::Vector2d(origin + u * (phase + k * step)); };
   const double w = s.line_width_m;
   Stroke base;
   base.width_m = w;
@@ -357,7 +376,8 @@ void AddRow(Random& rng, const SceneSamplerOptions& options, bool left, bool out
       text.opacity = std::min(1.0, s.opacity * rng.Uniform(0.8, 1.2));
       text.wear = s.wear * rng.Uniform(0.5, 1.5);
       text.slot = slot_index;
-      const double est_width = 0.6 * text.height_m * text.stretch * static_cast<double>(text.text.size());
+      const double est_width =
+          0.6 * text.height_m * text.stretch * static_cast<double>(text.text.size());
       switch (s.id_placement) {
         case 0:
           text.center = mid + sep * (s.id_setback_m + text.height_m / 2);
@@ -471,8 +491,8 @@ void SampleFloor(Random& rng, bool outdoor, Scene* scene) {
       f.base = Tinted(rng, rng.Uniform(45, 105), 0.05);
       break;
     case FloorMaterial::kBricks: {
-      static const std::vector<Colour> kBricks = {{70, 85, 140}, {120, 120, 125}, {110, 130, 150},
-                                                  {90, 100, 120}, {150, 150, 150}};
+      static const std::vector<Colour> kBricks = {
+          {70, 85, 140}, {120, 120, 125}, {110, 130, 150}, {90, 100, 120}, {150, 150, 150}};
       f.base = Pick(rng, kBricks) * static_cast<float>(rng.Uniform(0.8, 1.2));
       f.joint = f.base * static_cast<float>(rng.Uniform(0.5, 0.8));
       f.unit_m = rng.Uniform(0.18, 0.26);
@@ -498,7 +518,8 @@ void SampleFloor(Random& rng, bool outdoor, Scene* scene) {
 
 void SampleDecals(Random& rng, bool outdoor, Scene* scene) {
   const auto random_point = [&](double spread) {
-    return Eigen::Vector2d(kViewCenterX + rng.Uniform(-spread, spread), rng.Uniform(-spread, spread));
+    return Eigen::Vector2d(kViewCenterX + rng.Uniform(-spread, spread),
+                           rng.Uniform(-spread, spread));
   };
   const auto add = [&](DecalKind kind, int count, double lmin, double lmax, double wmin,
                        double wmax, double spread) {
@@ -514,14 +535,18 @@ void SampleDecals(Random& rng, bool outdoor, Scene* scene) {
       scene->decals.push_back(d);
     }
   };
-  add(DecalKind::kPatch, rng.Bernoulli(0.3) ? 1 + static_cast<int>(rng.Index(3)) : 0, 1.0, 4.0, 0.8, 3.0, 7);
+  add(DecalKind::kPatch, rng.Bernoulli(0.3) ? 1 + static_cast<int>(rng.Index(3)) : 0, 1.0, 4.0, 0.8,
+      3.0, 7);
   add(DecalKind::kDirt, static_cast<int>(rng.Index(6)), 1.0, 4.0, 0.5, 2.0, 7);
   add(DecalKind::kOilStain, static_cast<int>(rng.Index(7)), 0.2, 1.0, 0.2, 0.8, 6);
   add(DecalKind::kTyreMark, static_cast<int>(rng.Index(7)), 1.5, 5.0, 0.15, 0.25, 6);
   add(DecalKind::kCrack, static_cast<int>(rng.Index(outdoor ? 5 : 3)), 0.5, 3.0, 0.01, 0.03, 7);
-  add(DecalKind::kPuddle, rng.Bernoulli(0.15) ? 1 + static_cast<int>(rng.Index(2)) : 0, 0.5, 2.5, 0.4, 1.5, 6);
-  add(DecalKind::kManhole, rng.Bernoulli(0.35) ? 1 + static_cast<int>(rng.Index(2)) : 0, 0.6, 0.9, 0.6, 0.9, 5);
-  add(DecalKind::kGrate, rng.Bernoulli(0.3) ? 1 + static_cast<int>(rng.Index(2)) : 0, 0.3, 0.8, 0.3, 0.5, 5);
+  add(DecalKind::kPuddle, rng.Bernoulli(0.15) ? 1 + static_cast<int>(rng.Index(2)) : 0, 0.5, 2.5,
+      0.4, 1.5, 6);
+  add(DecalKind::kManhole, rng.Bernoulli(0.35) ? 1 + static_cast<int>(rng.Index(2)) : 0, 0.6, 0.9,
+      0.6, 0.9, 5);
+  add(DecalKind::kGrate, rng.Bernoulli(0.3) ? 1 + static_cast<int>(rng.Index(2)) : 0, 0.3, 0.8, 0.3,
+      0.5, 5);
   add(DecalKind::kArrow, rng.Bernoulli(0.3) ? 1 : 0, 2.0, 4.0, 0.6, 1.0, 4);
   add(DecalKind::kZebra, rng.Bernoulli(0.08) ? 1 : 0, 3.0, 5.0, 2.0, 4.0, 4);
   add(DecalKind::kSpeedBump, rng.Bernoulli(0.06) ? 1 : 0, 4.0, 8.0, 0.4, 0.6, 4);
@@ -568,8 +593,8 @@ void SampleAisleLines(Random& rng, double row_yaw, Scene* scene) {
 }
 
 void SampleFloorTexts(Random& rng, Scene* scene) {
-  static const std::vector<std::string> kWords = {"EXIT", "SLOW", "P", "B2", "STOP", "IN", "OUT",
-                                                  "5", "10", "VIP", "EV", "NO PARKING", "F1"};
+  static const std::vector<std::string> kWords = {
+      "EXIT", "SLOW", "P", "B2", "STOP", "IN", "OUT", "5", "10", "VIP", "EV", "NO PARKING", "F1"};
   const int count = rng.Bernoulli(0.25) ? 1 : 0;
   for (int i = 0; i < count; ++i) {
     FloorText t;
@@ -587,7 +612,7 @@ void SampleFloorTexts(Random& rng, Scene* scene) {
 }
 
 void SampleMovers(Random& rng, const SceneSamplerOptions& options, Scene* scene) {
-  static const std::vector<Colour> kClothes = {{40, 40, 40}, {120, 60, 30}, {30, 30, 140},
+  static const std::vector<Colour> kClothes = {{40, 40, 40},    {120, 60, 30}, {30, 30, 140},
                                                {200, 200, 200}, {60, 120, 60}, {90, 90, 90}};
   const int people = rng.Bernoulli(0.2) ? 1 + static_cast<int>(rng.Index(2)) : 0;
   for (int i = 0; i < people; ++i) {
@@ -639,8 +664,11 @@ void SampleLight(Random& rng, bool outdoor, Scene* scene) {
     l.trees = rng.Bernoulli(0.3) ? 1 + static_cast<int>(rng.Index(3)) : 0;
     l.pools = 0.0;
   } else {
-    const int mode = Choose(rng, {0.45, 0.2, 0.15, 0.1, 0.1});  // normal, dim, bright, backlit, night
-    l.gain = mode == 1 ? rng.Uniform(0.4, 0.7) : mode == 2 ? rng.Uniform(1.2, 1.6) : rng.Uniform(0.75, 1.15);
+    const int mode =
+        Choose(rng, {0.45, 0.2, 0.15, 0.1, 0.1});  // normal, dim, bright, backlit, night
+    l.gain = mode == 1   ? rng.Uniform(0.4, 0.7)
+             : mode == 2 ? rng.Uniform(1.2, 1.6)
+                         : rng.Uniform(0.75, 1.15);
     l.night = mode == 4;
     if (l.night) l.gain = rng.Uniform(0.5, 0.9);
     l.backlight = mode == 3 ? rng.Uniform(0.8, 2.5) : 0.0;
@@ -649,7 +677,8 @@ void SampleLight(Random& rng, bool outdoor, Scene* scene) {
                      : Colour(static_cast<float>(rng.Uniform(0.9, 1.12)), 1.0f,
                               static_cast<float>(rng.Uniform(0.88, 1.08)));
     l.lamp_spacing_m = rng.Uniform(4.0, 8.0);
-    l.lamp_offset = Eigen::Vector2d(rng.Uniform(0, l.lamp_spacing_m), rng.Uniform(0, l.lamp_spacing_m));
+    l.lamp_offset =
+        Eigen::Vector2d(rng.Uniform(0, l.lamp_spacing_m), rng.Uniform(0, l.lamp_spacing_m));
     l.lamp_height_m = rng.Uniform(2.5, 3.5);
     l.pools = l.night ? rng.Uniform(0.6, 0.9) : rng.Uniform(0.0, 0.6);
     l.shadow_depth = rng.Uniform(0.2, 0.5);
@@ -664,8 +693,14 @@ void SampleCameras(Random& rng, const SceneSamplerOptions& options, bool outdoor
   const int jpeg = rng.Bernoulli(0.85) ? 95 : static_cast<int>(rng.Uniform(40, 90));
   const bool motion = rng.Bernoulli(0.2);
   const double defocus = rng.Bernoulli(0.35) ? rng.Uniform(0.4, 1.6) : 0.0;
-  const int dirty = rng.Bernoulli(0.15) ? static_cast<int>(rng.Index(static_cast<std::uint64_t>(options.fisheye_cameras))) : -1;
-  const int glare = outdoor && rng.Bernoulli(0.35) ? static_cast<int>(rng.Index(static_cast<std::uint64_t>(options.fisheye_cameras))) : -1;
+  const int dirty =
+      rng.Bernoulli(0.15)
+          ? static_cast<int>(rng.Index(static_cast<std::uint64_t>(options.fisheye_cameras)))
+          : -1;
+  const int glare =
+      outdoor && rng.Bernoulli(0.35)
+          ? static_cast<int>(rng.Index(static_cast<std::uint64_t>(options.fisheye_cameras)))
+          : -1;
   // Many surround-view units have coarse sensors: what they see far off
   // smears into radial streaks once fused.
   const double sensor_scale = rng.Bernoulli(0.6) ? rng.Uniform(0.55, 0.95) : 1.0;
@@ -694,7 +729,8 @@ void SampleCameras(Random& rng, const SceneSamplerOptions& options, bool outdoor
                                   : 1 + static_cast<int>(rng.Index(static_cast<std::uint64_t>(
                                             std::max(1, options.perturbed_calibrations))));
   if (options.perturbed_calibrations == 0) scene->fusion_calibration = 0;
-  scene->fusion_seams = static_cast<int>(rng.Index(static_cast<std::uint64_t>(std::max(1, options.seam_layouts))));
+  scene->fusion_seams =
+      static_cast<int>(rng.Index(static_cast<std::uint64_t>(std::max(1, options.seam_layouts))));
   scene->top_view_jpeg_quality = static_cast<int>(rng.Uniform(55, 95));
   scene->top_view_sharpen = rng.Bernoulli(0.3) ? rng.Uniform(0.2, 0.8) : 0.0;
   scene->saturation = rng.Uniform(0.55, 1.15);
@@ -707,13 +743,16 @@ bool SceneSamplerOptions::IsValid(std::string* error) const {
     if (error != nullptr) *error = what;
     return false;
   };
-  if (fisheye_cameras < 1 || fisheye_cameras > 16) return fail("fisheye_cameras must be in [1, 16]");
+  if (fisheye_cameras < 1 || fisheye_cameras > 16)
+    return fail("fisheye_cameras must be in [1, 16]");
   if (perturbed_calibrations < 0 || perturbed_calibrations > 64) {
     return fail("perturbed_calibrations must be in [0, 64]");
   }
   if (seam_layouts < 1 || seam_layouts > 16) return fail("seam_layouts must be in [1, 16]");
-  if (!(outdoor_probability >= 0 && outdoor_probability <= 1)) return fail("outdoor_probability must be in [0, 1]");
-  if (!(seven_segment_share >= 0 && seven_segment_share <= 1)) return fail("seven_segment_share must be in [0, 1]");
+  if (!(outdoor_probability >= 0 && outdoor_probability <= 1))
+    return fail("outdoor_probability must be in [0, 1]");
+  if (!(seven_segment_share >= 0 && seven_segment_share <= 1))
+    return fail("seven_segment_share must be in [0, 1]");
   if (!(parked_car_probability_max >= 0 && parked_car_probability_max <= 1)) {
     return fail("parked_car_probability_max must be in [0, 1]");
   }
@@ -725,11 +764,16 @@ bool SceneSamplerOptions::IsValid(std::string* error) const {
 
 Colour PaintColour(PaintKind paint) {
   switch (paint) {
-    case PaintKind::kWhite: return {235, 238, 238};
-    case PaintKind::kYellow: return {40, 185, 225};
-    case PaintKind::kRed: return {50, 50, 190};
-    case PaintKind::kBlue: return {170, 100, 40};
-    case PaintKind::kBlack: return {30, 30, 30};
+    case PaintKind::kWhite:
+      return {235, 238, 238};
+    case PaintKind::kYellow:
+      return {40, 185, 225};
+    case PaintKind::kRed:
+      return {50, 50, 190};
+    case PaintKind::kBlue:
+      return {170, 100, 40};
+    case PaintKind::kBlack:
+      return {30, 30, 30};
   }
   return {235, 238, 238};
 }

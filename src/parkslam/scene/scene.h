@@ -29,8 +29,9 @@ using Colour = Eigen::Vector3f;
 // entrance line, on both centre lines.
 struct MarkingPoint {
   Eigen::Vector2d p_vehicle = Eigen::Vector2d::Zero();
-  Eigen::Vector2d direction = Eigen::Vector2d::UnitX();  // unit, along the separating line, into the slot
-  bool is_t = true;  // T: the entrance line goes on both sides; L: one side only
+  Eigen::Vector2d direction =
+      Eigen::Vector2d::UnitX();  // unit, along the separating line, into the slot
+  bool is_t = true;              // T: the entrance line goes on both sides; L: one side only
 };
 
 enum class SlotKind : std::uint8_t { kPerpendicular, kParallel, kAngled };
@@ -54,8 +55,8 @@ struct Stroke {
   Eigen::Vector2d a = Eigen::Vector2d::Zero(), b = Eigen::Vector2d::Zero();
   double width_m = 0.15;
   PaintKind paint = PaintKind::kWhite;
-  double opacity = 1.0;  // 0: gone, 1: fresh paint
-  double wear = 0.0;     // share of the stroke flaked off in patches
+  double opacity = 1.0;    // 0: gone, 1: fresh paint
+  double wear = 0.0;       // share of the stroke flaked off in patches
   bool slot_line = false;  // part of a slot's lines (where labels live)
 };
 
@@ -63,22 +64,34 @@ struct Stroke {
 struct FloorText {
   std::string text;
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
-  Eigen::Vector2d right = Eigen::Vector2d::UnitX();  // unit reading direction; up is its left normal
+  Eigen::Vector2d right =
+      Eigen::Vector2d::UnitX();  // unit reading direction; up is its left normal
   double height_m = 0.5;
-  int font = 0;           // index into the font book (modulo its size)
+  int font = 0;                // index into the font book (modulo its size)
   bool seven_segment = false;  // the default lot's digits instead of `font`
   bool bold = false;
-  bool stencil = false;   // the bridges of a stencil cut through the strokes
-  double stretch = 1.0;   // width over the font's natural width (condensed < 1)
+  bool stencil = false;  // the bridges of a stencil cut through the strokes
+  double stretch = 1.0;  // width over the font's natural width (condensed < 1)
   PaintKind paint = PaintKind::kWhite;
   double opacity = 1.0;
   double wear = 0.0;
-  int slot = -1;          // the slot it names, or -1
+  int slot = -1;  // the slot it names, or -1
 };
 
 enum class DecalKind : std::uint8_t {
-  kArrow, kZebra, kSpeedBump, kManhole, kGrate, kWheelStop, kOilStain, kTyreMark, kPuddle,
-  kDirt, kPatch, kCrack, kLeaves
+  kArrow,
+  kZebra,
+  kSpeedBump,
+  kManhole,
+  kGrate,
+  kWheelStop,
+  kOilStain,
+  kTyreMark,
+  kPuddle,
+  kDirt,
+  kPatch,
+  kCrack,
+  kLeaves
 };
 
 // Anything else on the floor, in a box centred at `center`, its length
@@ -97,13 +110,13 @@ enum class FloorMaterial : std::uint8_t { kConcrete, kEpoxy, kAsphalt, kBricks, 
 struct Floor {
   FloorMaterial material = FloorMaterial::kConcrete;
   Colour base{128, 128, 128};
-  Colour joint{80, 80, 80};    // bricks' and tiles' joints
-  double texture = 1.0;        // amplitude of the material's own texture
-  double blotches = 1.0;       // amplitude of metre-scale unevenness
-  double unit_m = 0.2;         // brick length or tile edge
+  Colour joint{80, 80, 80};  // bricks' and tiles' joints
+  double texture = 1.0;      // amplitude of the material's own texture
+  double blotches = 1.0;     // amplitude of metre-scale unevenness
+  double unit_m = 0.2;       // brick length or tile edge
   double pattern_yaw_rad = 0.0;
   bool herringbone = false;
-  double gloss = 0.0;          // 0: matt; 1: lamps mirror in it (epoxy)
+  double gloss = 0.0;  // 0: matt; 1: lamps mirror in it (epoxy)
   // Outdoor edge: grass, gravel or a kerb beyond a line parallel to the rows.
   bool verge = false;
   Eigen::Vector2d verge_point = Eigen::Vector2d::Zero();
@@ -131,22 +144,22 @@ struct Solid {
 
 struct Lighting {
   bool outdoor = false;
-  double gain = 1.0;             // overall light
-  Colour tint{1, 1, 1};          // colour of the light (per channel factor)
+  double gain = 1.0;     // overall light
+  Colour tint{1, 1, 1};  // colour of the light (per channel factor)
   // Indoor: ceiling lamps on a grid, pools of light under them.
   double lamp_spacing_m = 6.0;
   Eigen::Vector2d lamp_offset = Eigen::Vector2d::Zero();
   double lamp_height_m = 2.8;
-  double pools = 0.3;            // 0: even; 1: strong pools, dark between
-  double patchy = 0.2;           // amplitude of metre-scale light variation
-  bool night = false;            // a few warm lamps, dark elsewhere
+  double pools = 0.3;   // 0: even; 1: strong pools, dark between
+  double patchy = 0.2;  // amplitude of metre-scale light variation
+  bool night = false;   // a few warm lamps, dark elsewhere
   // Backlight: a bright side (an open end, a gate) in direction backlight_dir.
   double backlight = 0.0;
   Eigen::Vector2d backlight_dir = Eigen::Vector2d::UnitX();
   // Outdoor: the sun, its hard shadows and the sky.
   double sun_azimuth_rad = 0.0, sun_elevation_rad = 0.8;
-  double shadow_depth = 0.5;     // 0: no shadows; 1: black shadows
-  int trees = 0;                 // dappled shadows of trees
+  double shadow_depth = 0.5;  // 0: no shadows; 1: black shadows
+  int trees = 0;              // dappled shadows of trees
   std::uint64_t seed = 0;
 };
 
@@ -155,7 +168,7 @@ struct CameraLook {
   double exposure = 1.0;
   Colour white_balance{1, 1, 1};
   double vignetting = 0.3;
-  double noise_sigma = 3.0;   // grey levels
+  double noise_sigma = 3.0;  // grey levels
   double motion_blur_px = 0.0;
   double motion_angle_rad = 0.0;
   double defocus_px = 0.0;    // Gaussian sigma

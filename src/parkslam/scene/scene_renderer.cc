@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 #include "parkslam/common/angles.h"
-#include "parkslam/common/seed_mix.h"
 #include "parkslam/common/random.h"
+#include "parkslam/common/seed_mix.h"
 #include "parkslam/scene/floor_painter.h"
 
 namespace parkslam::scene {
@@ -22,12 +22,11 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // level; beyond the top view's square, the 10 cm floor.
 constexpr double kMaxFootprintNearM = 0.035;
 constexpr double kSpecularCellM = 0.1;
-constexpr double kMaxOffAxisRad = 1.66;  // 95 degrees: a 190-degree lens
+constexpr double kMaxOffAxisRad = 1.66;        // 95 degrees: a 190-degree lens
 constexpr float kAutoExposureTarget = 115.0f;  // mean grey level the cameras meter for
 constexpr double kSpecularHalfExtentM = 10.0;
 
 enum PixelKind : std::uint8_t { kNone, kGround, kUp, kEgo };
-
 
 // The floor at three resolutions side by side, so that one remap per camera
 // samples each pixel's footprint.
@@ -41,7 +40,7 @@ struct AtlasLayout {
 struct AzimuthIndex {
   std::vector<float> azimuth;  // radians in (-pi, pi]
   std::vector<int> pixel;
-  std::vector<float> reach;    // horizontal reach before the floor (-1: the car's body)
+  std::vector<float> reach;  // horizontal reach before the floor (-1: the car's body)
   void Add(float a, int i, float r) {
     azimuth.push_back(a);
     pixel.push_back(i);
@@ -60,9 +59,9 @@ struct CameraTable {
   cv::Mat needed;            // CV_8U, 255 where the top view samples (with a margin for blur)
   cv::Mat metered;           // CV_8U, 255 where the top view samples: what auto exposure meters
   cv::Range needed_rows = cv::Range::all();  // the rows that hold any of them
-  std::vector<Eigen::Vector3f> rays;  // unit, vehicle frame
-  std::vector<float> ground_t;        // along the ray to the floor; inf where none
-  std::vector<float> horizontal;      // horizontal length of the unit ray
+  std::vector<Eigen::Vector3f> rays;         // unit, vehicle frame
+  std::vector<float> ground_t;               // along the ray to the floor; inf where none
+  std::vector<float> horizontal;             // horizontal length of the unit ray
   std::vector<Eigen::Vector2f> ground_xy;
   AzimuthIndex all_pixels;     // every valid pixel
   AzimuthIndex needed_pixels;  // those the top view needs
@@ -76,8 +75,8 @@ struct SolidHit {
 
 // Ray (origin o, unit direction d) against a solid; the nearest hit beyond
 // a millimetre, if any.
-bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o, const Eigen::Vector3f& d,
-               SolidHit* hit) {
+bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o,
+               const Eigen::Vector3f& d, SolidHit* hit) {
   const double ox = o.x() - s.center.x(), oy = o.y() - s.center.y();
   if (s.shape == SolidShape::kBox) {
     // Slabs in the box's frame.
@@ -108,8 +107,10 @@ bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o, c
     if (axis < 0 || enter > leave || enter < 1e-3 || enter >= hit->t) return false;
     hit->t = static_cast<float>(enter);
     Eigen::Vector3f n = Eigen::Vector3f::Zero();
-    if (axis == 0) n = Eigen::Vector3f(static_cast<float>(sign * cy), static_cast<float>(sign * sy), 0);
-    if (axis == 1) n = Eigen::Vector3f(static_cast<float>(-sign * sy), static_cast<float>(sign * cy), 0);
+    if (axis == 0)
+      n = Eigen::Vector3f(static_cast<float>(sign * cy), static_cast<float>(sign * sy), 0);
+    if (axis == 1)
+      n = Eigen::Vector3f(static_cast<float>(-sign * sy), static_cast<float>(sign * cy), 0);
     if (axis == 2) n = Eigen::Vector3f(0, 0, static_cast<float>(sign));
     hit->normal = n;
     hit->top = axis == 2 && sign > 0;
@@ -137,7 +138,9 @@ bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o, c
           found = true;
           const double px = ox + t * d.x(), py = oy + t * d.y();
           const double r = std::max(1e-6, std::hypot(px, py));
-          normal = Eigen::Vector3f(static_cast<float>(px / r), static_cast<float>(py / r), static_cast<float>(k)).normalized();
+          normal = Eigen::Vector3f(static_cast<float>(px / r), static_cast<float>(py / r),
+                                   static_cast<float>(k))
+                       .normalized();
           top = false;
           break;
         }
@@ -164,7 +167,8 @@ bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o, c
 // A solid's own horizontal frame: x along its yaw.
 struct SolidFrame {
   double cos_yaw = 1.0, sin_yaw = 0.0;
-  explicit SolidFrame(const Solid& s) : cos_yaw(std::cos(s.yaw_rad)), sin_yaw(std::sin(s.yaw_rad)) {}
+  explicit SolidFrame(const Solid& s)
+      : cos_yaw(std::cos(s.yaw_rad)), sin_yaw(std::sin(s.yaw_rad)) {}
   // Coordinates of the map point p relative to the solid's centre, in its frame.
   Eigen::Vector2d Local(const Solid& s, const Eigen::Vector2d& p) const {
     const Eigen::Vector2d d = p - s.center;
@@ -180,7 +184,8 @@ float Luma(const cv::Vec3f& p) { return 0.114f * p[0] + 0.587f * p[1] + 0.299f *
 float SkylineElevation(std::uint64_t seed, float azimuth) {
   const float a = static_cast<float>(MixSeed(seed, 1) % 628) / 100.0f;
   const float b = static_cast<float>(MixSeed(seed, 2) % 628) / 100.0f;
-  const int sector = static_cast<int>(std::floor((azimuth + static_cast<float>(kPi)) / (2 * static_cast<float>(kPi)) * 12.0f));
+  const int sector = static_cast<int>(
+      std::floor((azimuth + static_cast<float>(kPi)) / (2 * static_cast<float>(kPi)) * 12.0f));
   const std::uint64_t h = MixSeed(seed, 100 + static_cast<std::uint64_t>(sector));
   if (h % 4 == 0) return -(0.2f + static_cast<float>(h % 1000) / 4000.0f);
   return 0.1f + 0.05f * std::sin(3.0f * azimuth + a) + 0.03f * std::sin(11.0f * azimuth + b) +
@@ -195,12 +200,16 @@ bool SceneRendererOptions::IsValid(std::string* error) const {
     return false;
   };
   if (fisheye_names.empty()) return fail("fisheye_names is empty");
-  if (!(near_resolution_m > 0.002 && near_resolution_m < 0.2)) return fail("near_resolution_m must be in (0.002, 0.2)");
-  if (!(near_max_x_m > near_min_x_m && near_half_width_m > 0)) return fail("the near floor must have an area");
+  if (!(near_resolution_m > 0.002 && near_resolution_m < 0.2))
+    return fail("near_resolution_m must be in (0.002, 0.2)");
+  if (!(near_max_x_m > near_min_x_m && near_half_width_m > 0))
+    return fail("the near floor must have an area");
   if (!(far_resolution_m >= near_resolution_m && far_half_extent_m > 1.0)) {
-    return fail("far_resolution_m must be at least near_resolution_m and far_half_extent_m above 1");
+    return fail(
+        "far_resolution_m must be at least near_resolution_m and far_half_extent_m above 1");
   }
-  if (perturbed_calibrations < 0 || perturbed_calibrations > 64) return fail("perturbed_calibrations must be in [0, 64]");
+  if (perturbed_calibrations < 0 || perturbed_calibrations > 64)
+    return fail("perturbed_calibrations must be in [0, 64]");
   if (!(calibration_rotation_sigma_rad >= 0 && calibration_translation_sigma_m >= 0)) {
     return fail("calibration sigmas must be non-negative");
   }
@@ -209,7 +218,8 @@ bool SceneRendererOptions::IsValid(std::string* error) const {
   if (!top_view.IsValid(&top_error)) return fail("top_view is invalid");
   if (seam_layouts.empty()) return fail("seam_layouts is empty");
   for (const std::vector<double>& layout : seam_layouts) {
-    if (layout.size() != fisheye_names.size()) return fail("every seam layout needs one priority per fisheye");
+    if (layout.size() != fisheye_names.size())
+      return fail("every seam layout needs one priority per fisheye");
   }
   return true;
 }
@@ -252,7 +262,8 @@ struct SceneRenderer::Impl {
     const double f = options.far_resolution_m;
     const double x0 = (options.near_min_x_m + options.far_half_extent_m) / f;
     const double y0 = (options.far_half_extent_m - options.near_half_width_m) / f;
-    const double w = (options.near_max_x_m - options.near_min_x_m) / f, h = 2 * options.near_half_width_m / f;
+    const double w = (options.near_max_x_m - options.near_min_x_m) / f,
+                 h = 2 * options.near_half_width_m / f;
     const auto whole = [](double v) { return std::abs(v - std::round(v)) < 1e-6; };
     if (!whole(x0) || !whole(y0) || !whole(w) || !whole(h)) return {};
     const cv::Rect r(static_cast<int>(std::lround(x0)), static_cast<int>(std::lround(y0)),
@@ -266,10 +277,12 @@ SceneRenderer::Impl::Impl(const camera::CameraRig& r, const SceneRendererOptions
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument("scene renderer: " + error);
   const double near_w = options.near_max_x_m - options.near_min_x_m;
-  const cv::Size near(static_cast<int>(std::lround(near_w / options.near_resolution_m)),
-                      static_cast<int>(std::lround(2 * options.near_half_width_m / options.near_resolution_m)));
+  const cv::Size near(
+      static_cast<int>(std::lround(near_w / options.near_resolution_m)),
+      static_cast<int>(std::lround(2 * options.near_half_width_m / options.near_resolution_m)));
   const cv::Size mid((near.width + 1) / 2, (near.height + 1) / 2);
-  const int far_n = static_cast<int>(std::lround(2 * options.far_half_extent_m / options.far_resolution_m));
+  const int far_n =
+      static_cast<int>(std::lround(2 * options.far_half_extent_m / options.far_resolution_m));
   atlas.near = cv::Rect(0, 0, near.width, near.height);
   atlas.mid = cv::Rect(near.width + kAtlasGap, 0, mid.width, mid.height);
   atlas.far = cv::Rect(atlas.mid.x + mid.width + kAtlasGap, 0, far_n, far_n);
@@ -277,7 +290,8 @@ SceneRenderer::Impl::Impl(const camera::CameraRig& r, const SceneRendererOptions
 
   for (const std::string& name : options.fisheye_names) {
     const camera::CameraConfig* c = rig.Find(name);
-    if (c == nullptr) throw std::invalid_argument("scene renderer: the rig has no camera '" + name + "'");
+    if (c == nullptr)
+      throw std::invalid_argument("scene renderer: the rig has no camera '" + name + "'");
     fisheye_configs.push_back(*c);
     fisheye_models.emplace_back(c->intrinsics);
     fisheyes.push_back(BuildTable(*c));
@@ -285,15 +299,16 @@ SceneRenderer::Impl::Impl(const camera::CameraRig& r, const SceneRendererOptions
   if (!options.front_camera.empty()) {
     const camera::CameraConfig* c = rig.Find(options.front_camera);
     if (c == nullptr) {
-      throw std::invalid_argument("scene renderer: the rig has no camera '" + options.front_camera + "'");
+      throw std::invalid_argument("scene renderer: the rig has no camera '" + options.front_camera +
+                                  "'");
     }
     front = BuildTable(*c);
   }
   fusion_rigs.push_back(rig);
   for (int k = 1; k <= options.perturbed_calibrations; ++k) {
-    fusion_rigs.push_back(camera::PerturbExtrinsics(rig, options.calibration_rotation_sigma_rad,
-                                                    options.calibration_translation_sigma_m,
-                                                    MixSeed(options.calibration_seed, static_cast<std::uint64_t>(k))));
+    fusion_rigs.push_back(camera::PerturbExtrinsics(
+        rig, options.calibration_rotation_sigma_rad, options.calibration_translation_sigma_m,
+        MixSeed(options.calibration_seed, static_cast<std::uint64_t>(k))));
   }
   for (const camera::CameraRig& fr : fusion_rigs) {
     for (const std::vector<double>& layout : options.seam_layouts) {
@@ -324,7 +339,8 @@ void SceneRenderer::Impl::MarkNeeded() {
       for (int v = 0; v < size; ++v) {
         for (int u = 0; u < size; ++u) {
           const int camera = static_cast<int>(c);
-          if (fusion.PrimaryCamera(u, v) != camera && fusion.SecondaryCamera(u, v) != camera) continue;
+          if (fusion.PrimaryCamera(u, v) != camera && fusion.SecondaryCamera(u, v) != camera)
+            continue;
           const Eigen::Vector2d g = fusion.PixelToVehicle(Eigen::Vector2d(u, v));
           const auto px = model.Project(T_camera_vehicle * Eigen::Vector3d(g.x(), g.y(), 0.0));
           if (!px) continue;
@@ -345,7 +361,8 @@ void SceneRenderer::Impl::MarkNeeded() {
     t.needed_pixels = {};
     const AzimuthIndex& all = t.all_pixels;
     for (size_t k = 0; k < all.pixel.size(); ++k) {
-      if (t.needed.data[all.pixel[k]] != 0) t.needed_pixels.Add(all.azimuth[k], all.pixel[k], all.reach[k]);
+      if (t.needed.data[all.pixel[k]] != 0)
+        t.needed_pixels.Add(all.azimuth[k], all.pixel[k], all.reach[k]);
     }
   }
 }
@@ -373,7 +390,8 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
   std::vector<bool> valid(n, false);
   for (int v = 0; v < t.height; ++v) {
     for (int u = 0; u < t.width; ++u) {
-      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
+      const size_t i =
+          static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
       const auto ray = model.Unproject(Eigen::Vector2d(u, v));
       if (!ray) continue;
       const double angle = std::acos(std::clamp(ray->normalized().z(), -1.0, 1.0));
@@ -409,7 +427,8 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
   const double near_res = options.near_resolution_m;
   for (int v = 0; v < t.height; ++v) {
     for (int u = 0; u < t.width; ++u) {
-      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
+      const size_t i =
+          static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
       if (!valid[i]) continue;
       const Eigen::Vector3d d = R * cam_rays[i];
       t.rays[i] = d.cast<float>();
@@ -427,17 +446,21 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
         cv::Point2f atlas_px(-10, -10);
         const double nx = (g.x() - options.near_min_x_m) / near_res - 0.5;
         const double ny = (options.near_half_width_m - g.y()) / near_res - 0.5;
-        const bool in_near = nx > 1 && ny > 1 && nx < atlas.near.width - 2 && ny < atlas.near.height - 2;
+        const bool in_near =
+            nx > 1 && ny > 1 && nx < atlas.near.width - 2 && ny < atlas.near.height - 2;
         const double fx = (g.x() + options.far_half_extent_m) / options.far_resolution_m - 0.5;
         const double fy = (options.far_half_extent_m - g.y()) / options.far_resolution_m - 0.5;
-        const bool in_far = fx > 1 && fy > 1 && fx < atlas.far.width - 2 && fy < atlas.far.height - 2;
+        const bool in_far =
+            fx > 1 && fy > 1 && fx < atlas.far.width - 2 && fy < atlas.far.height - 2;
         if (in_near && footprint < kMaxFootprintNearM) {
-          atlas_px = cv::Point2f(static_cast<float>(atlas.near.x + nx), static_cast<float>(atlas.near.y + ny));
+          atlas_px = cv::Point2f(static_cast<float>(atlas.near.x + nx),
+                                 static_cast<float>(atlas.near.y + ny));
         } else if (in_near) {
           atlas_px = cv::Point2f(static_cast<float>(atlas.mid.x + (nx + 0.5) / 2 - 0.5),
                                  static_cast<float>(atlas.mid.y + (ny + 0.5) / 2 - 0.5));
         } else if (in_far) {
-          atlas_px = cv::Point2f(static_cast<float>(atlas.far.x + fx), static_cast<float>(atlas.far.y + fy));
+          atlas_px = cv::Point2f(static_cast<float>(atlas.far.x + fx),
+                                 static_cast<float>(atlas.far.y + fy));
         }
         if (atlas_px.x >= 0) {
           kind = kGround;
@@ -449,7 +472,8 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
       SolidHit hit;
       hit.t = t.ground_t[i];
       bool on_body = false;
-      for (const Solid& part : body) on_body |= Intersect(part, 1.0, 0.0, t.c_vehicle, t.rays[i], &hit);
+      for (const Solid& part : body)
+        on_body |= Intersect(part, 1.0, 0.0, t.c_vehicle, t.rays[i], &hit);
       if (on_body) {
         kind = kEgo;
         t.ego_shade.at<float>(v, u) = 0.55f + 0.45f * std::abs(hit.normal.dot(t.rays[i]));
@@ -499,29 +523,37 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
     const Eigen::Vector2d c = t.c_vehicle.head<2>();
     const double s = l.lamp_spacing_m;
     constexpr double kReachM = 9.0;  // lamps farther mirror beyond the top view
-    for (double gx = std::floor((c.x() - kReachM - l.lamp_offset.x()) / s); gx <= (c.x() + kReachM - l.lamp_offset.x()) / s; gx += 1) {
-      for (double gy = std::floor((c.y() - kReachM - l.lamp_offset.y()) / s); gy <= (c.y() + kReachM - l.lamp_offset.y()) / s; gy += 1) {
+    for (double gx = std::floor((c.x() - kReachM - l.lamp_offset.x()) / s);
+         gx <= (c.x() + kReachM - l.lamp_offset.x()) / s; gx += 1) {
+      for (double gy = std::floor((c.y() - kReachM - l.lamp_offset.y()) / s);
+           gy <= (c.y() + kReachM - l.lamp_offset.y()) / s; gy += 1) {
         const Eigen::Vector2d lamp_centre = l.lamp_offset + Eigen::Vector2d(gx, gy) * s;
-        const double strength = 35.0 * scene.floor.gloss * light.At(lamp_centre.x(), lamp_centre.y());
+        const double strength =
+            35.0 * scene.floor.gloss * light.At(lamp_centre.x(), lamp_centre.y());
         // A tube 1.2 m along x: its reflection, three blobs along it, each
         // stretched towards the camera by the grazing view.
         for (const double along_tube : {-0.45, 0.0, 0.45}) {
           const Eigen::Vector2d lamp = lamp_centre + Eigen::Vector2d(along_tube, 0.0);
           const Eigen::Vector2d r = c + (lamp - c) * (cz / (cz + h));
           const double dist = (r - c).norm();
-          const Eigen::Vector2d away = dist > 1e-3 ? Eigen::Vector2d((r - c) / dist) : Eigen::Vector2d::UnitX();
-          const double along = std::min(1.5, 0.25 + 0.35 * dist), across = std::min(0.3, 0.08 + 0.04 * dist);
+          const Eigen::Vector2d away =
+              dist > 1e-3 ? Eigen::Vector2d((r - c) / dist) : Eigen::Vector2d::UnitX();
+          const double along = std::min(1.5, 0.25 + 0.35 * dist),
+                       across = std::min(0.3, 0.08 + 0.04 * dist);
           const int cx = static_cast<int>((r.x() - c.x() + kSpecularHalfExtentM) / kSpecularCellM);
-          const int cy = static_cast<int>((kSpecularHalfExtentM - (r.y() - c.y())) / kSpecularCellM);
+          const int cy =
+              static_cast<int>((kSpecularHalfExtentM - (r.y() - c.y())) / kSpecularCellM);
           const int rad = static_cast<int>(std::ceil(3 * along / kSpecularCellM));
           for (int y = std::max(0, cy - rad); y < std::min(spec_n, cy + rad); ++y) {
             for (int x = std::max(0, cx - rad); x < std::min(spec_n, cx + rad); ++x) {
               const Eigen::Vector2d p(c.x() - kSpecularHalfExtentM + (x + 0.5) * kSpecularCellM,
                                       c.y() + kSpecularHalfExtentM - (y + 0.5) * kSpecularCellM);
               const Eigen::Vector2d dp = p - r;
-              const double a = dp.dot(away) / along, b = (dp.x() * away.y() - dp.y() * away.x()) / across;
+              const double a = dp.dot(away) / along,
+                           b = (dp.x() * away.y() - dp.y() * away.x()) / across;
               const double q = a * a + b * b;
-              if (q < 16.0) specular.at<float>(y, x) += static_cast<float>(strength * std::exp(-0.5 * q));
+              if (q < 16.0)
+                specular.at<float>(y, x) += static_cast<float>(strength * std::exp(-0.5 * q));
             }
           }
         }
@@ -534,16 +566,18 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
   radiance.rowRange(0, rows.start).setTo(cv::Scalar::all(0));
   radiance.rowRange(rows.end, t.height).setTo(cv::Scalar::all(0));
   const double ceiling = options.ceiling_height_m;
-  const Eigen::Vector3f sun(static_cast<float>(std::cos(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
-                            static_cast<float>(std::sin(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
-                            static_cast<float>(std::sin(l.sun_elevation_rad)));
+  const Eigen::Vector3f sun(
+      static_cast<float>(std::cos(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
+      static_cast<float>(std::sin(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
+      static_cast<float>(std::sin(l.sun_elevation_rad)));
   for (int v = rows.start; v < rows.end; ++v) {
     const std::uint8_t* kind = t.kind.ptr<std::uint8_t>(v);
     const cv::Vec3b* g = ground.ptr<cv::Vec3b>(v);
     cv::Vec3f* out = radiance.ptr<cv::Vec3f>(v);
     const float* ego = t.ego_shade.ptr<float>(v);
     for (int u = 0; u < t.width; ++u) {
-      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
+      const size_t i =
+          static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
       cv::Vec3f& p = out[u];
       if (need != nullptr && need[i] == 0) {
         p = cv::Vec3f(0, 0, 0);
@@ -554,8 +588,10 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
           for (int k = 0; k < 3; ++k) p[k] = g[u][k] * kRadianceScale;
           if (!specular.empty()) {
             const Eigen::Vector2f gp = t.ground_xy[i];
-            const int x = static_cast<int>((gp.x() - t.c_vehicle.x() + kSpecularHalfExtentM) / kSpecularCellM);
-            const int y = static_cast<int>((kSpecularHalfExtentM - (gp.y() - t.c_vehicle.y())) / kSpecularCellM);
+            const int x = static_cast<int>((gp.x() - t.c_vehicle.x() + kSpecularHalfExtentM) /
+                                           kSpecularCellM);
+            const int y = static_cast<int>((kSpecularHalfExtentM - (gp.y() - t.c_vehicle.y())) /
+                                           kSpecularCellM);
             if (x >= 0 && y >= 0 && x < spec_n && y < spec_n) {
               const float add = specular.at<float>(y, x);
               for (int k = 0; k < 3; ++k) p[k] += add * tint[k];
@@ -571,14 +607,18 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
             const float skyline = SkylineElevation(l.seed, azimuth);
             if (std::asin(std::clamp(d.z(), -1.0f, 1.0f)) < std::abs(skyline)) {
               // Trees (skyline > 0) or a building (< 0) against the sky.
-              const std::uint64_t leaf = MixSeed(static_cast<std::uint64_t>(std::lround(azimuth * 150.0f)) * 1000 +
-                                                     static_cast<std::uint64_t>(std::lround(up * 150.0f)), l.seed);
+              const std::uint64_t leaf =
+                  MixSeed(static_cast<std::uint64_t>(std::lround(azimuth * 150.0f)) * 1000 +
+                              static_cast<std::uint64_t>(std::lround(up * 150.0f)),
+                          l.seed);
               const float foliage = 0.6f + 0.8f * static_cast<float>(leaf % 1000) / 1000.0f;
-              p = skyline > 0 ? cv::Vec3f(45, 85, 60) * foliage
-                              : cv::Vec3f(150, 155, 160) * (std::sin(60.0f * up) > 0.6f ? 0.6f : 1.0f);
+              p = skyline > 0
+                      ? cv::Vec3f(45, 85, 60) * foliage
+                      : cv::Vec3f(150, 155, 160) * (std::sin(60.0f * up) > 0.6f ? 0.6f : 1.0f);
               p *= static_cast<float>(l.gain);
             } else {
-              p = cv::Vec3f(250 - 30 * up, 235 - 40 * up, 225 - 60 * up) * static_cast<float>(l.gain);
+              p = cv::Vec3f(250 - 30 * up, 235 - 40 * up, 225 - 60 * up) *
+                  static_cast<float>(l.gain);
             }
           } else if (d.z() > 0.02f) {
             const float s = static_cast<float>((ceiling - t.c_vehicle.z()) / d.z());
@@ -625,11 +665,13 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
     if (solid.shape == SolidShape::kBox) {
       const Eigen::Vector2d ax(frame.cos_yaw, frame.sin_yaw), ay(-ax.y(), ax.x());
       for (int sx = -1; sx <= 1; sx += 2) {
-        for (int sy = -1; sy <= 1; sy += 2) corners.push_back(solid.center + ax * (sx * solid.half_x) + ay * (sy * solid.half_y));
+        for (int sy = -1; sy <= 1; sy += 2)
+          corners.push_back(solid.center + ax * (sx * solid.half_x) + ay * (sy * solid.half_y));
       }
     } else {
       for (int sx = -1; sx <= 1; sx += 2) {
-        for (int sy = -1; sy <= 1; sy += 2) corners.push_back(solid.center + Eigen::Vector2d(sx, sy) * solid.half_x);
+        for (int sy = -1; sy <= 1; sy += 2)
+          corners.push_back(solid.center + Eigen::Vector2d(sx, sy) * solid.half_x);
       }
     }
     const Eigen::Vector2d to = solid.center - c2;
@@ -654,7 +696,8 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
       all = true;
       nearest = 0.0;
     }
-    float lo = static_cast<float>(centre + spread_lo - 0.01), hi = static_cast<float>(centre + spread_hi + 0.01);
+    float lo = static_cast<float>(centre + spread_lo - 0.01),
+          hi = static_cast<float>(centre + spread_hi + 0.01);
     const float near_xy = static_cast<float>(nearest);
     const auto scan = [&](float a0, float a1) {
       const AzimuthIndex& index = need != nullptr ? t.needed_pixels : t.all_pixels;
@@ -710,7 +753,8 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         // lamps at the corners of its ends, a sheen at grazing angles.
         albedo *= 0.6f + 0.4f * facing + (hit.top ? 0.15f : 0.0f);
         // Sides darken downwards (they face the floor's dark, not the sky).
-        if (!hit.top) albedo *= 0.75f + 0.35f * static_cast<float>((p.z() - solid.z0) / (solid.z1 - solid.z0));
+        if (!hit.top)
+          albedo *= 0.75f + 0.35f * static_cast<float>((p.z() - solid.z0) / (solid.z1 - solid.z0));
         const double lx = local.x(), ly = local.y();
         if (!hit.top) {
           if (p.z() < solid.z0 + 0.15) albedo *= 0.55f;
@@ -732,7 +776,8 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         break;
       case SolidMaterial::kTyre: {
         // A rim on each sidewall.
-        const bool sidewall = std::abs(hit.normal.x() * -frame.sin_yaw + hit.normal.y() * frame.cos_yaw) > 0.9;
+        const bool sidewall =
+            std::abs(hit.normal.x() * -frame.sin_yaw + hit.normal.y() * frame.cos_yaw) > 0.9;
         const double r = std::hypot(local.x(), p.z() - (solid.z0 + solid.z1) / 2);
         if (sidewall && r < 0.19) albedo = r < 0.05 ? Colour(90, 90, 95) : Colour(165, 168, 172);
         albedo *= 0.7f + 0.3f * facing;
@@ -752,7 +797,8 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
         albedo = dark ? Colour(35, 35, 35) : Colour(30, 190, 230);
       }
     }
-    cv::Vec3f& out = radiance.at<cv::Vec3f>(static_cast<int>(i) / t.width, static_cast<int>(i) % t.width);
+    cv::Vec3f& out =
+        radiance.at<cv::Vec3f>(static_cast<int>(i) / t.width, static_cast<int>(i) % t.width);
     for (int k = 0; k < 3; ++k) out[k] = albedo[k] * lit * tint[k];
     if (solid_mask != nullptr) solid_mask->data[i] = 255;
   }
@@ -776,8 +822,9 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
 
 // The camera: exposure, white balance, vignetting, defocus, motion blur,
 // glare, a dirty lens, noise, and compression.
-void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& table, float auto_gain,
-                                    bool full, cv::Mat* radiance, cv::Mat* out8) const {
+void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& table,
+                                    float auto_gain, bool full, cv::Mat* radiance,
+                                    cv::Mat* out8) const {
   cv::Mat& img = *radiance;
   cv::RNG rng(MixSeed(look.seed, 0xca));
   for (int s = 0; s < look.dirt_spots; ++s) {
@@ -791,7 +838,8 @@ void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& t
     const float strength = static_cast<float>(rng.uniform(0.4, 0.9));
     for (int r = 0; r < roi.height; ++r) {
       for (int c = 0; c < roi.width; ++c) {
-        const float dx = static_cast<float>(roi.x + c - centre.x), dy = static_cast<float>(roi.y + r - centre.y);
+        const float dx = static_cast<float>(roi.x + c - centre.x),
+                    dy = static_cast<float>(roi.y + r - centre.y);
         const float a = strength * std::exp(-(dx * dx + dy * dy) / (0.35f * radius * radius));
         cv::Vec3f& p = img.at<cv::Vec3f>(roi.y + r, roi.x + c);
         const cv::Vec3f b = blurred.at<cv::Vec3f>(r, c);
@@ -808,7 +856,8 @@ void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& t
       cv::Vec3f* row = img.ptr<cv::Vec3f>(r);
       for (int c = 0; c < img.cols; ++c) {
         const float dx = c - centre.x, dy = r - centre.y;
-        const float add = static_cast<float>(look.glare) * (220.0f * std::exp(-(dx * dx + dy * dy) / (radius * radius)) + 25.0f);
+        const float add = static_cast<float>(look.glare) *
+                          (220.0f * std::exp(-(dx * dx + dy * dy) / (radius * radius)) + 25.0f);
         row[c] += cv::Vec3f(add * 0.9f, add * 0.97f, add);
       }
     }
@@ -823,7 +872,8 @@ void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& t
   const int ox1 = rng.uniform(0, kNoiseBankSize), ox2 = rng.uniform(0, kNoiseBankSize);
   const float sigma = static_cast<float>(look.noise_sigma);
   const bool masked = !full && !table.needed.empty();
-  const bool blurred = look.defocus_px > 0.3 || look.motion_blur_px >= 1.0 || look.sensor_scale < 0.98;
+  const bool blurred =
+      look.defocus_px > 0.3 || look.motion_blur_px >= 1.0 || look.sensor_scale < 0.98;
   // Without blur, one pass does all; with it, the noise comes after.
   const auto pass = [&](bool light, bool noise) {
     for (int r = 0; r < img.rows; ++r) {
@@ -901,25 +951,28 @@ const camera::TopViewFusion& SceneRenderer::FusionOf(const Scene& scene) const {
 
 const SceneRendererOptions& SceneRenderer::options() const { return impl_->options; }
 
-RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const RenderRequest& request) const {
+RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts,
+                                    const RenderRequest& request) const {
   const Impl& m = *impl_;
   const SceneRendererOptions& o = m.options;
   if (scene.cameras.size() < m.fisheyes.size()) {
-    throw std::invalid_argument("scene renderer: the scene has " + std::to_string(scene.cameras.size()) +
-                                " camera looks for " + std::to_string(m.fisheyes.size()) + " cameras");
+    throw std::invalid_argument("scene renderer: the scene has " +
+                                std::to_string(scene.cameras.size()) + " camera looks for " +
+                                std::to_string(m.fisheyes.size()) + " cameras");
   }
   const LightMap light(scene.light);
   // The floor: near at full resolution, halved, and far.
-  Canvas near(o.near_min_x_m, o.near_half_width_m, o.near_max_x_m - o.near_min_x_m, 2 * o.near_half_width_m,
-              o.near_resolution_m);
+  Canvas near(o.near_min_x_m, o.near_half_width_m, o.near_max_x_m - o.near_min_x_m,
+              2 * o.near_half_width_m, o.near_resolution_m);
   cv::Mat slot_paint;
   PaintFloor(scene, light, {}, fonts, &near, request.slot_paint ? &slot_paint : nullptr);
-  Canvas far(-o.far_half_extent_m, o.far_half_extent_m, 2 * o.far_half_extent_m, 2 * o.far_half_extent_m,
-             o.far_resolution_m);
+  Canvas far(-o.far_half_extent_m, o.far_half_extent_m, 2 * o.far_half_extent_m,
+             2 * o.far_half_extent_m, o.far_resolution_m);
   FloorPainterOptions far_options;
   far_options.draw_text = false;
   cv::Mat far_slot_paint;
-  PaintFloor(scene, light, far_options, nullptr, &far, request.slot_paint ? &far_slot_paint : nullptr);
+  PaintFloor(scene, light, far_options, nullptr, &far,
+             request.slot_paint ? &far_slot_paint : nullptr);
   // Where they overlap the far floor is the near one, shrunk: no seam.
   const cv::Rect near_in_far = m.NearInFar();
   if (near_in_far.area() > 0) {
@@ -929,13 +982,15 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
 
   Random ego_rng = Random::Derive(scene.seed, 0xe90);
   const float ego_level = static_cast<float>(ego_rng.Uniform(20, 200));
-  const Colour ego_colour(ego_level, ego_level, ego_level * static_cast<float>(ego_rng.Uniform(0.9, 1.1)));
+  const Colour ego_colour(ego_level, ego_level,
+                          ego_level * static_cast<float>(ego_rng.Uniform(0.9, 1.1)));
 
   RenderedScene out;
   std::vector<cv::Mat> solid_masks(m.fisheyes.size());
   for (size_t c = 0; c < m.fisheyes.size(); ++c) {
-    out.fisheyes.push_back(m.RenderCamera(m.fisheyes[c], scene, scene.cameras[c], atlas, light, ego_colour,
-                                          request.fisheyes, request.solids ? &solid_masks[c] : nullptr));
+    out.fisheyes.push_back(m.RenderCamera(m.fisheyes[c], scene, scene.cameras[c], atlas, light,
+                                          ego_colour, request.fisheyes,
+                                          request.solids ? &solid_masks[c] : nullptr));
   }
   const camera::TopViewFusion& fusion = FusionOf(scene);
   cv::Mat top = fusion.Fuse(out.fisheyes);
@@ -951,19 +1006,22 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
       cv::Vec3b* row = top.ptr<cv::Vec3b>(r);
       for (int c = 0; c < top.cols; ++c) {
         const int y = (29 * row[c][0] + 150 * row[c][1] + 77 * row[c][2]) >> 8;
-        for (int k = 0; k < 3; ++k) row[c][k] = cv::saturate_cast<std::uint8_t>(y + (((row[c][k] - y) * sat) >> 8));
+        for (int k = 0; k < 3; ++k)
+          row[c][k] = cv::saturate_cast<std::uint8_t>(y + (((row[c][k] - y) * sat) >> 8));
       }
     }
   }
   out.top_view = top;
   if (request.front && m.front) {
-    out.front = m.RenderCamera(*m.front, scene, scene.front_camera, atlas, light, ego_colour, true, nullptr);
+    out.front = m.RenderCamera(*m.front, scene, scene.front_camera, atlas, light, ego_colour, true,
+                               nullptr);
   }
   const auto fuse_grey = [&](const cv::Mat& atlas8, const std::vector<cv::Mat>* hide) {
     std::vector<cv::Mat> views;
     for (size_t c = 0; c < m.fisheyes.size(); ++c) {
       cv::Mat v;
-      cv::remap(atlas8, v, m.fisheyes[c].map_xy, m.fisheyes[c].map_frac, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+      cv::remap(atlas8, v, m.fisheyes[c].map_xy, m.fisheyes[c].map_frac, cv::INTER_LINEAR,
+                cv::BORDER_CONSTANT);
       cv::Mat on_ground = m.fisheyes[c].kind == kGround;
       v.setTo(0, ~on_ground);
       if (hide != nullptr && !(*hide)[c].empty()) v.setTo(0, (*hide)[c]);
@@ -972,7 +1030,8 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
     return fusion.Fuse(views);
   };
   if (request.slot_paint) {
-    out.slot_paint = fuse_grey(m.Stack(slot_paint, far_slot_paint), request.solids ? &solid_masks : nullptr);
+    out.slot_paint =
+        fuse_grey(m.Stack(slot_paint, far_slot_paint), request.solids ? &solid_masks : nullptr);
   }
   if (request.solids) {
     std::vector<cv::Mat> masks = solid_masks;
@@ -986,7 +1045,9 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
       for (const MarkingPoint& mark : scene.marks) {
         const Eigen::Vector2d px = canvas.PixelOf(mark.p_vehicle);
         const int radius = std::max(4, static_cast<int>(0.02 / canvas.resolution_m * 16));
-        cv::circle(level, cv::Point(static_cast<int>(std::lround(px.x() * 16)), static_cast<int>(std::lround(px.y() * 16))),
+        cv::circle(level,
+                   cv::Point(static_cast<int>(std::lround(px.x() * 16)),
+                             static_cast<int>(std::lround(px.y() * 16))),
                    radius, cv::Scalar(255), -1, cv::LINE_AA, 4);
       }
     };
@@ -1000,11 +1061,12 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts, const R
   return out;
 }
 
-std::optional<Eigen::Vector2d> SceneRenderer::FusedPixelOf(const Scene& scene, const Eigen::Vector2d& p_vehicle) const {
+std::optional<Eigen::Vector2d> SceneRenderer::FusedPixelOf(const Scene& scene,
+                                                           const Eigen::Vector2d& p_vehicle) const {
   const Impl& m = *impl_;
   const camera::TopViewFusion& fusion = FusionOf(scene);
-  const camera::CameraRig& fusion_rig =
-      m.fusion_rigs[static_cast<size_t>(std::clamp(scene.fusion_calibration, 0, static_cast<int>(m.fusion_rigs.size()) - 1))];
+  const camera::CameraRig& fusion_rig = m.fusion_rigs[static_cast<size_t>(
+      std::clamp(scene.fusion_calibration, 0, static_cast<int>(m.fusion_rigs.size()) - 1))];
   const Eigen::Vector3d P(p_vehicle.x(), p_vehicle.y(), 0.0);
   // Where camera c shows P in the fusion: the true camera sees P at a pixel;
   // the fusion, believing its own extrinsics, puts that pixel's ground
@@ -1023,7 +1085,8 @@ std::optional<Eigen::Vector2d> SceneRenderer::FusedPixelOf(const Scene& scene, c
     return fusion.VehicleToPixel((o + d * (o.z() / -d.z())).head<2>());
   };
   const auto round = [](const Eigen::Vector2d& q) {
-    return std::pair<int, int>(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())));
+    return std::pair<int, int>(static_cast<int>(std::lround(q.x())),
+                               static_cast<int>(std::lround(q.y())));
   };
   // The camera the fusion uses there depends on where "there" is: iterate.
   // Near a seam with a stale calibration the two cameras may each put the

@@ -55,7 +55,8 @@ struct SceneRendererOptions {
   // the fusion (camera::TopViewOptions::camera_priority_rad), in
   // fisheye_names' order. Real units let the side cameras cover more or
   // less of the corners.
-  std::vector<std::vector<double>> seam_layouts = {{0, 0, 0, 0}, {0, 0, 0.25, 0.25}, {0, 0, 0.5, 0.5}};
+  std::vector<std::vector<double>> seam_layouts = {
+      {0, 0, 0, 0}, {0, 0, 0.25, 0.25}, {0, 0, 0.5, 0.5}};
   double calibration_rotation_sigma_rad = 0.006;
   double calibration_translation_sigma_m = 0.015;
   std::uint64_t calibration_seed = 20261123;
@@ -93,12 +94,14 @@ class SceneRenderer {
 
   // Deterministic: the same scene gives the same bytes. `fonts` may be
   // null (no text is painted then).
-  RenderedScene Render(const Scene& scene, FontBook* fonts, const RenderRequest& request = {}) const;
+  RenderedScene Render(const Scene& scene, FontBook* fonts,
+                       const RenderRequest& request = {}) const;
 
   // The top-view pixel (0-based) where the ground point p_vehicle shows in
   // the scene's fused view: seen by the true rig, fused with the scene's
   // calibration. Empty where no camera sees it.
-  std::optional<Eigen::Vector2d> FusedPixelOf(const Scene& scene, const Eigen::Vector2d& p_vehicle) const;
+  std::optional<Eigen::Vector2d> FusedPixelOf(const Scene& scene,
+                                              const Eigen::Vector2d& p_vehicle) const;
 
   // The fusion that a scene's unit uses: its calibration and seam layout.
   const camera::TopViewFusion& FusionOf(const Scene& scene) const;

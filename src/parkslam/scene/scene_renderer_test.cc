@@ -91,16 +91,18 @@ TEST(SceneRendererTest, LabelledMarkingPointsLieOnTheirRenderedJunctions) {
       worst_px = std::max(worst_px, (*centroid - m.px).norm());
       EXPECT_LT((*centroid - m.px).norm(), 1.0) << "seed " << seed << " at " << m.px.transpose();
       // On paint: the clean slot lines cover the labelled pixel.
-      const int x = static_cast<int>(std::lround(m.px.x())), y = static_cast<int>(std::lround(m.px.y()));
-      EXPECT_GE(r.slot_paint.at<std::uint8_t>(y, x), 128) << "seed " << seed << " at " << m.px.transpose();
+      const int x = static_cast<int>(std::lround(m.px.x())),
+                y = static_cast<int>(std::lround(m.px.y()));
+      EXPECT_GE(r.slot_paint.at<std::uint8_t>(y, x), 128)
+          << "seed " << seed << " at " << m.px.transpose();
       ++checked;
       if (scene.fusion_calibration > 0) ++perturbed;
     }
   }
   EXPECT_GT(checked, 100);
   EXPECT_GT(perturbed, 30);
-  std::printf("%d labelled marking points checked (%d with a stale calibration), worst %.2f px\n", checked,
-              perturbed, worst_px);
+  std::printf("%d labelled marking points checked (%d with a stale calibration), worst %.2f px\n",
+              checked, perturbed, worst_px);
 }
 
 TEST(SceneRendererTest, SolidsHideTheFloorAndItsLabels) {
@@ -109,7 +111,8 @@ TEST(SceneRendererTest, SolidsHideTheFloorAndItsLabels) {
   ASSERT_FALSE(scene.marks.empty());
   RenderRequest request;
   request.solids = true;
-  const TopViewLabels before = LabelTopView(Renderer(), scene, Renderer().Render(scene, nullptr, request));
+  const TopViewLabels before =
+      LabelTopView(Renderer(), scene, Renderer().Render(scene, nullptr, request));
   ASSERT_FALSE(before.marks.empty());
   const MarkingPoint& hidden = scene.marks[static_cast<size_t>(before.marks.front().scene_mark)];
   Solid box;

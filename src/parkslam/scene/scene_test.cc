@@ -82,7 +82,8 @@ TEST(SceneTest, SolidsKeepOffTheCar) {
   for (std::uint64_t seed = 0; seed < 200; ++seed) {
     for (const Solid& solid : SampleScene(seed).solids) {
       if (solid.shape != SolidShape::kBox || solid.half_x > 5) continue;
-      const bool inside = solid.center.x() > -1.0 && solid.center.x() < 3.7 && std::abs(solid.center.y()) < 0.925;
+      const bool inside =
+          solid.center.x() > -1.0 && solid.center.x() < 3.7 && std::abs(solid.center.y()) < 0.925;
       EXPECT_FALSE(inside) << "seed " << seed;
     }
   }

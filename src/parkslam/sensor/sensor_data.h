@@ -129,8 +129,8 @@ struct CameraFrame {
 };
 
 // One element of the sensor stream.
-using SensorEvent = std::variant<WheelSpeed, SteeringAngle, ImuSample,
-                                 SlotObservationFrame, TagObservationFrame, CameraFrame>;
+using SensorEvent = std::variant<WheelSpeed, SteeringAngle, ImuSample, SlotObservationFrame,
+                                 TagObservationFrame, CameraFrame>;
 
 inline TimeNs EventTime(const SensorEvent& event) {
   return std::visit([](const auto& e) { return e.t_ns; }, event);

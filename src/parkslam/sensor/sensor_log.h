@@ -36,8 +36,7 @@ class SensorLogSource final : public SensorSource {
 
  private:
   const SensorLog& log_;
-  std::size_t next_wheel_ = 0, next_steering_ = 0, next_imu_ = 0,
-              next_slots_ = 0, next_tags_ = 0;
+  std::size_t next_wheel_ = 0, next_steering_ = 0, next_imu_ = 0, next_slots_ = 0, next_tags_ = 0;
 };
 
 }  // namespace parkslam

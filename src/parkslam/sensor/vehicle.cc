@@ -30,12 +30,10 @@ bool VehicleParameters::IsValid(std::string* error) const {
     return fail(Range("steering_ratio", kMinSteeringRatio, kMaxSteeringRatio));
   if (!(max_road_wheel_angle_rad > kMinRoadWheelAngle_rad &&
         max_road_wheel_angle_rad < kMaxRoadWheelAngle_rad))
-    return fail(Range("max_road_wheel_angle_rad", kMinRoadWheelAngle_rad,
-                      kMaxRoadWheelAngle_rad));
+    return fail(Range("max_road_wheel_angle_rad", kMinRoadWheelAngle_rad, kMaxRoadWheelAngle_rad));
   if (!(max_road_wheel_rate_radps > 0.0 && max_road_wheel_rate_radps <= kMaxRoadWheelRate_radps))
     return fail(Range("max_road_wheel_rate_radps", 0.0, kMaxRoadWheelRate_radps, true));
-  if (!(length_m > 0.0 && width_m > 0.0 && rear_overhang_m >= 0.0 &&
-        rear_overhang_m < length_m))
+  if (!(length_m > 0.0 && width_m > 0.0 && rear_overhang_m >= 0.0 && rear_overhang_m < length_m))
     return fail("vehicle dimensions must be positive, rear_overhang_m < length_m");
   if (!(length_m <= kMaxVehicleLength_m))
     return fail(Range("length_m", 0.0, kMaxVehicleLength_m, true));

@@ -10,7 +10,7 @@ namespace parkslam {
 // y left (DESIGN.md 3).
 struct VehicleParameters {
   double wheelbase_m = 2.7;
-  double steering_ratio = 15.0;          // steering-wheel angle / road-wheel angle
+  double steering_ratio = 15.0;            // steering-wheel angle / road-wheel angle
   double max_road_wheel_angle_rad = 0.61;  // 35 degrees
   double max_road_wheel_rate_radps = 0.5;
   double length_m = 4.7;

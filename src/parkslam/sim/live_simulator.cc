@@ -32,8 +32,7 @@ double LimitSpeed(double speed_mps, double command_mps, double max_accel_step_mp
   if (speed_mps < 0.0 && command_mps > speed_mps) {
     return std::min({speed_mps + max_decel_step_mps, command_mps, 0.0});
   }
-  return speed_mps + std::clamp(command_mps - speed_mps, -max_accel_step_mps,
-                                max_accel_step_mps);
+  return speed_mps + std::clamp(command_mps - speed_mps, -max_accel_step_mps, max_accel_step_mps);
 }
 
 // The road-wheel angle after one step towards `command_rad`, within the
@@ -43,8 +42,8 @@ double LimitSteering(double angle_rad, double command_rad, double dt_s,
   const double max_angle = vehicle.max_road_wheel_angle_rad;
   const double max_step = vehicle.max_road_wheel_rate_radps * dt_s;
   const double target = std::clamp(command_rad, -max_angle, max_angle);
-  return std::clamp(angle_rad + std::clamp(target - angle_rad, -max_step, max_step),
-                    -max_angle, max_angle);
+  return std::clamp(angle_rad + std::clamp(target - angle_rad, -max_step, max_step), -max_angle,
+                    max_angle);
 }
 
 }  // namespace
@@ -56,8 +55,9 @@ bool VehicleDynamics::IsValid(std::string* error) const {
     return true;
   }
   if (error != nullptr) {
-    *error = "dynamics: actuator_delay_s in [0, 2], speed_lag_s in [0, 10], "
-             "understeer_gradient_rad_per_mps2 and sideslip_rad_per_mps2 in [0, 0.1]";
+    *error =
+        "dynamics: actuator_delay_s in [0, 2], speed_lag_s in [0, 10], "
+        "understeer_gradient_rad_per_mps2 and sideslip_rad_per_mps2 in [0, 0.1]";
   }
   return false;
 }
@@ -80,8 +80,7 @@ bool LiveSimulatorOptions::IsValid(std::string* error) const {
 }
 
 LiveSimulator::LiveSimulator(const ScenarioConfig& scenario, std::uint64_t seed,
-                             const SE2& T_map_vehicle_start,
-                             const LiveSimulatorOptions& options)
+                             const SE2& T_map_vehicle_start, const LiveSimulatorOptions& options)
     : scenario_(Validated(scenario, options)),
       dynamics_(options.dynamics),
       step_s_(1.0 / options.step_hz),
@@ -145,9 +144,7 @@ const VehicleState& LiveSimulator::Step(double speed_command_mps,
   return state_;
 }
 
-void LiveSimulator::Teleport(const SE2& T_map_vehicle) {
-  state_.T_map_vehicle = T_map_vehicle;
-}
+void LiveSimulator::Teleport(const SE2& T_map_vehicle) { state_.T_map_vehicle = T_map_vehicle; }
 
 VehicleState LiveSimulator::StateAt(TimeNs t_ns) const {
   if (t_ns >= state_.t_ns) return state_;
@@ -168,13 +165,14 @@ VehicleState LiveSimulator::Move(const VehicleState& start, double speed_mps, do
   // angle that acts is smaller by the understeer (never past straight).
   const double lateral_mps2 = speed_mps * speed_mps * std::tan(angle_rad) / vehicle.wheelbase_m;
   const double lost = dynamics_.understeer_gradient_rad_per_mps2 * std::abs(lateral_mps2);
-  const double acting = angle_rad > 0.0 ? std::max(0.0, angle_rad - lost)
-                                        : std::min(0.0, angle_rad + lost);
+  const double acting =
+      angle_rad > 0.0 ? std::max(0.0, angle_rad - lost) : std::min(0.0, angle_rad + lost);
   VehicleState next = StepBicycle(start, speed_mps, acting, dt_s, vehicle);
   // The body moves outwards of its heading: the displacement turns by the
   // sideslip angle, away from the turn's centre.
   const double sideslip = -dynamics_.sideslip_rad_per_mps2 * speed_mps * next.yaw_rate_radps;
-  const Eigen::Vector2d moved = next.T_map_vehicle.translation() - start.T_map_vehicle.translation();
+  const Eigen::Vector2d moved =
+      next.T_map_vehicle.translation() - start.T_map_vehicle.translation();
   const Eigen::Vector2d slipped = Eigen::Rotation2Dd(sideslip) * moved;
   next.T_map_vehicle = SE2(start.T_map_vehicle.translation() + slipped, next.T_map_vehicle.yaw());
   next.road_wheel_angle_rad = angle_rad;  // what the steering sensor reads
@@ -191,13 +189,12 @@ SensorEvent LiveSimulator::Measure(Sensor sensor, const VehicleState& true_state
     case kImu:
       return odometry_.MeasureImu(true_state, t_ns, clocks_[kImu].period_s);
     case kSlots:
-      return SimulateSlotFrame(world_, true_state.T_map_vehicle, t_ns, scenario_.sensors,
-                               slot_rng_, &last_slot_labels_);
+      return SimulateSlotFrame(world_, true_state.T_map_vehicle, t_ns, scenario_.sensors, slot_rng_,
+                               &last_slot_labels_);
     case kTags:
       break;
   }
-  return SimulateTagFrame(world_, true_state.T_map_vehicle, t_ns, scenario_.sensors.tags,
-                          tag_rng_);
+  return SimulateTagFrame(world_, true_state.T_map_vehicle, t_ns, scenario_.sensors.tags, tag_rng_);
 }
 
 }  // namespace parkslam::sim

@@ -65,8 +65,8 @@ class LiveSimulator {
   // scenario.vehicle; speed and steering start at zero, the time at 0.
   // Throws std::invalid_argument when the scenario or the options are
   // invalid (the message names the field).
-  LiveSimulator(const ScenarioConfig& scenario, std::uint64_t seed,
-                const SE2& T_map_vehicle_start, const LiveSimulatorOptions& options = {});
+  LiveSimulator(const ScenarioConfig& scenario, std::uint64_t seed, const SE2& T_map_vehicle_start,
+                const LiveSimulatorOptions& options = {});
 
   // Advances one step of 1 / step_hz. With options.dynamics, the commands
   // act late, the speed lags and the tyres slip (VehicleDynamics); then the

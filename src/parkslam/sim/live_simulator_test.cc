@@ -36,8 +36,7 @@ std::vector<T> EventsOf(const std::vector<SensorEvent>& events) {
 
 // Every number an event carries, for exact comparisons.
 std::vector<double> Flatten(const SensorEvent& event) {
-  std::vector<double> v{static_cast<double>(event.index()),
-                        static_cast<double>(EventTime(event))};
+  std::vector<double> v{static_cast<double>(event.index()), static_cast<double>(EventTime(event))};
   if (const auto* w = std::get_if<WheelSpeed>(&event)) v.push_back(w->speed_mps);
   if (const auto* s = std::get_if<SteeringAngle>(&event)) v.push_back(s->steering_wheel_rad);
   if (const auto* m = std::get_if<ImuSample>(&event)) {
@@ -51,8 +50,8 @@ std::vector<double> Flatten(const SensorEvent& event) {
   }
   if (const auto* f = std::get_if<TagObservationFrame>(&event)) {
     for (const TagObservation& o : f->tags) {
-      v.insert(v.end(), {static_cast<double>(o.tag_id), o.range_m, o.bearing_rad,
-                         o.yaw_vehicle_rad});
+      v.insert(v.end(),
+               {static_cast<double>(o.tag_id), o.range_m, o.bearing_rad, o.yaw_vehicle_rad});
     }
   }
   return v;
@@ -71,14 +70,15 @@ TEST(LiveSimulatorTest, SameSeedSameEvents) {
   int tags_seen = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     ASSERT_EQ(Flatten(a[i]), Flatten(b[i])) << i;
-    if (const auto* f = std::get_if<TagObservationFrame>(&a[i])) tags_seen += static_cast<int>(f->tags.size());
+    if (const auto* f = std::get_if<TagObservationFrame>(&a[i]))
+      tags_seen += static_cast<int>(f->tags.size());
   }
   EXPECT_GT(tags_seen, 100);  // the comparison covered tag observations
 }
 
 TEST(LiveSimulatorTest, OtherSeedOtherNoise) {
   const std::vector<SensorEvent> a = WeavingDrive(5), b = WeavingDrive(6);
-  ASSERT_EQ(a.size(), b.size());  // the same schedule...
+  ASSERT_EQ(a.size(), b.size());              // the same schedule...
   EXPECT_NE(Flatten(a[10]), Flatten(b[10]));  // ...with other noise
 }
 

@@ -36,8 +36,8 @@ ReferencePath BuildReferencePath(const RouteConfig& route, Random& rng) {
     const double length_m = (b - a).norm();
     if (i > 0) {
       const Eigen::Vector2d in = a - waypoints[i - 1];
-      const double turn = std::abs(AngleDiff(std::atan2((b - a).y(), (b - a).x()),
-                                             std::atan2(in.y(), in.x())));
+      const double turn =
+          std::abs(AngleDiff(std::atan2((b - a).y(), (b - a).x()), std::atan2(in.y(), in.x())));
       if (turn > kTurnAngleRad) turn_at_s.push_back(s0);
     }
     const int steps = std::max(1, static_cast<int>(std::ceil(length_m / kPathStepM)));
@@ -60,9 +60,9 @@ ReferencePath BuildReferencePath(const RouteConfig& route, Random& rng) {
     const size_t h = j == i ? i - 1 : i;
     const Eigen::Vector2d tangent = (path.points_m[j] - path.points_m[h]).normalized();
     const Eigen::Vector2d left(-tangent.y(), tangent.x());
-    const double offset = route.lateral_wander_m *
-                          (0.6 * std::sin(2 * kPi * arc[i] / 37.0 + phase1) +
-                           0.4 * std::sin(2 * kPi * arc[i] / 13.0 + phase2));
+    const double offset =
+        route.lateral_wander_m * (0.6 * std::sin(2 * kPi * arc[i] / 37.0 + phase1) +
+                                  0.4 * std::sin(2 * kPi * arc[i] / 13.0 + phase2));
     wandered[i] = path.points_m[i] + offset * left;
   }
   path.points_m = wandered;
@@ -85,17 +85,17 @@ ReferencePath BuildReferencePath(const RouteConfig& route, Random& rng) {
   path.target_speed_mps.back() = 0.0;
   for (size_t i = 1; i < n; ++i) {
     const double ds = arc[i] - arc[i - 1];
-    path.target_speed_mps[i] = std::min(
-        path.target_speed_mps[i],
-        std::sqrt(path.target_speed_mps[i - 1] * path.target_speed_mps[i - 1] +
-                  2 * route.max_accel_mps2 * ds));
+    path.target_speed_mps[i] =
+        std::min(path.target_speed_mps[i],
+                 std::sqrt(path.target_speed_mps[i - 1] * path.target_speed_mps[i - 1] +
+                           2 * route.max_accel_mps2 * ds));
   }
   for (size_t i = n - 1; i-- > 0;) {
     const double ds = arc[i + 1] - arc[i];
-    path.target_speed_mps[i] = std::min(
-        path.target_speed_mps[i],
-        std::sqrt(path.target_speed_mps[i + 1] * path.target_speed_mps[i + 1] +
-                  2 * route.max_decel_mps2 * ds));
+    path.target_speed_mps[i] =
+        std::min(path.target_speed_mps[i],
+                 std::sqrt(path.target_speed_mps[i + 1] * path.target_speed_mps[i + 1] +
+                           2 * route.max_decel_mps2 * ds));
   }
   return path;
 }
@@ -116,9 +116,8 @@ std::vector<Eigen::Vector2d> RouteWaypoints(const RouteConfig& route) {
   return unique;
 }
 
-VehicleState StepBicycle(const VehicleState& state, double speed_mps,
-                         double road_wheel_angle_rad, double dt_s,
-                         const VehicleParameters& vehicle) {
+VehicleState StepBicycle(const VehicleState& state, double speed_mps, double road_wheel_angle_rad,
+                         double dt_s, const VehicleParameters& vehicle) {
   const double yaw_rate = speed_mps * std::tan(road_wheel_angle_rad) / vehicle.wheelbase_m;
   const double yaw0 = state.T_map_vehicle.yaw();
   const double dyaw = yaw_rate * dt_s;
@@ -139,8 +138,7 @@ VehicleState StepBicycle(const VehicleState& state, double speed_mps,
   return next;
 }
 
-std::vector<VehicleState> DriveRoute(const RouteConfig& route,
-                                     const VehicleParameters& vehicle,
+std::vector<VehicleState> DriveRoute(const RouteConfig& route, const VehicleParameters& vehicle,
                                      std::uint64_t seed) {
   Random rng = Random::Derive(seed, kDriverStreamTag);
   const ReferencePath path = BuildReferencePath(route, rng);
@@ -155,8 +153,8 @@ std::vector<VehicleState> DriveRoute(const RouteConfig& route,
 
   size_t nearest = 0;
   double speed = 0.0, steer = 0.0;
-  const double max_steps = 10.0 * path.length_m / (route.turn_speed_kmh / 3.6) /
-                               dt_s + 10.0 * route.sample_rate_hz;
+  const double max_steps =
+      10.0 * path.length_m / (route.turn_speed_kmh / 3.6) / dt_s + 10.0 * route.sample_rate_hz;
   for (int step = 0; step < max_steps; ++step) {
     const Eigen::Vector2d p = state.T_map_vehicle.translation();
     // Advance the nearest path index along the path (never backwards).
@@ -173,11 +171,10 @@ std::vector<VehicleState> DriveRoute(const RouteConfig& route,
     // Pure pursuit: steer onto the arc through a point lookahead ahead.
     const double lookahead_m = route.lookahead_m + 0.5 * speed;
     const size_t target = std::min(n - 1, nearest + static_cast<size_t>(lookahead_m / kPathStepM));
-    const Eigen::Vector2d to_target =
-        state.T_map_vehicle.inverse() * path.points_m[target];
+    const Eigen::Vector2d to_target = state.T_map_vehicle.inverse() * path.points_m[target];
     const double distance = std::max(to_target.norm(), 0.5);
-    const double steer_cmd = std::atan(2.0 * vehicle.wheelbase_m * to_target.y() /
-                                       (distance * distance));
+    const double steer_cmd =
+        std::atan(2.0 * vehicle.wheelbase_m * to_target.y() / (distance * distance));
     const double max_delta = vehicle.max_road_wheel_rate_radps * dt_s;
     steer += std::clamp(steer_cmd - steer, -max_delta, max_delta);
     steer = std::clamp(steer, -vehicle.max_road_wheel_angle_rad, vehicle.max_road_wheel_angle_rad);
@@ -185,8 +182,8 @@ std::vector<VehicleState> DriveRoute(const RouteConfig& route,
     // Speed: aim at the profile half a metre ahead, within the limits.
     const size_t ahead = std::min(n - 1, nearest + 5);
     const double speed_cmd = remaining_m < 0.6 ? 0.0 : std::max(path.target_speed_mps[ahead], 0.15);
-    speed += std::clamp(speed_cmd - speed, -route.max_decel_mps2 * dt_s,
-                        route.max_accel_mps2 * dt_s);
+    speed +=
+        std::clamp(speed_cmd - speed, -route.max_decel_mps2 * dt_s, route.max_accel_mps2 * dt_s);
     speed = std::max(speed, 0.0);
 
     state = StepBicycle(state, speed, steer, dt_s, vehicle);

@@ -18,16 +18,14 @@ std::vector<Eigen::Vector2d> RouteWaypoints(const RouteConfig& route);
 // Kinematic bicycle model about the rear axle:
 //   x' = v cos(yaw), y' = v sin(yaw), yaw' = v tan(delta) / wheelbase.
 // One explicit step of dt_s with exact integration along the arc.
-VehicleState StepBicycle(const VehicleState& state, double speed_mps,
-                         double road_wheel_angle_rad, double dt_s,
-                         const VehicleParameters& vehicle);
+VehicleState StepBicycle(const VehicleState& state, double speed_mps, double road_wheel_angle_rad,
+                         double dt_s, const VehicleParameters& vehicle);
 
 // A human-like drive along the route: a pure-pursuit driver follows the
 // waypoint polyline with a smooth lateral wander, within the vehicle's
 // steering limits, with speeds that slow for turns and respect acceleration
 // limits; it starts and ends at rest. Deterministic by seed.
-std::vector<VehicleState> DriveRoute(const RouteConfig& route,
-                                     const VehicleParameters& vehicle,
+std::vector<VehicleState> DriveRoute(const RouteConfig& route, const VehicleParameters& vehicle,
                                      std::uint64_t seed);
 
 }  // namespace parkslam::sim

@@ -40,12 +40,10 @@ class Checker {
     Require(std::isfinite(value) && value > 0.0, field, "must be positive");
   }
   void NonNegative(double value, const std::string& field) {
-    Require(std::isfinite(value) && value >= 0.0, field,
-            "must be non-negative");
+    Require(std::isfinite(value) && value >= 0.0, field, "must be non-negative");
   }
   // value in [min, max]; unit after the limits in the message ("" for none).
-  void InRange(double value, double min, double max, const std::string& field,
-               const char* unit) {
+  void InRange(double value, double min, double max, const std::string& field, const char* unit) {
     if (!ok_ || (value >= min && value <= max)) return;
     Require(false, field, "must be in [" + Limit(min) + ", " + Limit(max) + "]" + Unit(unit));
   }
@@ -82,10 +80,10 @@ void CheckWorld(const WorldConfig& w, Checker& c) {
   c.Require(!w.name.empty(), "world.name", "must not be empty");
   c.Require(w.seed >= 0, "world.seed", "must be non-negative");
   CheckRegion(w.hall, "world.hall", c);
-  c.InRange(w.hall.max_x_m - w.hall.min_x_m, kMinHallSide_m, kMaxHallSide_m,
-            "world.hall", "m (max_x_m - min_x_m)");
-  c.InRange(w.hall.max_y_m - w.hall.min_y_m, kMinHallSide_m, kMaxHallSide_m,
-            "world.hall", "m (max_y_m - min_y_m)");
+  c.InRange(w.hall.max_x_m - w.hall.min_x_m, kMinHallSide_m, kMaxHallSide_m, "world.hall",
+            "m (max_x_m - min_x_m)");
+  c.InRange(w.hall.max_y_m - w.hall.min_y_m, kMinHallSide_m, kMaxHallSide_m, "world.hall",
+            "m (max_y_m - min_y_m)");
   if (w.corridor) {
     c.PositiveAtMost(w.corridor_length_m, kMaxHallSide_m, "world.corridor_length_m", "m");
     c.InRange(w.corridor_width_m, kMinCorridorWidth_m, kMaxCorridorWidth_m,
@@ -106,8 +104,7 @@ void CheckWorld(const WorldConfig& w, Checker& c) {
     c.Magnitude(r.direction_deg, kMaxAngle_deg, p + "direction_deg", "deg");
     c.Require(r.group_size >= 0, p + "group_size", "must be non-negative");
     c.InRange(r.group_gap_m, 0.0, kMaxHallSide_m, p + "group_gap_m", "m");
-    c.Require(r.first_id >= 0 && r.id_step >= 0, p + "first_id",
-              "IDs must be non-negative");
+    c.Require(r.first_id >= 0 && r.id_step >= 0, p + "first_id", "IDs must be non-negative");
     c.Require(r.id_digits >= 1 && r.id_digits <= 4, p + "id_digits", "must be in [1, 4]");
     c.Point(r.origin_m, p + "origin_m");
   }
@@ -120,8 +117,7 @@ void CheckWorld(const WorldConfig& w, Checker& c) {
       if (static_cast<int>(id.size()) < r.id_digits) {
         id.insert(0, static_cast<size_t>(r.id_digits) - id.size(), '0');
       }
-      c.Require(painted.insert(id).second,
-                "world.rows[" + std::to_string(i) + "].first_id",
+      c.Require(painted.insert(id).second, "world.rows[" + std::to_string(i) + "].first_id",
                 "gives a painted ID that another slot already has");
       if (!c.ok()) break;
     }
@@ -146,8 +142,8 @@ void CheckWaypoints(const std::vector<Eigen::Vector2d>& points, const std::strin
 }
 
 void CheckRoute(const RouteConfig& r, Checker& c) {
-  c.Require(r.approach_m.size() + r.loop_m.size() + r.finish_m.size() >= 2,
-            "route", "needs at least two waypoints");
+  c.Require(r.approach_m.size() + r.loop_m.size() + r.finish_m.size() >= 2, "route",
+            "needs at least two waypoints");
   CheckWaypoints(r.approach_m, "route.approach_m", c);
   CheckWaypoints(r.loop_m, "route.loop_m", c);
   CheckWaypoints(r.finish_m, "route.finish_m", c);
@@ -164,8 +160,8 @@ void CheckRoute(const RouteConfig& r, Checker& c) {
   c.PositiveAtMost(r.max_decel_mps2, kMaxAcceleration_mps2, "route.max_decel_mps2", "m/s^2");
   c.InRange(r.lookahead_m, 1.0, kMaxHallSide_m, "route.lookahead_m", "m");
   c.InRange(r.lateral_wander_m, 0.0, kMaxHallSide_m, "route.lateral_wander_m", "m");
-  c.InRange(r.sample_rate_hz, kMinRouteSampleRate_hz, kMaxSensorRate_hz,
-            "route.sample_rate_hz", "Hz");
+  c.InRange(r.sample_rate_hz, kMinRouteSampleRate_hz, kMaxSensorRate_hz, "route.sample_rate_hz",
+            "Hz");
 }
 
 void CheckSensors(const SensorConfig& s, Checker& c) {
@@ -173,46 +169,46 @@ void CheckSensors(const SensorConfig& s, Checker& c) {
   const std::string odometry = "sensors.odometry.";
   c.InRange(o.wheel_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz, odometry + "wheel_rate_hz",
             "Hz");
-  c.InRange(o.steering_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz,
-            odometry + "steering_rate_hz", "Hz");
+  c.InRange(o.steering_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz, odometry + "steering_rate_hz",
+            "Hz");
   c.InRange(o.imu_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz, odometry + "imu_rate_hz", "Hz");
   // A noise no larger than the plausible magnitude of what it disturbs.
-  c.InRange(o.wheel_speed_sigma_mps, 0.0, kMaxWheelSpeed_mps,
-            odometry + "wheel_speed_sigma_mps", "m/s");
-  c.InRange(o.wheel_speed_scale_sigma, 0.0, kMaxRelativeSigma,
-            odometry + "wheel_speed_scale_sigma", "");
+  c.InRange(o.wheel_speed_sigma_mps, 0.0, kMaxWheelSpeed_mps, odometry + "wheel_speed_sigma_mps",
+            "m/s");
+  c.InRange(o.wheel_speed_scale_sigma, 0.0, kMaxRelativeSigma, odometry + "wheel_speed_scale_sigma",
+            "");
   c.InRange(o.steering_wheel_sigma_rad, 0.0, kMaxSteeringWheelAngle_rad,
             odometry + "steering_wheel_sigma_rad", "rad");
   c.InRange(o.gyro_sigma_radps, 0.0, kMaxYawRate_radps, odometry + "gyro_sigma_radps", "rad/s");
-  c.InRange(o.gyro_bias_sigma_radps, 0.0, kMaxYawRate_radps,
-            odometry + "gyro_bias_sigma_radps", "rad/s");
+  c.InRange(o.gyro_bias_sigma_radps, 0.0, kMaxYawRate_radps, odometry + "gyro_bias_sigma_radps",
+            "rad/s");
   c.InRange(o.gyro_bias_walk_radps_per_sqrt_s, 0.0, kMaxYawRate_radps,
             odometry + "gyro_bias_walk_radps_per_sqrt_s", "rad/s/sqrt(s)");
   c.InRange(o.heading_sigma_rad, 0.0, kMaxAngleSigma_rad, odometry + "heading_sigma_rad", "rad");
-  c.InRange(o.heading_bias_sigma_rad, 0.0, kMaxAngleSigma_rad,
-            odometry + "heading_bias_sigma_rad", "rad");
+  c.InRange(o.heading_bias_sigma_rad, 0.0, kMaxAngleSigma_rad, odometry + "heading_bias_sigma_rad",
+            "rad");
   c.InRange(o.heading_bias_walk_rad_per_sqrt_s, 0.0, kMaxAngleSigma_rad,
             odometry + "heading_bias_walk_rad_per_sqrt_s", "rad/sqrt(s)");
 
   const SlotSensorConfig& sl = s.slots;
   c.InRange(sl.rate_hz, kMinSensorRate_hz, kMaxCameraRate_hz, "sensors.slots.rate_hz", "Hz");
-  c.InRange(sl.view_length_m, kMinTopViewSide_m, kMaxTopViewSide_m,
-            "sensors.slots.view_length_m", "m");
-  c.InRange(sl.view_width_m, kMinTopViewSide_m, kMaxTopViewSide_m,
-            "sensors.slots.view_width_m", "m");
+  c.InRange(sl.view_length_m, kMinTopViewSide_m, kMaxTopViewSide_m, "sensors.slots.view_length_m",
+            "m");
+  c.InRange(sl.view_width_m, kMinTopViewSide_m, kMaxTopViewSide_m, "sensors.slots.view_width_m",
+            "m");
   c.Magnitude(sl.view_center_x_m, kMaxTopViewSide_m / 2, "sensors.slots.view_center_x_m", "m");
   c.NonNegative(sl.corner_sigma_m, "sensors.slots.corner_sigma_m");
-  c.InRange(sl.corner_sigma_per_m, 0.0, kMaxRelativeSigma, "sensors.slots.corner_sigma_per_m",
-            "");
+  c.InRange(sl.corner_sigma_per_m, 0.0, kMaxRelativeSigma, "sensors.slots.corner_sigma_per_m", "");
   // The sigma of a corner anywhere in the view, as observations carry it.
-  c.Require(sl.corner_sigma_m + sl.corner_sigma_per_m * std::hypot(sl.view_length_m,
-                                                                   sl.view_width_m) <=
-                kMaxPositionSigma_m,
-            "sensors.slots.corner_sigma_m",
-            "grows beyond " + Limit(kMaxPositionSigma_m) +
-                " m across the view (corner_sigma_m + corner_sigma_per_m * view diagonal)");
+  c.Require(
+      sl.corner_sigma_m + sl.corner_sigma_per_m * std::hypot(sl.view_length_m, sl.view_width_m) <=
+          kMaxPositionSigma_m,
+      "sensors.slots.corner_sigma_m",
+      "grows beyond " + Limit(kMaxPositionSigma_m) +
+          " m across the view (corner_sigma_m + corner_sigma_per_m * view diagonal)");
   c.Rate(sl.miss_rate, "sensors.slots.miss_rate");
-  c.Require(sl.false_per_frame >= 0 && sl.false_per_frame <= 5, "sensors.slots.false_per_frame", "must be in [0, 5]");
+  c.Require(sl.false_per_frame >= 0 && sl.false_per_frame <= 5, "sensors.slots.false_per_frame",
+            "must be in [0, 5]");
   c.Rate(sl.far_corner_observed_rate, "sensors.slots.far_corner_observed_rate");
   c.InRange(sl.standard_depth_m, kMinSlotSide_m, kMaxSlotSide_m, "sensors.slots.standard_depth_m",
             "m");
@@ -227,8 +223,8 @@ void CheckSensors(const SensorConfig& s, Checker& c) {
   c.Rate(id.confusion_rate, "sensors.ids.confusion_rate");
   c.Rate(id.partial_rate, "sensors.ids.partial_rate");
   c.Rate(id.unreadable_rate, "sensors.ids.unreadable_rate");
-  c.Require(id.confusion_rate + id.partial_rate + id.unreadable_rate <= 1.0,
-            "sensors.ids", "confusion_rate + partial_rate + unreadable_rate must not exceed 1");
+  c.Require(id.confusion_rate + id.partial_rate + id.unreadable_rate <= 1.0, "sensors.ids",
+            "confusion_rate + partial_rate + unreadable_rate must not exceed 1");
   c.Rate(id.true_digit_second_rate, "sensors.ids.true_digit_second_rate");
 
   const TagSensorConfig& t = s.tags;
@@ -236,14 +232,17 @@ void CheckSensors(const SensorConfig& s, Checker& c) {
   c.Magnitude(t.camera_x_m, kMaxCameraOffset_m, "sensors.tags.camera_x_m", "m");
   c.Magnitude(t.camera_y_m, kMaxCameraOffset_m, "sensors.tags.camera_y_m", "m");
   c.Magnitude(t.camera_yaw_deg, kMaxAngle_deg, "sensors.tags.camera_yaw_deg", "deg");
-  c.Require(t.horizontal_fov_deg > 1 && t.horizontal_fov_deg < 180, "sensors.tags.horizontal_fov_deg", "must be in (1, 180)");
-  c.Require(t.min_range_m >= 0 && t.max_range_m > t.min_range_m, "sensors.tags.max_range_m", "must exceed min_range_m");
+  c.Require(t.horizontal_fov_deg > 1 && t.horizontal_fov_deg < 180,
+            "sensors.tags.horizontal_fov_deg", "must be in (1, 180)");
+  c.Require(t.min_range_m >= 0 && t.max_range_m > t.min_range_m, "sensors.tags.max_range_m",
+            "must exceed min_range_m");
   // Tags are reported in the vehicle frame: camera position plus range.
   c.Require(std::hypot(t.camera_x_m, t.camera_y_m) + t.max_range_m <= kMaxObservationRange_m,
             "sensors.tags.max_range_m",
             "reaches beyond " + Limit(kMaxObservationRange_m) +
                 " m from the vehicle (camera position + max_range_m)");
-  c.Require(t.max_incidence_deg > 0 && t.max_incidence_deg < 90, "sensors.tags.max_incidence_deg", "must be in (0, 90)");
+  c.Require(t.max_incidence_deg > 0 && t.max_incidence_deg < 90, "sensors.tags.max_incidence_deg",
+            "must be in (0, 90)");
   c.Rate(t.miss_rate, "sensors.tags.miss_rate");
   c.Rate(t.miss_rate_at_max_range, "sensors.tags.miss_rate_at_max_range");
   c.NonNegative(t.range_sigma_m, "sensors.tags.range_sigma_m");
@@ -269,8 +268,8 @@ void CheckSensors(const SensorConfig& s, Checker& c) {
                 " rad at max_range_m (yaw_sigma_rad + yaw_sigma_per_m * max_range_m)");
 }
 
-SlotRowConfig Row(const char* kind, double x, double y, bool far_side_left,
-                  int count, int first_id, int id_digits) {
+SlotRowConfig Row(const char* kind, double x, double y, bool far_side_left, int count, int first_id,
+                  int id_digits) {
   SlotRowConfig row;
   row.kind = kind;
   row.origin_m = Eigen::Vector2d(x, y);
@@ -348,13 +347,11 @@ ScenarioConfig DefaultScenario() {
   // row's back corners to row G's entrance).
   const double west_x = 4.0, east_x = 79.0;
   r.approach_m = {{-37.0, aisle1_y}, {-10.0, aisle1_y}};
-  r.loop_m = {{west_x, aisle1_y}, {east_x, aisle1_y}, {east_x, aisle2_y},
-              {west_x, aisle2_y}};
+  r.loop_m = {{west_x, aisle1_y}, {east_x, aisle1_y}, {east_x, aisle2_y}, {west_x, aisle2_y}};
   r.laps = 2;
   // After the laps: along aisle 1 once more, up the east cross aisle and
   // back west through aisle 3, ending in the west cross aisle.
-  r.finish_m = {{east_x, aisle1_y}, {east_x, aisle3_y}, {west_x, aisle3_y},
-                {west_x, 34.0}};
+  r.finish_m = {{east_x, aisle1_y}, {east_x, aisle3_y}, {west_x, aisle3_y}, {west_x, 34.0}};
   return config;
 }
 

@@ -31,12 +31,12 @@ struct SlotRowConfig {
   double width_m = 2.5;
   double depth_m = 5.3;
   double angle_deg = 90.0;
-  int group_size = 3;         // slots between two gaps; 0: no gaps
-  double group_gap_m = 0.8;   // gap between groups, along the row
-  bool pillars = true;        // a pillar at the back of every gap
-  int first_id = 1;           // painted ID of the first slot
+  int group_size = 3;        // slots between two gaps; 0: no gaps
+  double group_gap_m = 0.8;  // gap between groups, along the row
+  bool pillars = true;       // a pillar at the back of every gap
+  int first_id = 1;          // painted ID of the first slot
   int id_step = 1;
-  int id_digits = 2;          // zero-padded width of painted IDs
+  int id_digits = 2;  // zero-padded width of painted IDs
 
   template <typename V>
   void VisitFields(V& v) {
@@ -62,8 +62,7 @@ struct RegionConfig {
   double min_x_m = 0.0, min_y_m = 0.0, max_x_m = 0.0, max_y_m = 0.0;
 
   bool Contains(const Eigen::Vector2d& p) const {
-    return p.x() >= min_x_m && p.x() <= max_x_m && p.y() >= min_y_m &&
-           p.y() <= max_y_m;
+    return p.x() >= min_x_m && p.x() <= max_x_m && p.y() >= min_y_m && p.y() <= max_y_m;
   }
   template <typename V>
   void VisitFields(V& v) {
@@ -163,10 +162,10 @@ struct OdometrySensorConfig {
   double steering_wheel_sigma_rad = 0.01;
   double imu_rate_hz = 100.0;
   double gyro_sigma_radps = 0.005;
-  double gyro_bias_sigma_radps = 0.003;             // initial bias, per drive
+  double gyro_bias_sigma_radps = 0.003;  // initial bias, per drive
   double gyro_bias_walk_radps_per_sqrt_s = 0.00005;
   double heading_sigma_rad = 0.01;
-  double heading_bias_sigma_rad = 0.02;             // initial bias, per drive
+  double heading_bias_sigma_rad = 0.02;  // initial bias, per drive
   double heading_bias_walk_rad_per_sqrt_s = 0.0005;
 
   template <typename V>
@@ -194,12 +193,12 @@ struct SlotSensorConfig {
   double view_length_m = 10.0;
   double view_width_m = 10.0;
   double view_center_x_m = 1.4;
-  double corner_sigma_m = 0.03;         // at the view centre
-  double corner_sigma_per_m = 0.005;    // growth with distance from it
+  double corner_sigma_m = 0.03;       // at the view centre
+  double corner_sigma_per_m = 0.005;  // growth with distance from it
   double miss_rate = 0.05;
-  double false_per_frame = 0.02;        // mean false detections per frame
+  double false_per_frame = 0.02;          // mean false detections per frame
   double far_corner_observed_rate = 0.2;  // when the far corners are in view
-  double standard_depth_m = 5.3;        // used to guess unseen far corners
+  double standard_depth_m = 5.3;          // used to guess unseen far corners
   // An entrance longer than this is taken for a parallel slot, whose unseen
   // far corners are guessed at parallel_depth_m.
   double parallel_min_entrance_m = 4.0;
@@ -252,9 +251,9 @@ struct TagSensorConfig {
   double camera_yaw_deg = 0.0;
   double horizontal_fov_deg = 90.0;
   double min_range_m = 0.5;
-  double max_range_m = 20.0;         // the paper discards tags at 20 m or more
-  double max_incidence_deg = 70.0;   // between tag normal and line of sight
-  double miss_rate = 0.03;           // at close range
+  double max_range_m = 20.0;        // the paper discards tags at 20 m or more
+  double max_incidence_deg = 70.0;  // between tag normal and line of sight
+  double miss_rate = 0.03;          // at close range
   double miss_rate_at_max_range = 0.5;
   double range_sigma_m = 0.01;
   double range_sigma_per_m = 0.01;

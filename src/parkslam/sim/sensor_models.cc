@@ -11,9 +11,8 @@ namespace {
 // The state at time t: the nearest sample of the ground truth (which runs at
 // a higher rate than any sensor).
 const VehicleState& StateAt(const std::vector<VehicleState>& states, TimeNs t_ns) {
-  const auto it = std::lower_bound(
-      states.begin(), states.end(), t_ns,
-      [](const VehicleState& s, TimeNs t) { return s.t_ns < t; });
+  const auto it = std::lower_bound(states.begin(), states.end(), t_ns,
+                                   [](const VehicleState& s, TimeNs t) { return s.t_ns < t; });
   if (it == states.end()) return states.back();
   if (it != states.begin() && (t_ns - (it - 1)->t_ns) < (it->t_ns - t_ns)) return *(it - 1);
   return *it;
@@ -80,8 +79,7 @@ struct TopView {
 // when in view (sometimes), otherwise guessed along the side direction at a
 // standard depth.
 SlotObservation ObserveSlot(const std::array<Eigen::Vector2d, 4>& corners_vehicle,
-                            const TopView& view, const SlotSensorConfig& config,
-                            Random& rng) {
+                            const TopView& view, const SlotSensorConfig& config, Random& rng) {
   SlotObservation obs;
   auto sigma_at = [&](const Eigen::Vector2d& p) {
     return config.corner_sigma_m + config.corner_sigma_per_m * (p - view.center_vehicle).norm();
@@ -89,25 +87,23 @@ SlotObservation ObserveSlot(const std::array<Eigen::Vector2d, 4>& corners_vehicl
   const double sigma = std::max(sigma_at(corners_vehicle[0]), sigma_at(corners_vehicle[1]));
   obs.corner_sigma_m = sigma;
   for (int i = 0; i < 2; ++i) {
-    obs.corners_vehicle[i] = corners_vehicle[i] +
-                             Eigen::Vector2d(rng.Gaussian(sigma), rng.Gaussian(sigma));
+    obs.corners_vehicle[i] =
+        corners_vehicle[i] + Eigen::Vector2d(rng.Gaussian(sigma), rng.Gaussian(sigma));
   }
   const bool far_in_view = view.Contains(corners_vehicle[2]) && view.Contains(corners_vehicle[3]);
   const bool far_seen = far_in_view && rng.Bernoulli(config.far_corner_observed_rate);
   if (far_seen) {
     for (int i = 2; i < 4; ++i) {
-      obs.corners_vehicle[i] = corners_vehicle[i] +
-                               Eigen::Vector2d(rng.Gaussian(sigma), rng.Gaussian(sigma));
+      obs.corners_vehicle[i] =
+          corners_vehicle[i] + Eigen::Vector2d(rng.Gaussian(sigma), rng.Gaussian(sigma));
       obs.corner_observed[i] = true;
     }
   } else {
     const double entrance_m = (obs.corners_vehicle[1] - obs.corners_vehicle[0]).norm();
-    const double depth_m = entrance_m > config.parallel_min_entrance_m
-                               ? config.parallel_depth_m
-                               : config.standard_depth_m;
-    const Eigen::Vector2d side = Rotate(
-        (corners_vehicle[3] - corners_vehicle[0]).normalized(),
-        rng.Gaussian(DegToRad(config.far_direction_sigma_deg)));
+    const double depth_m = entrance_m > config.parallel_min_entrance_m ? config.parallel_depth_m
+                                                                       : config.standard_depth_m;
+    const Eigen::Vector2d side = Rotate((corners_vehicle[3] - corners_vehicle[0]).normalized(),
+                                        rng.Gaussian(DegToRad(config.far_direction_sigma_deg)));
     obs.corners_vehicle[3] = obs.corners_vehicle[0] + depth_m * side;
     obs.corners_vehicle[2] = obs.corners_vehicle[1] + depth_m * side;
     obs.corner_observed[2] = obs.corner_observed[3] = false;
@@ -123,9 +119,8 @@ SlotObservation FalseSlot(const TopView& view, const SensorConfig& config, Rando
   const Eigen::Vector2d along(std::cos(yaw), std::sin(yaw));
   const Eigen::Vector2d left(-along.y(), along.x());
   const double width_m = rng.Uniform(2.2, 2.8), depth_m = config.slots.standard_depth_m;
-  std::array<Eigen::Vector2d, 4> corners{c0, c0 + width_m * along,
-                                         c0 + width_m * along + depth_m * left,
-                                         c0 + depth_m * left};
+  std::array<Eigen::Vector2d, 4> corners{
+      c0, c0 + width_m * along, c0 + width_m * along + depth_m * left, c0 + depth_m * left};
   SlotObservation obs = ObserveSlot(corners, view, config.slots, rng);
   obs.detection_confidence = rng.Uniform(0.3, 0.8);
   if (rng.Bernoulli(0.5)) {
@@ -139,16 +134,14 @@ SlotObservation FalseSlot(const TopView& view, const SensorConfig& config, Rando
 }  // namespace
 
 const std::string& ConfusableDigits(char digit) {
-  static const std::string kPartners[10] = {"86", "7", "7", "8", "9",
-                                            "6", "58", "12", "306", "4"};
+  static const std::string kPartners[10] = {"86", "7", "7", "8", "9", "6", "58", "12", "306", "4"};
   static const std::string kNone = "8";
   if (digit < '0' || digit > '9') return kNone;
   return kPartners[digit - '0'];
 }
 
-SlotIdReading SimulateIdReading(const std::string& painted_id,
-                                const IdSensorConfig& config, Random& rng,
-                                IdReadingOutcome* outcome) {
+SlotIdReading SimulateIdReading(const std::string& painted_id, const IdSensorConfig& config,
+                                Random& rng, IdReadingOutcome* outcome) {
   SlotIdReading reading;
   const double u = rng.Uniform();
   IdReadingOutcome drawn = IdReadingOutcome::kCorrect;
@@ -176,8 +169,7 @@ SlotIdReading SimulateIdReading(const std::string& painted_id,
 }
 
 OdometrySensorModel::OdometrySensorModel(const OdometrySensorConfig& config,
-                                         const VehicleParameters& vehicle,
-                                         std::uint64_t seed)
+                                         const VehicleParameters& vehicle, std::uint64_t seed)
     : config_(config),
       vehicle_(vehicle),
       wheel_rng_(Random::Derive(seed, kWheelStreamTag)),
@@ -193,8 +185,7 @@ WheelSpeed OdometrySensorModel::MeasureWheel(const VehicleState& true_state, Tim
                     wheel_rng_.Gaussian(config_.wheel_speed_sigma_mps)};
 }
 
-SteeringAngle OdometrySensorModel::MeasureSteering(const VehicleState& true_state,
-                                                   TimeNs t_ns) {
+SteeringAngle OdometrySensorModel::MeasureSteering(const VehicleState& true_state, TimeNs t_ns) {
   return {t_ns, vehicle_.steering_ratio * true_state.road_wheel_angle_rad +
                     steering_rng_.Gaussian(config_.steering_wheel_sigma_rad)};
 }
@@ -202,11 +193,11 @@ SteeringAngle OdometrySensorModel::MeasureSteering(const VehicleState& true_stat
 ImuSample OdometrySensorModel::MeasureImu(const VehicleState& true_state, TimeNs t_ns,
                                           double dt_s) {
   // Braced initialisation draws the gyro noise before the heading noise.
-  const ImuSample sample{t_ns,
-                         true_state.yaw_rate_radps + gyro_bias_radps_ +
-                             imu_rng_.Gaussian(config_.gyro_sigma_radps),
-                         NormalizeAngle(true_state.T_map_vehicle.yaw() + heading_bias_rad_ +
-                                        imu_rng_.Gaussian(config_.heading_sigma_rad))};
+  const ImuSample sample{
+      t_ns,
+      true_state.yaw_rate_radps + gyro_bias_radps_ + imu_rng_.Gaussian(config_.gyro_sigma_radps),
+      NormalizeAngle(true_state.T_map_vehicle.yaw() + heading_bias_rad_ +
+                     imu_rng_.Gaussian(config_.heading_sigma_rad))};
   const double sqrt_dt = std::sqrt(dt_s);
   gyro_bias_radps_ += imu_rng_.Gaussian(config_.gyro_bias_walk_radps_per_sqrt_s * sqrt_dt);
   heading_bias_rad_ += imu_rng_.Gaussian(config_.heading_bias_walk_rad_per_sqrt_s * sqrt_dt);
@@ -214,9 +205,8 @@ ImuSample OdometrySensorModel::MeasureImu(const VehicleState& true_state, TimeNs
 }
 
 void SimulateOdometrySensors(const std::vector<VehicleState>& states,
-                             const OdometrySensorConfig& config,
-                             const VehicleParameters& vehicle, std::uint64_t seed,
-                             SensorLog* log) {
+                             const OdometrySensorConfig& config, const VehicleParameters& vehicle,
+                             std::uint64_t seed, SensorLog* log) {
   OdometrySensorModel model(config, vehicle, seed);
   for (TimeNs t : SampleTimes(states, config.wheel_rate_hz)) {
     log->wheel_speeds.push_back(model.MeasureWheel(StateAt(states, t), t));
@@ -230,14 +220,14 @@ void SimulateOdometrySensors(const std::vector<VehicleState>& states,
   }
 }
 
-SlotObservationFrame SimulateSlotFrame(const World& world, const SE2& T_map_vehicle,
-                                       TimeNs t_ns, const SensorConfig& config,
-                                       Random& rng, std::vector<int>* labels) {
+SlotObservationFrame SimulateSlotFrame(const World& world, const SE2& T_map_vehicle, TimeNs t_ns,
+                                       const SensorConfig& config, Random& rng,
+                                       std::vector<int>* labels) {
   const SlotSensorConfig& sc = config.slots;
   const TopView view{{sc.view_center_x_m, 0.0}, sc.view_length_m / 2, sc.view_width_m / 2};
   const SE2 T_vehicle_map = T_map_vehicle.inverse();
-  const double reach_m = std::hypot(view.half_length_m, view.half_width_m) +
-                         std::abs(sc.view_center_x_m) + 1.0;
+  const double reach_m =
+      std::hypot(view.half_length_m, view.half_width_m) + std::abs(sc.view_center_x_m) + 1.0;
   SlotObservationFrame frame;
   frame.t_ns = t_ns;
   labels->clear();
@@ -264,11 +254,9 @@ SlotObservationFrame SimulateSlotFrame(const World& world, const SE2& T_map_vehi
   return frame;
 }
 
-TagObservationFrame SimulateTagFrame(const World& world, const SE2& T_map_vehicle,
-                                     TimeNs t_ns, const TagSensorConfig& config,
-                                     Random& rng) {
-  const SE2 T_vehicle_camera(config.camera_x_m, config.camera_y_m,
-                             DegToRad(config.camera_yaw_deg));
+TagObservationFrame SimulateTagFrame(const World& world, const SE2& T_map_vehicle, TimeNs t_ns,
+                                     const TagSensorConfig& config, Random& rng) {
+  const SE2 T_vehicle_camera(config.camera_x_m, config.camera_y_m, DegToRad(config.camera_yaw_deg));
   const SE2 T_map_camera = T_map_vehicle * T_vehicle_camera;
   const SE2 T_camera_map = T_map_camera.inverse();
   const double half_fov = DegToRad(config.horizontal_fov_deg) / 2;
@@ -292,7 +280,8 @@ TagObservationFrame SimulateTagFrame(const World& world, const SE2& T_map_vehicl
       continue;
     }
     const double r = range / config.max_range_m;
-    if (rng.Bernoulli(config.miss_rate + (config.miss_rate_at_max_range - config.miss_rate) * r * r)) {
+    if (rng.Bernoulli(config.miss_rate +
+                      (config.miss_rate_at_max_range - config.miss_rate) * r * r)) {
       continue;
     }
     const double range_sigma = config.range_sigma_m + config.range_sigma_per_m * range;
@@ -305,8 +294,8 @@ TagObservationFrame SimulateTagFrame(const World& world, const SE2& T_map_vehicl
     const Eigen::Vector2d measured_camera =
         obs.range_m * Eigen::Vector2d(std::cos(obs.bearing_rad), std::sin(obs.bearing_rad));
     obs.p_vehicle = T_vehicle_camera * measured_camera;
-    obs.yaw_vehicle_rad = NormalizeAngle(tag.normal_yaw_rad - T_map_vehicle.yaw() +
-                                         rng.Gaussian(yaw_sigma));
+    obs.yaw_vehicle_rad =
+        NormalizeAngle(tag.normal_yaw_rad - T_map_vehicle.yaw() + rng.Gaussian(yaw_sigma));
     obs.yaw_sigma_rad = yaw_sigma;
     // Covariance of the point from range and bearing noise, in the vehicle
     // frame: J diag(sr^2, sb^2) J^T with J = d(r cos b, r sin b)/d(r, b).
@@ -314,8 +303,9 @@ TagObservationFrame SimulateTagFrame(const World& world, const SE2& T_map_vehicl
     jacobian << std::cos(obs.bearing_rad), -obs.range_m * std::sin(obs.bearing_rad),
         std::sin(obs.bearing_rad), obs.range_m * std::cos(obs.bearing_rad);
     const Eigen::Matrix2d cov_camera =
-        jacobian * Eigen::Vector2d(range_sigma * range_sigma, bearing_sigma * bearing_sigma)
-                       .asDiagonal() * jacobian.transpose();
+        jacobian *
+        Eigen::Vector2d(range_sigma * range_sigma, bearing_sigma * bearing_sigma).asDiagonal() *
+        jacobian.transpose();
     const Eigen::Matrix2d R = T_vehicle_camera.rotation();
     obs.covariance_vehicle = R * cov_camera * R.transpose();
     frame.tags.push_back(obs);

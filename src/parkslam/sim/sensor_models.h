@@ -21,9 +21,8 @@ enum class IdReadingOutcome { kCorrect, kConfused, kPartial, kUnreadable };
 
 // One reading of a legible painted ID under the configured error model
 // (IdSensorConfig). Writes the outcome drawn when `outcome` is not null.
-SlotIdReading SimulateIdReading(const std::string& painted_id,
-                                const IdSensorConfig& config, Random& rng,
-                                IdReadingOutcome* outcome = nullptr);
+SlotIdReading SimulateIdReading(const std::string& painted_id, const IdSensorConfig& config,
+                                Random& rng, IdReadingOutcome* outcome = nullptr);
 
 // Tags of the random streams (Random::Derive(seed, tag)) that the sensor
 // models draw from, one per sensor, shared by the batch simulator and the
@@ -45,8 +44,8 @@ inline constexpr std::uint64_t kTagFrameStreamTag = 0x202;
 // with b_g and b_h random walks advanced by MeasureImu.
 class OdometrySensorModel {
  public:
-  OdometrySensorModel(const OdometrySensorConfig& config,
-                      const VehicleParameters& vehicle, std::uint64_t seed);
+  OdometrySensorModel(const OdometrySensorConfig& config, const VehicleParameters& vehicle,
+                      std::uint64_t seed);
 
   WheelSpeed MeasureWheel(const VehicleState& true_state, TimeNs t_ns);
   SteeringAngle MeasureSteering(const VehicleState& true_state, TimeNs t_ns);
@@ -66,20 +65,18 @@ class OdometrySensorModel {
 // Wheel speed, steering angle and IMU samples along the true drive, each
 // sensor at its rate from the first state on, measured at the nearest state.
 void SimulateOdometrySensors(const std::vector<VehicleState>& states,
-                             const OdometrySensorConfig& config,
-                             const VehicleParameters& vehicle, std::uint64_t seed,
-                             SensorLog* log);
+                             const OdometrySensorConfig& config, const VehicleParameters& vehicle,
+                             std::uint64_t seed, SensorLog* log);
 
 // Slot detections from the top view at the true pose `state`, with the
 // world slot index of each (-1 for a false detection) in *labels.
-SlotObservationFrame SimulateSlotFrame(const World& world, const SE2& T_map_vehicle,
-                                       TimeNs t_ns, const SensorConfig& config,
-                                       Random& rng, std::vector<int>* labels);
+SlotObservationFrame SimulateSlotFrame(const World& world, const SE2& T_map_vehicle, TimeNs t_ns,
+                                       const SensorConfig& config, Random& rng,
+                                       std::vector<int>* labels);
 
 // AprilTag detections of the front camera at the true pose.
-TagObservationFrame SimulateTagFrame(const World& world, const SE2& T_map_vehicle,
-                                     TimeNs t_ns, const TagSensorConfig& config,
-                                     Random& rng);
+TagObservationFrame SimulateTagFrame(const World& world, const SE2& T_map_vehicle, TimeNs t_ns,
+                                     const TagSensorConfig& config, Random& rng);
 
 }  // namespace parkslam::sim
 

@@ -20,8 +20,7 @@ Simulation Simulate(const ScenarioConfig& config, std::uint64_t seed) {
   Simulation sim;
   sim.world = BuildWorld(config.world, static_cast<std::uint64_t>(config.world.seed));
   sim.states = DriveRoute(config.route, config.vehicle, seed);
-  SimulateOdometrySensors(sim.states, config.sensors.odometry, config.vehicle, seed,
-                          &sim.log);
+  SimulateOdometrySensors(sim.states, config.sensors.odometry, config.vehicle, seed, &sim.log);
 
   const Trajectory truth = GroundTruthTrajectory(sim);
   const TimeNs start = truth.front().t_ns, end = truth.back().t_ns;

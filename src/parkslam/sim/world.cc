@@ -12,9 +12,7 @@ namespace {
 
 constexpr std::uint64_t kIdStreamTag = 0x1d5;
 
-Eigen::Vector2d LeftNormal(const Eigen::Vector2d& d) {
-  return Eigen::Vector2d(-d.y(), d.x());
-}
+Eigen::Vector2d LeftNormal(const Eigen::Vector2d& d) { return Eigen::Vector2d(-d.y(), d.x()); }
 
 std::string PaintedId(int number, int digits) {
   std::string id = std::to_string(number);
@@ -25,13 +23,12 @@ std::string PaintedId(int number, int digits) {
 }
 
 // Slots of one row and the pillars in the gaps between its groups.
-void AddRow(const SlotRowConfig& row, const WorldConfig& config, Random& rng,
-            World* world) {
+void AddRow(const SlotRowConfig& row, const WorldConfig& config, Random& rng, World* world) {
   const SlotKind kind = *SlotKindFromString(row.kind);
   const double heading = DegToRad(row.direction_deg);
   const Eigen::Vector2d along(std::cos(heading), std::sin(heading));
-  const Eigen::Vector2d far = row.far_side_left ? LeftNormal(along)
-                                                : Eigen::Vector2d(-LeftNormal(along));
+  const Eigen::Vector2d far =
+      row.far_side_left ? LeftNormal(along) : Eigen::Vector2d(-LeftNormal(along));
   const double angle = DegToRad(row.angle_deg);
   const Eigen::Vector2d separating = std::cos(angle) * along + std::sin(angle) * far;
   const double stride_m = row.width_m / std::sin(angle);
@@ -42,8 +39,7 @@ void AddRow(const SlotRowConfig& row, const WorldConfig& config, Random& rng,
     slot.kind = kind;
     const Eigen::Vector2d c0 = row.origin_m + offset_m * along;
     const Eigen::Vector2d c1 = c0 + stride_m * along;
-    slot.corners_map = {c0, c1, c1 + row.depth_m * separating,
-                        c0 + row.depth_m * separating};
+    slot.corners_map = {c0, c1, c1 + row.depth_m * separating, c0 + row.depth_m * separating};
     if (!row.far_side_left) {
       // Canonical order: walking from corner 0 to corner 1, the slot lies on
       // the left (the corners go round counter-clockwise).
@@ -60,14 +56,13 @@ void AddRow(const SlotRowConfig& row, const WorldConfig& config, Random& rng,
     world->slots.push_back(slot);
     offset_m += stride_m;
 
-    const bool end_of_group = row.group_size > 0 && (k + 1) % row.group_size == 0 &&
-                              k + 1 < row.count;
+    const bool end_of_group =
+        row.group_size > 0 && (k + 1) % row.group_size == 0 && k + 1 < row.count;
     if (end_of_group) {
       if (row.pillars && row.group_gap_m > 0.0) {
         const double half = config.pillar_size_m / 2;
         const Eigen::Vector2d gap_mid = row.origin_m + (offset_m + row.group_gap_m / 2) * along;
-        world->pillars.push_back(
-            {gap_mid + row.depth_m * separating - half * far, half});
+        world->pillars.push_back({gap_mid + row.depth_m * separating - half * far, half});
       }
       offset_m += row.group_gap_m;
     }
@@ -98,8 +93,7 @@ void AddWalls(const WorldConfig& c, World* world) {
   AddWall(nw, {h.min_x_m, y_hi}, centre, world);
   AddWall({h.min_x_m, y_lo}, sw, centre, world);
   const double x_out = h.min_x_m - c.corridor_length_m;
-  const Eigen::Vector2d corridor_mid(h.min_x_m - c.corridor_length_m / 2,
-                                     c.corridor_center_y_m);
+  const Eigen::Vector2d corridor_mid(h.min_x_m - c.corridor_length_m / 2, c.corridor_center_y_m);
   AddWall({x_out, y_lo}, {h.min_x_m, y_lo}, corridor_mid, world);
   AddWall({x_out, y_hi}, {h.min_x_m, y_hi}, corridor_mid, world);
 }
@@ -129,7 +123,8 @@ std::vector<TagPlace> CandidateTagPlaces(const WorldConfig& c, const World& worl
     // plus room for the wall that meets this one) stay within the wall.
     const double keep_m = std::min(c.tag_size_m * 0.75 + 0.1, length_m / 2);
     for (double s = c.tag_spacing_m / 2; s < length_m; s += c.tag_spacing_m) {
-      places.push_back({wall.a_map + std::clamp(s, keep_m, length_m - keep_m) * dir, yaw, false, w});
+      places.push_back(
+          {wall.a_map + std::clamp(s, keep_m, length_m - keep_m) * dir, yaw, false, w});
     }
   }
   for (size_t p = 0; p < world.pillars.size(); ++p) {
@@ -137,8 +132,8 @@ std::vector<TagPlace> CandidateTagPlaces(const WorldConfig& c, const World& worl
     for (int face = 0; face < 4; ++face) {
       const double yaw = face * kPi / 2;
       const Eigen::Vector2d normal(std::cos(yaw), std::sin(yaw));
-      places.push_back({pillar.center_map + pillar.half_size_m * normal, yaw, true,
-                        static_cast<int>(p)});
+      places.push_back(
+          {pillar.center_map + pillar.half_size_m * normal, yaw, true, static_cast<int>(p)});
     }
   }
   std::vector<TagPlace> inside;
@@ -159,12 +154,11 @@ void AddTags(const WorldConfig& c, World* world) {
   const size_t count = std::min(n, static_cast<size_t>(c.tag_count));
   for (size_t i = 0; i < count; ++i) {
     // Spread evenly over the candidates.
-    const size_t k = static_cast<size_t>((static_cast<double>(i) + 0.5) *
-                                         static_cast<double>(n) /
+    const size_t k = static_cast<size_t>((static_cast<double>(i) + 0.5) * static_cast<double>(n) /
                                          static_cast<double>(count));
     const TagPlace& place = places[std::min(k, n - 1)];
-    world->tags.push_back({static_cast<int>(i), place.p_map, place.normal_yaw_rad,
-                           c.tag_size_m, place.on_pillar, place.mount_index});
+    world->tags.push_back({static_cast<int>(i), place.p_map, place.normal_yaw_rad, c.tag_size_m,
+                           place.on_pillar, place.mount_index});
   }
 }
 
@@ -217,8 +211,8 @@ World BuildWorld(const WorldConfig& config, std::uint64_t seed) {
   for (const SlotRowConfig& row : config.rows) AddRow(row, config, rng, &world);
   AddWalls(config, &world);
   AddTags(config, &world);
-  world.floor_area_m2 = (config.hall.max_x_m - config.hall.min_x_m) *
-                        (config.hall.max_y_m - config.hall.min_y_m);
+  world.floor_area_m2 =
+      (config.hall.max_x_m - config.hall.min_x_m) * (config.hall.max_y_m - config.hall.min_y_m);
   if (config.corridor) {
     world.floor_area_m2 += config.corridor_length_m * config.corridor_width_m;
   }
@@ -255,8 +249,8 @@ SemanticMap ToSemanticMap(const World& world) {
   return map;
 }
 
-bool SegmentBlocked(const World& world, const Eigen::Vector2d& a,
-                    const Eigen::Vector2d& b, int skip_wall, int skip_pillar) {
+bool SegmentBlocked(const World& world, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                    int skip_wall, int skip_pillar) {
   for (size_t i = 0; i < world.walls.size(); ++i) {
     if (static_cast<int>(i) == skip_wall) continue;
     if (SegmentsIntersect(a, b, world.walls[i].a_map, world.walls[i].b_map)) return true;

@@ -14,8 +14,8 @@ namespace parkslam::sim {
 struct WorldSlot {
   SlotKind kind = SlotKind::kPerpendicular;
   std::array<Eigen::Vector2d, kSlotCorners> corners_map{};
-  std::string painted_id;    // empty: no ID painted
-  bool id_legible = true;    // false: painted but worn beyond reading
+  std::string painted_id;  // empty: no ID painted
+  bool id_legible = true;  // false: painted but worn beyond reading
 };
 
 // A wall segment. It blocks sight from both sides; tags hang on the side
@@ -33,11 +33,11 @@ struct WorldPillar {
 
 struct WorldTag {
   int tag_id = 0;
-  Eigen::Vector2d p_map;    // centre of the tag
+  Eigen::Vector2d p_map;        // centre of the tag
   double normal_yaw_rad = 0.0;  // outward normal, map frame
   double size_m = 0.488;
   bool on_pillar = false;
-  int mount_index = 0;      // index into pillars or walls
+  int mount_index = 0;  // index into pillars or walls
 };
 
 struct World {
@@ -64,8 +64,8 @@ SemanticMap ToSemanticMap(const World& world);
 
 // True when the segment a-b crosses a wall (other than skip_wall) or a pillar
 // (other than skip_pillar). Used for line-of-sight tests.
-bool SegmentBlocked(const World& world, const Eigen::Vector2d& a,
-                    const Eigen::Vector2d& b, int skip_wall, int skip_pillar);
+bool SegmentBlocked(const World& world, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                    int skip_wall, int skip_pillar);
 
 }  // namespace parkslam::sim
 

@@ -33,16 +33,14 @@ struct MapSvgOptions {
 // the trajectories (each decimated to at most 5000 points), a legend, a 10 m
 // scale bar and the title. The picture covers the map and the trajectories
 // with a 3 m border. Throws std::invalid_argument for pixels_per_m <= 0.
-std::string RenderMapSvg(const SemanticMap& map,
-                         const std::vector<SvgTrajectory>& trajectories,
+std::string RenderMapSvg(const SemanticMap& map, const std::vector<SvgTrajectory>& trajectories,
                          const MapSvgOptions& options = {});
 
 // Thins a polyline for drawing: drops points closer than min_spacing to the
 // last kept one, then keeps at most max_points (>= 2) evenly spread by index.
 // The first and last points always stay.
-std::vector<Eigen::Vector2d> DecimatePolyline(
-    const std::vector<Eigen::Vector2d>& points, double min_spacing,
-    std::size_t max_points);
+std::vector<Eigen::Vector2d> DecimatePolyline(const std::vector<Eigen::Vector2d>& points,
+                                              double min_spacing, std::size_t max_points);
 
 }  // namespace parkslam::viz
 

@@ -52,13 +52,11 @@ SemanticMap MakeLot(int slot_count) {
     if (i % 3 == 0) {
       map.obstacles.push_back(
           {ObstacleKind::kPillar,
-           {{x - 0.3, y + 5.2}, {x + 0.3, y + 5.2}, {x + 0.3, y + 5.8},
-            {x - 0.3, y + 5.8}}});
+           {{x - 0.3, y + 5.2}, {x + 0.3, y + 5.2}, {x + 0.3, y + 5.8}, {x - 0.3, y + 5.8}}});
       map.tags.push_back({.tag_id = i,
                           .p_map = Eigen::Vector2d(x, y + 5.1),
                           .yaw_map_rad = -kPi / 2,
-                          .obstacle_index =
-                              static_cast<int>(map.obstacles.size()) - 1});
+                          .obstacle_index = static_cast<int>(map.obstacles.size()) - 1});
     }
   }
   map.obstacles.push_back({ObstacleKind::kWall, {{-5.0, -8.0}, {55.0, -8.0}}});
@@ -70,9 +68,9 @@ Trajectory MakeDrive(double phase) {
   Trajectory trajectory;
   for (int i = 0; i < 60000; ++i) {
     const double s = 1e-4 * i;
-    trajectory.push_back({i * (kNanosecondsPerSecond / 100),
-                          SE2(25.0 + 24.0 * std::sin(2.0 * s + phase),
-                              35.0 + 30.0 * std::sin(3.0 * s), 0.0)});
+    trajectory.push_back(
+        {i * (kNanosecondsPerSecond / 100),
+         SE2(25.0 + 24.0 * std::sin(2.0 * s + phase), 35.0 + 30.0 * std::sin(3.0 * s), 0.0)});
   }
   return trajectory;
 }
@@ -88,15 +86,14 @@ Trajectory MakeDrive(double phase) {
   const int opened = CountOf(svg, "<g>") + CountOf(svg, "<g ");
   const int closed = CountOf(svg, "</g>");
   if (opened != closed) {
-    return ::testing::AssertionFailure()
-           << opened << " <g> but " << closed << " </g>";
+    return ::testing::AssertionFailure() << opened << " <g> but " << closed << " </g>";
   }
   return ::testing::AssertionSuccess();
 }
 
 TEST(RenderMapSvgTest, ProducesWellFormedDocument) {
-  const std::string svg = RenderMapSvg(
-      MakeLot(40), {{"truth", "#2ca02c", MakeDrive(0.0)}}, {.title = "lot"});
+  const std::string svg =
+      RenderMapSvg(MakeLot(40), {{"truth", "#2ca02c", MakeDrive(0.0)}}, {.title = "lot"});
   EXPECT_TRUE(IsWellFormed(svg));
 }
 
@@ -104,9 +101,7 @@ TEST(RenderMapSvgTest, LabelsEverySlotWithItsId) {
   const SemanticMap map = MakeLot(40);
   const std::string svg = RenderMapSvg(map, {});
   for (const MapSlot& slot : map.slots) {
-    EXPECT_NE(svg.find("fill=\"black\">" + slot.id + "</text>"),
-              std::string::npos)
-        << slot.id;
+    EXPECT_NE(svg.find("fill=\"black\">" + slot.id + "</text>"), std::string::npos) << slot.id;
   }
 }
 
@@ -130,8 +125,7 @@ TEST(RenderMapSvgTest, SlotWithoutPaintedIdIsUnlabeled) {
 }
 
 TEST(RenderMapSvgTest, SlotIdsCanBeTurnedOff) {
-  const std::string svg =
-      RenderMapSvg(MakeLot(5), {}, {.draw_slot_ids = false});
+  const std::string svg = RenderMapSvg(MakeLot(5), {}, {.draw_slot_ids = false});
   EXPECT_EQ(svg.find(">100</text>"), std::string::npos);
 }
 
@@ -169,7 +163,7 @@ TEST(RenderMapSvgTest, GuessedCornersAreHollowAndTheirEdgesDashed) {
 TEST(RenderMapSvgTest, DrawsObstaclesAndTags) {
   const std::string svg = RenderMapSvg(MakeLot(6), {});
   const std::string obstacles = GroupBody(svg, "obstacles");
-  EXPECT_EQ(CountOf(obstacles, "<polygon"), 2);  // pillars at slots 0 and 3
+  EXPECT_EQ(CountOf(obstacles, "<polygon"), 2);   // pillars at slots 0 and 3
   EXPECT_EQ(CountOf(obstacles, "<polyline"), 1);  // the wall
   EXPECT_NE(obstacles.find("stroke-width=\"4\""), std::string::npos);
   const std::string tags = GroupBody(svg, "tags");
@@ -181,38 +175,31 @@ TEST(RenderMapSvgTest, BoxCoversMapWithThreeMetreBorder) {
   SemanticMap map;
   map.obstacles.push_back({ObstacleKind::kWall, {{0.0, 0.0}, {40.0, 20.0}}});
   // (40 + 6) m * 10 px/m + 2 * 30 px by (20 + 6) * 10 + 60.
-  EXPECT_NE(RenderMapSvg(map, {}).find("width=\"520\" height=\"320\""),
-            std::string::npos);
+  EXPECT_NE(RenderMapSvg(map, {}).find("width=\"520\" height=\"320\""), std::string::npos);
 }
 
 TEST(RenderMapSvgTest, EscapesTheTitle) {
-  const std::string svg =
-      RenderMapSvg(MakeLot(3), {}, {.title = "slots <38 & 39> \"run\""});
-  EXPECT_NE(svg.find("slots &lt;38 &amp; 39&gt; &quot;run&quot;"),
-            std::string::npos);
+  const std::string svg = RenderMapSvg(MakeLot(3), {}, {.title = "slots <38 & 39> \"run\""});
+  EXPECT_NE(svg.find("slots &lt;38 &amp; 39&gt; &quot;run&quot;"), std::string::npos);
   EXPECT_EQ(svg.find("<38"), std::string::npos);
 }
 
 TEST(RenderMapSvgTest, LegendListsTrajectoryLabelsWithColors) {
   const std::string svg = RenderMapSvg(
-      MakeLot(10), {{"truth", "#2ca02c", MakeDrive(0.0)},
-                    {"estimate", "#d62728", MakeDrive(0.3)}});
+      MakeLot(10), {{"truth", "#2ca02c", MakeDrive(0.0)}, {"estimate", "#d62728", MakeDrive(0.3)}});
   const std::string legend = GroupBody(svg, "legend");
   EXPECT_NE(legend.find(">truth</text>"), std::string::npos);
   EXPECT_NE(legend.find(">estimate</text>"), std::string::npos);
   EXPECT_NE(legend.find("stroke=\"#d62728\""), std::string::npos);
-  EXPECT_NE(GroupBody(svg, "trajectories").find("stroke=\"#d62728\""),
-            std::string::npos);
+  EXPECT_NE(GroupBody(svg, "trajectories").find("stroke=\"#d62728\""), std::string::npos);
 }
 
 TEST(RenderMapSvgTest, DrawsTenMetreScaleBar) {
-  EXPECT_NE(GroupBody(RenderMapSvg(MakeLot(3), {}), "scale_bar").find(">10 m<"),
-            std::string::npos);
+  EXPECT_NE(GroupBody(RenderMapSvg(MakeLot(3), {}), "scale_bar").find(">10 m<"), std::string::npos);
 }
 
 TEST(RenderMapSvgTest, EmptyMapWithTrajectory) {
-  const std::string svg =
-      RenderMapSvg(SemanticMap{}, {{"drive", "red", MakeDrive(0.0)}});
+  const std::string svg = RenderMapSvg(SemanticMap{}, {{"drive", "red", MakeDrive(0.0)}});
   EXPECT_TRUE(IsWellFormed(svg));
   EXPECT_NE(svg.find("<polyline"), std::string::npos);
 }
@@ -224,16 +211,14 @@ TEST(RenderMapSvgTest, EmptyMapWithoutTrajectoryIsSmallAndValid) {
 }
 
 TEST(RenderMapSvgTest, BigMapWithTwoLongDrivesStaysCompact) {
-  const std::string svg = RenderMapSvg(
-      MakeLot(120), {{"truth", "#2ca02c", MakeDrive(0.0)},
-                     {"estimate", "#d62728", MakeDrive(0.3)}});
+  const std::string svg = RenderMapSvg(MakeLot(120), {{"truth", "#2ca02c", MakeDrive(0.0)},
+                                                      {"estimate", "#d62728", MakeDrive(0.3)}});
   EXPECT_TRUE(IsWellFormed(svg));
   EXPECT_LT(svg.size(), 400'000u);  // well under 1 MB
 }
 
 TEST(RenderMapSvgTest, RejectsNonPositiveScale) {
-  EXPECT_THROW(RenderMapSvg(SemanticMap{}, {}, {.pixels_per_m = 0.0}),
-               std::invalid_argument);
+  EXPECT_THROW(RenderMapSvg(SemanticMap{}, {}, {.pixels_per_m = 0.0}), std::invalid_argument);
 }
 
 TEST(DecimatePolylineTest, KeepsAtMostMaxPointsWithBothEnds) {
@@ -268,8 +253,7 @@ namespace {
 TEST(RenderMapSvgLegendTest, UnlabeledTrajectoriesAreDrawnButNotListed) {
   Trajectory a{{0, SE2(0, 0, 0)}, {1, SE2(10, 0, 0)}};
   Trajectory b{{0, SE2(0, 1, 0)}, {1, SE2(10, 1, 0)}};
-  const std::string svg =
-      RenderMapSvg(SemanticMap{}, {{"runs", "#d62728", a}, {"", "#1f77b4", b}});
+  const std::string svg = RenderMapSvg(SemanticMap{}, {{"runs", "#d62728", a}, {"", "#1f77b4", b}});
   EXPECT_NE(svg.find("#1f77b4"), std::string::npos);  // drawn
   const size_t legend = svg.find("id=\"legend\"");
   ASSERT_NE(legend, std::string::npos);

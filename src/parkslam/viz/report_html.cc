@@ -78,7 +78,8 @@ void FlattenInto(const nlohmann::json& j, const std::string& prefix,
     out->emplace_back(prefix, j.get<std::string>());
   } else if (j.is_number_float()) {
     const double v = j.get<double>();
-    out->emplace_back(prefix, std::abs(v) >= 1000 || v == std::floor(v) ? Fixed(v, 1) : Fixed(v, 4));
+    out->emplace_back(prefix,
+                      std::abs(v) >= 1000 || v == std::floor(v) ? Fixed(v, 1) : Fixed(v, 4));
   } else {
     out->emplace_back(prefix, j.dump());
   }
@@ -121,7 +122,8 @@ std::vector<std::pair<std::string, std::string>> FlattenMetrics(const nlohmann::
 
 std::string RenderReportHtml(const ReportData& data) {
   for (const ReportFigure& f : data.figures) {
-    if (f.key.empty()) throw std::invalid_argument("RenderReportHtml: a figure without a metrics key");
+    if (f.key.empty())
+      throw std::invalid_argument("RenderReportHtml: a figure without a metrics key");
   }
   const nlohmann::json& scene = data.scene;
   std::string h;
@@ -180,7 +182,8 @@ std::string RenderReportHtml(const ReportData& data) {
   if (scene.contains("localization")) {
     h += "<h2>Localization over time</h2>\n<p>Click a plot to mark the car's place on the map "
          "(green ring: true pose; blue: estimate).</p>\n"
-         "<div id=\"plot-error\"></div>\n<div id=\"plot-state\"></div>\n<div id=\"plot-seen\"></div>\n"
+         "<div id=\"plot-error\"></div>\n<div id=\"plot-state\"></div>\n<div "
+         "id=\"plot-seen\"></div>\n"
          "<div id=\"plot-nees\"></div>\n<p>NEES of the localizer's pose against the truth at each "
          "tracked frame; green: the 95 % band of a consistent filter (&chi;&sup2;, 3 degrees of "
          "freedom).</p>\n";
@@ -201,7 +204,8 @@ std::string RenderReportHtml(const ReportData& data) {
       for (size_t r = 0; r < data.perception_table.size(); ++r) {
         h += "<tr>";
         for (const std::string& cell : data.perception_table[r]) {
-          h += r == 0 ? "<th>" + XmlEscape(cell) + "</th>" : "<td class=\"num\">" + XmlEscape(cell) + "</td>";
+          h += r == 0 ? "<th>" + XmlEscape(cell) + "</th>"
+                      : "<td class=\"num\">" + XmlEscape(cell) + "</td>";
         }
         h += "</tr>\n";
       }

@@ -29,12 +29,12 @@ namespace parkslam::viz {
 // to the metrics.json key it must agree with; the page carries both values
 // (data-metric, data-value, data-recorded) so that a test can compare them.
 struct ReportFigure {
-  std::string key;       // "localization.ate_rmse_m"
-  std::string label;     // "localization RMSE"
-  double value = 0.0;    // as the report computed it
-  double recorded = 0.0; // as metrics.json has it; NaN where it does not
-  std::string unit;      // shown after the value, after scaling
-  double scale = 1.0;    // shown value = value * scale
+  std::string key;        // "localization.ate_rmse_m"
+  std::string label;      // "localization RMSE"
+  double value = 0.0;     // as the report computed it
+  double recorded = 0.0;  // as metrics.json has it; NaN where it does not
+  std::string unit;       // shown after the value, after scaling
+  double scale = 1.0;     // shown value = value * scale
   int decimals = 3;
 };
 

@@ -21,10 +21,11 @@ TEST(ReportHtmlTest, Base64MatchesRfc4648) {
 }
 
 TEST(ReportHtmlTest, FlattensMetricsLeaves) {
-  const nlohmann::json metrics = {{"map", {{"slots_matched", 140}, {"slot_corner_rmse_m", 0.02812}}},
-                                  {"detector", "classical"},
-                                  {"band_95", {1.5, 4.5}},
-                                  {"per_run", {{{"a", 1}}, {{"a", 2}}}}};
+  const nlohmann::json metrics = {
+      {"map", {{"slots_matched", 140}, {"slot_corner_rmse_m", 0.02812}}},
+      {"detector", "classical"},
+      {"band_95", {1.5, 4.5}},
+      {"per_run", {{{"a", 1}}, {{"a", 2}}}}};
   const auto flat = FlattenMetrics(metrics);
   const std::vector<std::pair<std::string, std::string>> expected = {
       {"band_95", "[1.5000, 4.5000]"},
@@ -37,7 +38,8 @@ TEST(ReportHtmlTest, FlattensMetricsLeaves) {
 TEST(ReportHtmlTest, FiguresCarryBothValuesAndWhetherTheyAgree) {
   ReportData data;
   data.title = "run <1>";
-  data.figures.push_back({"localization.ate_rmse_m", "localization RMSE", 0.0213, 0.0213, "m", 1.0, 3});
+  data.figures.push_back(
+      {"localization.ate_rmse_m", "localization RMSE", 0.0213, 0.0213, "m", 1.0, 3});
   data.figures.push_back({"map.slots_matched", "slots matched", 139, 140, "", 1.0, 0});
   const std::string html = RenderReportHtml(data);
   EXPECT_THAT(html, HasSubstr("<title>run &lt;1&gt;</title>"));

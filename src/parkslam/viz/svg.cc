@@ -7,10 +7,8 @@
 namespace parkslam::viz {
 namespace {
 
-void AppendAttribute(std::string* out, std::string_view name,
-                     std::string_view value) {
-  out->append(" ").append(name).append("=\"").append(XmlEscape(value)).append(
-      "\"");
+void AppendAttribute(std::string* out, std::string_view name, std::string_view value) {
+  out->append(" ").append(name).append("=\"").append(XmlEscape(value)).append("\"");
 }
 
 void AppendNumber(std::string* out, std::string_view name, double value) {
@@ -46,9 +44,8 @@ std::string FormatFixed(double value, int decimals) {
   double rounded = std::round(value * scale) / scale;
   if (rounded == 0.0) rounded = 0.0;  // no "-0"
   char buffer[64];
-  const auto [end, error] = std::to_chars(buffer, buffer + sizeof(buffer),
-                                          rounded, std::chars_format::fixed,
-                                          decimals);
+  const auto [end, error] =
+      std::to_chars(buffer, buffer + sizeof(buffer), rounded, std::chars_format::fixed, decimals);
   if (error != std::errc()) return "0";
   std::string out(buffer, end);
   // Trailing zeros of the fraction, then a bare point.
@@ -64,12 +61,23 @@ std::string XmlEscape(std::string_view text) {
   out.reserve(text.size());
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -77,16 +85,14 @@ std::string XmlEscape(std::string_view text) {
 
 std::string FormatPx(double value) { return FormatFixed(value, 1); }
 
-SvgCanvas::SvgCanvas(const Eigen::Vector2d& min_map_m,
-                     const Eigen::Vector2d& max_map_m, double pixels_per_m,
-                     double margin_px)
+SvgCanvas::SvgCanvas(const Eigen::Vector2d& min_map_m, const Eigen::Vector2d& max_map_m,
+                     double pixels_per_m, double margin_px)
     : min_map_m_(min_map_m),
       max_map_m_(max_map_m),
       pixels_per_m_(pixels_per_m),
       margin_px_(margin_px) {
   if (!(pixels_per_m > 0.0) || !(margin_px >= 0.0)) {
-    throw std::invalid_argument(
-        "SvgCanvas: needs pixels_per_m > 0 and margin_px >= 0");
+    throw std::invalid_argument("SvgCanvas: needs pixels_per_m > 0 and margin_px >= 0");
   }
   if (!(max_map_m.x() >= min_map_m.x()) || !(max_map_m.y() >= min_map_m.y())) {
     throw std::invalid_argument("SvgCanvas: the box's max is below its min");
@@ -106,8 +112,7 @@ Eigen::Vector2d SvgCanvas::ToMap(const Eigen::Vector2d& p_px) const {
           max_map_m_.y() - (p_px.y() - margin_px_) / pixels_per_m_};
 }
 
-std::string SvgCanvas::PointList(
-    const std::vector<Eigen::Vector2d>& points_map) const {
+std::string SvgCanvas::PointList(const std::vector<Eigen::Vector2d>& points_map) const {
   std::string out;
   out.reserve(points_map.size() * 12);
   for (const Eigen::Vector2d& p_map : points_map) {
@@ -120,22 +125,19 @@ std::string SvgCanvas::PointList(
   return out;
 }
 
-void SvgCanvas::Polygon(const std::vector<Eigen::Vector2d>& points_map,
-                        const SvgStyle& style) {
-  body_ += "<polygon points=\"" + PointList(points_map) + "\"" +
-           StyleAttributes(style) + "/>\n";
+void SvgCanvas::Polygon(const std::vector<Eigen::Vector2d>& points_map, const SvgStyle& style) {
+  body_ += "<polygon points=\"" + PointList(points_map) + "\"" + StyleAttributes(style) + "/>\n";
 }
 
-void SvgCanvas::Polyline(const std::vector<Eigen::Vector2d>& points_map,
-                         const SvgStyle& style) {
+void SvgCanvas::Polyline(const std::vector<Eigen::Vector2d>& points_map, const SvgStyle& style) {
   SvgStyle open_style = style;
   if (open_style.fill.empty()) open_style.fill = "none";
-  body_ += "<polyline points=\"" + PointList(points_map) + "\"" +
-           StyleAttributes(open_style) + "/>\n";
+  body_ +=
+      "<polyline points=\"" + PointList(points_map) + "\"" + StyleAttributes(open_style) + "/>\n";
 }
 
-void SvgCanvas::Line(const Eigen::Vector2d& from_map,
-                     const Eigen::Vector2d& to_map, const SvgStyle& style) {
+void SvgCanvas::Line(const Eigen::Vector2d& from_map, const Eigen::Vector2d& to_map,
+                     const SvgStyle& style) {
   const Eigen::Vector2d from_px = ToPixel(from_map);
   const Eigen::Vector2d to_px = ToPixel(to_map);
   body_ += "<line";
@@ -146,8 +148,7 @@ void SvgCanvas::Line(const Eigen::Vector2d& from_map,
   body_ += StyleAttributes(style) + "/>\n";
 }
 
-void SvgCanvas::Rect(const Eigen::Vector2d& corner_a_map,
-                     const Eigen::Vector2d& corner_b_map,
+void SvgCanvas::Rect(const Eigen::Vector2d& corner_a_map, const Eigen::Vector2d& corner_b_map,
                      const SvgStyle& style) {
   const Eigen::Vector2d a_px = ToPixel(corner_a_map);
   const Eigen::Vector2d b_px = ToPixel(corner_b_map);
@@ -161,8 +162,7 @@ void SvgCanvas::Rect(const Eigen::Vector2d& corner_a_map,
   body_ += StyleAttributes(style) + "/>\n";
 }
 
-void SvgCanvas::Circle(const Eigen::Vector2d& center_map, double radius_px,
-                       const SvgStyle& style) {
+void SvgCanvas::Circle(const Eigen::Vector2d& center_map, double radius_px, const SvgStyle& style) {
   const Eigen::Vector2d center_px = ToPixel(center_map);
   body_ += "<circle";
   AppendNumber(&body_, "cx", center_px.x());
@@ -179,8 +179,8 @@ void SvgCanvas::Text(const Eigen::Vector2d& anchor_map, std::string_view text,
   AppendNumber(&body_, "y", anchor_px.y());
   if (style.center_vertically) body_ += " dy=\".35em\"";
   if (rotation_deg != 0.0) {
-    body_ += " transform=\"rotate(" + FormatPx(rotation_deg) + " " +
-             FormatPx(anchor_px.x()) + " " + FormatPx(anchor_px.y()) + ")\"";
+    body_ += " transform=\"rotate(" + FormatPx(rotation_deg) + " " + FormatPx(anchor_px.x()) + " " +
+             FormatPx(anchor_px.y()) + ")\"";
   }
   body_ += StyleAttributes(style) + ">" + XmlEscape(text) + "</text>\n";
 }
@@ -206,10 +206,9 @@ std::string SvgCanvas::Finish() const {
   std::string document;
   document.reserve(body_.size() + 400);
   document += "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n";
-  document +=
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" +
-      width + "\" height=\"" + height + "\" viewBox=\"0 0 " + width + " " +
-      height + "\" font-family=\"sans-serif\">\n";
+  document += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + width +
+              "\" height=\"" + height + "\" viewBox=\"0 0 " + width + " " + height +
+              "\" font-family=\"sans-serif\">\n";
   document += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   document += body_;
   for (int i = 0; i < open_groups_; ++i) document += "</g>\n";

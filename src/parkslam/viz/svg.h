@@ -43,8 +43,8 @@ class SvgCanvas {
   // pixels_per_m, inside a blank border of margin_px on every side. Throws
   // std::invalid_argument for a non-positive scale, a negative margin or an
   // inverted box.
-  SvgCanvas(const Eigen::Vector2d& min_map_m, const Eigen::Vector2d& max_map_m,
-            double pixels_per_m, double margin_px = 20.0);
+  SvgCanvas(const Eigen::Vector2d& min_map_m, const Eigen::Vector2d& max_map_m, double pixels_per_m,
+            double margin_px = 20.0);
 
   double width_px() const { return width_px_; }
   double height_px() const { return height_px_; }
@@ -54,21 +54,17 @@ class SvgCanvas {
   Eigen::Vector2d ToPixel(const Eigen::Vector2d& p_map) const;
   Eigen::Vector2d ToMap(const Eigen::Vector2d& p_px) const;
 
-  void Polygon(const std::vector<Eigen::Vector2d>& points_map,
-               const SvgStyle& style);
+  void Polygon(const std::vector<Eigen::Vector2d>& points_map, const SvgStyle& style);
   // An open polyline; its fill is "none" unless the style sets one.
-  void Polyline(const std::vector<Eigen::Vector2d>& points_map,
-                const SvgStyle& style);
-  void Line(const Eigen::Vector2d& from_map, const Eigen::Vector2d& to_map,
-            const SvgStyle& style);
+  void Polyline(const std::vector<Eigen::Vector2d>& points_map, const SvgStyle& style);
+  void Line(const Eigen::Vector2d& from_map, const Eigen::Vector2d& to_map, const SvgStyle& style);
   // The axis-aligned rectangle with these two opposite corners.
-  void Rect(const Eigen::Vector2d& corner_a_map,
-            const Eigen::Vector2d& corner_b_map, const SvgStyle& style);
-  void Circle(const Eigen::Vector2d& center_map, double radius_px,
-              const SvgStyle& style);
+  void Rect(const Eigen::Vector2d& corner_a_map, const Eigen::Vector2d& corner_b_map,
+            const SvgStyle& style);
+  void Circle(const Eigen::Vector2d& center_map, double radius_px, const SvgStyle& style);
   // Text anchored at a map point, turned clockwise on screen by rotation_deg.
-  void Text(const Eigen::Vector2d& anchor_map, std::string_view text,
-            const SvgStyle& style, double rotation_deg = 0.0);
+  void Text(const Eigen::Vector2d& anchor_map, std::string_view text, const SvgStyle& style,
+            double rotation_deg = 0.0);
 
   // A <g> whose style its children inherit; groups nest. EndGroup without an
   // open group throws std::logic_error.

@@ -19,8 +19,7 @@ int CountOf(const std::string& text, const std::string& needle) {
 
 // The map box [0, 10] x [0, 5] at 10 px/m with a 20 px margin: 140 x 90 px.
 SvgCanvas SmallCanvas() {
-  return SvgCanvas(Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(10.0, 5.0), 10.0,
-                   20.0);
+  return SvgCanvas(Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(10.0, 5.0), 10.0, 20.0);
 }
 
 TEST(FormatPxTest, RoundsToOneDecimalWithoutTrailingZero) {
@@ -31,9 +30,7 @@ TEST(FormatPxTest, RoundsToOneDecimalWithoutTrailingZero) {
   EXPECT_EQ(FormatPx(-7.5), "-7.5");
 }
 
-TEST(FormatPxTest, WritesNoNegativeZero) {
-  EXPECT_EQ(FormatPx(-0.04), "0");
-}
+TEST(FormatPxTest, WritesNoNegativeZero) { EXPECT_EQ(FormatPx(-0.04), "0"); }
 
 TEST(FormatFixedTest, KeepsRequestedDecimals) {
   EXPECT_EQ(FormatFixed(0.85, 2), "0.85");
@@ -41,8 +38,7 @@ TEST(FormatFixedTest, KeepsRequestedDecimals) {
 }
 
 TEST(XmlEscapeTest, EscapesSpecialCharacters) {
-  EXPECT_EQ(XmlEscape("a<b & 'c' > \"d\""),
-            "a&lt;b &amp; &apos;c&apos; &gt; &quot;d&quot;");
+  EXPECT_EQ(XmlEscape("a<b & 'c' > \"d\""), "a&lt;b &amp; &apos;c&apos; &gt; &quot;d&quot;");
 }
 
 TEST(SvgCanvasTest, SizeIsBoxTimesScalePlusMargins) {
@@ -54,8 +50,7 @@ TEST(SvgCanvasTest, SizeIsBoxTimesScalePlusMargins) {
 TEST(SvgCanvasTest, FlipsTheYAxis) {
   const SvgCanvas canvas = SmallCanvas();
   EXPECT_TRUE(canvas.ToPixel({0.0, 0.0}).isApprox(Eigen::Vector2d(20.0, 70.0)));
-  EXPECT_TRUE(
-      canvas.ToPixel({10.0, 5.0}).isApprox(Eigen::Vector2d(120.0, 20.0)));
+  EXPECT_TRUE(canvas.ToPixel({10.0, 5.0}).isApprox(Eigen::Vector2d(120.0, 20.0)));
 }
 
 TEST(SvgCanvasTest, ToMapInvertsToPixel) {
@@ -83,29 +78,27 @@ TEST(SvgCanvasTest, CircleInPixelCoordinates) {
 TEST(SvgCanvasTest, PolylinePointsRoundedAndUnfilled) {
   SvgCanvas canvas = SmallCanvas();
   canvas.Polyline({{0.0, 0.0}, {1.234, 0.0}}, {.stroke = "blue"});
-  EXPECT_NE(canvas.Finish().find(
-                "<polyline points=\"20,70 32.3,70\" stroke=\"blue\" fill=\"none\"/>"),
-            std::string::npos);
+  EXPECT_NE(
+      canvas.Finish().find("<polyline points=\"20,70 32.3,70\" stroke=\"blue\" fill=\"none\"/>"),
+      std::string::npos);
 }
 
 TEST(SvgCanvasTest, PolygonCarriesItsStyle) {
   SvgCanvas canvas = SmallCanvas();
-  canvas.Polygon({{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}},
-                 {.stroke = "black", .fill = "#555555", .width_px = 2.0,
-                  .dash = "4 3", .opacity = 0.5});
-  EXPECT_NE(canvas.Finish().find(
-                "<polygon points=\"20,70 30,70 30,60\" stroke=\"black\" "
-                "fill=\"#555555\" stroke-width=\"2\" stroke-dasharray=\"4 3\" "
-                "opacity=\"0.5\"/>"),
+  canvas.Polygon(
+      {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}},
+      {.stroke = "black", .fill = "#555555", .width_px = 2.0, .dash = "4 3", .opacity = 0.5});
+  EXPECT_NE(canvas.Finish().find("<polygon points=\"20,70 30,70 30,60\" stroke=\"black\" "
+                                 "fill=\"#555555\" stroke-width=\"2\" stroke-dasharray=\"4 3\" "
+                                 "opacity=\"0.5\"/>"),
             std::string::npos);
 }
 
 TEST(SvgCanvasTest, RectNormalisesCorners) {
   SvgCanvas canvas = SmallCanvas();
   canvas.Rect({2.0, 3.0}, {1.0, 1.0}, {});
-  EXPECT_NE(
-      canvas.Finish().find("<rect x=\"30\" y=\"40\" width=\"10\" height=\"20\"/>"),
-      std::string::npos);
+  EXPECT_NE(canvas.Finish().find("<rect x=\"30\" y=\"40\" width=\"10\" height=\"20\"/>"),
+            std::string::npos);
 }
 
 TEST(SvgCanvasTest, LineEndpoints) {

@@ -46,8 +46,7 @@ class Pose2Manifold final : public ceres::Manifold {
   int AmbientSize() const override { return kSize; }
   int TangentSize() const override { return kSize; }
 
-  bool Plus(const double* x, const double* delta,
-            double* x_plus_delta) const override {
+  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
     x_plus_delta[0] = x[0] + delta[0];
     x_plus_delta[1] = x[1] + delta[1];
     x_plus_delta[2] = WrapAngle(x[2] + delta[2]);
@@ -60,8 +59,7 @@ class Pose2Manifold final : public ceres::Manifold {
     return true;
   }
 
-  bool Minus(const double* y, const double* x,
-             double* y_minus_x) const override {
+  bool Minus(const double* y, const double* x, double* y_minus_x) const override {
     y_minus_x[0] = y[0] - x[0];
     y_minus_x[1] = y[1] - x[1];
     y_minus_x[2] = WrapAngle(y[2] - x[2]);

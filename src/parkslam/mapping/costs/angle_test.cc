@@ -41,8 +41,8 @@ TEST(WrapAngleTest, AgreesWithNormalizeAngleOverSeveralTurns) {
 }
 
 TEST(WrapAngleTest, JetKeepsUnitDerivativeAcrossTheWrap) {
-  for (const double a : {kPi - 1e-3, kPi + 1e-3, -kPi - 1e-3, -kPi + 1e-3,
-                         7.0 * kPi + 0.1, -5.0 * kPi - 0.2, 0.3}) {
+  for (const double a :
+       {kPi - 1e-3, kPi + 1e-3, -kPi - 1e-3, -kPi + 1e-3, 7.0 * kPi + 0.1, -5.0 * kPi - 0.2, 0.3}) {
     const Jet1 wrapped = WrapAngle(Jet1(a, 0));
     EXPECT_NEAR(wrapped.a, NormalizeAngle(a), 1e-12) << a;
     EXPECT_DOUBLE_EQ(wrapped.v[0], 1.0) << a;
@@ -95,7 +95,7 @@ TEST(Pose2ManifoldTest, CeresManifoldInvariantsHoldNearTheWrap) {
   const Pose2Manifold manifold;
   ceres::Vector x(3), delta(3), y(3);
   x << 0.5, -1.5, kPi - 0.05;
-  delta << 0.2, 0.1, 0.2;        // crosses +pi
+  delta << 0.2, 0.1, 0.2;      // crosses +pi
   y << 1.0, 2.0, -kPi + 0.05;  // on the other side of the wrap
   const ceres::Vector zero = ceres::Vector::Zero(3);
   constexpr double kTolerance = 1e-9;
@@ -107,8 +107,7 @@ TEST(Pose2ManifoldTest, CeresManifoldInvariantsHoldNearTheWrap) {
   EXPECT_THAT(manifold, ceres::HasCorrectPlusJacobianAt(x, kTolerance));
   EXPECT_THAT(manifold, ceres::HasCorrectMinusJacobianAt(x, kTolerance));
   EXPECT_THAT(manifold, ceres::MinusPlusJacobianIsIdentityAt(x, kTolerance));
-  EXPECT_THAT(manifold,
-              ceres::HasCorrectRightMultiplyByPlusJacobianAt(x, kTolerance));
+  EXPECT_THAT(manifold, ceres::HasCorrectRightMultiplyByPlusJacobianAt(x, kTolerance));
 }
 
 }  // namespace

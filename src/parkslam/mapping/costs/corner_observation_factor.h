@@ -22,15 +22,12 @@ class CornerObservationFactor {
  public:
   static constexpr int kNumResiduals = 2;
 
-  CornerObservationFactor(const Eigen::Vector2d& z_vehicle,
-                          const Eigen::Matrix2d& covariance)
-      : z_vehicle_m_(z_vehicle),
-        sqrt_information_(SqrtInformation<2>(covariance)) {}
+  CornerObservationFactor(const Eigen::Vector2d& z_vehicle, const Eigen::Matrix2d& covariance)
+      : z_vehicle_m_(z_vehicle), sqrt_information_(SqrtInformation<2>(covariance)) {}
 
   template <typename T>
   bool operator()(const T* pose, const T* corner, T* residuals) const {
-    const Eigen::Matrix<T, 2, 1> c_minus_t(corner[0] - pose[0],
-                                           corner[1] - pose[1]);
+    const Eigen::Matrix<T, 2, 1> c_minus_t(corner[0] - pose[0], corner[1] - pose[1]);
     const Eigen::Matrix<T, 2, 1> error =
         RotateMapToBody(pose[2], c_minus_t) - z_vehicle_m_.cast<T>();
     Eigen::Map<Eigen::Matrix<T, 2, 1>> r(residuals);
@@ -41,8 +38,7 @@ class CornerObservationFactor {
   // Throws std::invalid_argument for a covariance that is not SPD.
   static ceres::CostFunction* Create(const Eigen::Vector2d& z_vehicle,
                                      const Eigen::Matrix2d& covariance) {
-    return new ceres::AutoDiffCostFunction<CornerObservationFactor,
-                                           kNumResiduals, 3, 2>(
+    return new ceres::AutoDiffCostFunction<CornerObservationFactor, kNumResiduals, 3, 2>(
         new CornerObservationFactor(z_vehicle, covariance));
   }
 

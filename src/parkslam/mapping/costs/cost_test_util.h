@@ -17,8 +17,7 @@
 namespace parkslam::mapping::testing {
 
 using Blocks = std::vector<std::vector<double>>;
-using RowMajorMatrix =
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 inline std::vector<const double*> Pointers(const Blocks& blocks) {
   std::vector<const double*> pointers;
@@ -27,8 +26,7 @@ inline std::vector<const double*> Pointers(const Blocks& blocks) {
 }
 
 // The residual vector of cost at blocks.
-inline Eigen::VectorXd Residuals(const ceres::CostFunction& cost,
-                                 const Blocks& blocks) {
+inline Eigen::VectorXd Residuals(const ceres::CostFunction& cost, const Blocks& blocks) {
   Eigen::VectorXd r(cost.num_residuals());
   const std::vector<const double*> pointers = Pointers(blocks);
   EXPECT_TRUE(cost.Evaluate(pointers.data(), r.data(), nullptr));
@@ -36,8 +34,7 @@ inline Eigen::VectorXd Residuals(const ceres::CostFunction& cost,
 }
 
 // The residual vector and every block's Jacobian (num_residuals x size).
-inline std::vector<RowMajorMatrix> Jacobians(const ceres::CostFunction& cost,
-                                             const Blocks& blocks,
+inline std::vector<RowMajorMatrix> Jacobians(const ceres::CostFunction& cost, const Blocks& blocks,
                                              Eigen::VectorXd* residuals = nullptr) {
   const int num_r = cost.num_residuals();
   std::vector<RowMajorMatrix> jacobians;
@@ -55,9 +52,9 @@ inline std::vector<RowMajorMatrix> Jacobians(const ceres::CostFunction& cost,
 
 // Compares every Jacobian entry with a central difference of step `step` on
 // each ambient coordinate: |analytic - numeric| <= tolerance * max(1, |numeric|).
-inline ::testing::AssertionResult JacobiansMatchNumeric(
-    const ceres::CostFunction& cost, const Blocks& blocks, double step = 1e-6,
-    double tolerance = 1e-6) {
+inline ::testing::AssertionResult JacobiansMatchNumeric(const ceres::CostFunction& cost,
+                                                        const Blocks& blocks, double step = 1e-6,
+                                                        double tolerance = 1e-6) {
   const std::vector<RowMajorMatrix> analytic = Jacobians(cost, blocks);
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     for (std::size_t d = 0; d < blocks[i].size(); ++d) {
@@ -71,8 +68,8 @@ inline ::testing::AssertionResult JacobiansMatchNumeric(
         const double n = numeric(r);
         if (!(std::abs(a - n) <= tolerance * std::max(1.0, std::abs(n)))) {
           std::ostringstream message;
-          message << "block " << i << " coordinate " << d << " residual " << r
-                  << ": analytic " << a << " numeric " << n;
+          message << "block " << i << " coordinate " << d << " residual " << r << ": analytic " << a
+                  << " numeric " << n;
           return ::testing::AssertionFailure() << message.str();
         }
       }

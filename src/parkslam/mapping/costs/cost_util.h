@@ -23,14 +23,12 @@ namespace parkslam::mapping {
 // Throws std::invalid_argument unless the covariance is finite, symmetric and
 // positive definite.
 template <int N>
-Eigen::Matrix<double, N, N> SqrtInformation(
-    const Eigen::Matrix<double, N, N>& covariance) {
+Eigen::Matrix<double, N, N> SqrtInformation(const Eigen::Matrix<double, N, N>& covariance) {
   if (!covariance.allFinite()) {
     throw std::invalid_argument("covariance has a non-finite entry");
   }
   const double scale = covariance.cwiseAbs().maxCoeff();
-  if (!((covariance - covariance.transpose()).cwiseAbs().maxCoeff() <=
-        1e-9 * scale)) {
+  if (!((covariance - covariance.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale)) {
     throw std::invalid_argument("covariance is not symmetric");
   }
   const Eigen::LLT<Eigen::Matrix<double, N, N>> covariance_llt(covariance);
@@ -40,8 +38,7 @@ Eigen::Matrix<double, N, N> SqrtInformation(
   const Eigen::Matrix<double, N, N> information =
       covariance_llt.solve(Eigen::Matrix<double, N, N>::Identity());
   // Symmetrize against round-off before the second factorization.
-  const Eigen::Matrix<double, N, N> symmetric =
-      0.5 * (information + information.transpose());
+  const Eigen::Matrix<double, N, N> symmetric = 0.5 * (information + information.transpose());
   const Eigen::LLT<Eigen::Matrix<double, N, N>> information_llt(symmetric);
   if (information_llt.info() != Eigen::Success) {
     throw std::invalid_argument("information is not positive definite");
@@ -59,14 +56,12 @@ inline double CheckedSigma(double sigma, const char* name) {
 
 // R(yaw)^T v: a map-frame vector v expressed in a frame rotated by yaw.
 template <typename T>
-Eigen::Matrix<T, 2, 1> RotateMapToBody(const T& yaw_rad,
-                                       const Eigen::Matrix<T, 2, 1>& v_map) {
+Eigen::Matrix<T, 2, 1> RotateMapToBody(const T& yaw_rad, const Eigen::Matrix<T, 2, 1>& v_map) {
   using std::cos;
   using std::sin;
   const T c = cos(yaw_rad);
   const T s = sin(yaw_rad);
-  return Eigen::Matrix<T, 2, 1>(c * v_map.x() + s * v_map.y(),
-                                -s * v_map.x() + c * v_map.y());
+  return Eigen::Matrix<T, 2, 1>(c * v_map.x() + s * v_map.y(), -s * v_map.x() + c * v_map.y());
 }
 
 }  // namespace parkslam::mapping

@@ -16,10 +16,9 @@ constexpr int kCornerSize = 2;
 
 }  // namespace
 
-MaxMixtureCornerFactor::MaxMixtureCornerFactor(
-    std::vector<CornerMeasurement> measurements,
-    std::vector<double> candidate_weights, double null_weight,
-    double null_chi2) {
+MaxMixtureCornerFactor::MaxMixtureCornerFactor(std::vector<CornerMeasurement> measurements,
+                                               std::vector<double> candidate_weights,
+                                               double null_weight, double null_chi2) {
   if (measurements.empty()) {
     throw std::invalid_argument("MaxMixtureCornerFactor: no measurements");
   }
@@ -33,12 +32,10 @@ MaxMixtureCornerFactor::MaxMixtureCornerFactor(
     }
   }
   if (!(std::isfinite(null_weight) && null_weight >= 0.0)) {
-    throw std::invalid_argument(
-        "MaxMixtureCornerFactor: null_weight must be finite and >= 0");
+    throw std::invalid_argument("MaxMixtureCornerFactor: null_weight must be finite and >= 0");
   }
   if (!(std::isfinite(null_chi2) && null_chi2 >= 0.0)) {
-    throw std::invalid_argument(
-        "MaxMixtureCornerFactor: null_chi2 must be finite and >= 0");
+    throw std::invalid_argument("MaxMixtureCornerFactor: null_chi2 must be finite and >= 0");
   }
 
   z_vehicle_m_.reserve(measurements.size());
@@ -67,43 +64,35 @@ MaxMixtureCornerFactor::MaxMixtureCornerFactor(
   (*sizes)[0] = kPoseSize;
 }
 
-MaxMixtureCornerFactor* MaxMixtureCornerFactor::Create(
-    std::vector<CornerMeasurement> measurements,
-    std::vector<double> candidate_weights, double null_weight,
-    double null_chi2) {
-  return new MaxMixtureCornerFactor(std::move(measurements),
-                                    std::move(candidate_weights), null_weight,
-                                    null_chi2);
+MaxMixtureCornerFactor* MaxMixtureCornerFactor::Create(std::vector<CornerMeasurement> measurements,
+                                                       std::vector<double> candidate_weights,
+                                                       double null_weight, double null_chi2) {
+  return new MaxMixtureCornerFactor(std::move(measurements), std::move(candidate_weights),
+                                    null_weight, null_chi2);
 }
 
-double MaxMixtureCornerFactor::CandidateAcceptanceChi2(double candidate_weight,
-                                                       double null_weight,
+double MaxMixtureCornerFactor::CandidateAcceptanceChi2(double candidate_weight, double null_weight,
                                                        double null_chi2) {
   return null_chi2 + 2.0 * std::log(candidate_weight / null_weight);
 }
 
-Eigen::Vector2d MaxMixtureCornerFactor::WhitenedError(const double* pose,
-                                                      const double* corner,
+Eigen::Vector2d MaxMixtureCornerFactor::WhitenedError(const double* pose, const double* corner,
                                                       int measurement) const {
   const Eigen::Vector2d c_minus_t(corner[0] - pose[0], corner[1] - pose[1]);
   const std::size_t j = static_cast<std::size_t>(measurement);
-  return sqrt_information_[j] *
-         (RotateMapToBody(pose[2], c_minus_t) - z_vehicle_m_[j]);
+  return sqrt_information_[j] * (RotateMapToBody(pose[2], c_minus_t) - z_vehicle_m_[j]);
 }
 
-double MaxMixtureCornerFactor::CandidateChi2(double const* const* parameters,
-                                             int candidate) const {
+double MaxMixtureCornerFactor::CandidateChi2(double const* const* parameters, int candidate) const {
   double chi2 = 0.0;
   for (int j = 0; j < num_measurements(); ++j) {
-    chi2 += WhitenedError(parameters[0],
-                          parameters[CornerBlockIndex(candidate, j)], j)
-                .squaredNorm();
+    chi2 +=
+        WhitenedError(parameters[0], parameters[CornerBlockIndex(candidate, j)], j).squaredNorm();
   }
   return chi2;
 }
 
-double MaxMixtureCornerFactor::ComponentCost(double const* const* parameters,
-                                             int component) const {
+double MaxMixtureCornerFactor::ComponentCost(double const* const* parameters, int component) const {
   if (component == kNullComponent) {
     return has_null_ ? null_cost_ : std::numeric_limits<double>::infinity();
   }
@@ -126,13 +115,11 @@ int MaxMixtureCornerFactor::Choose(double const* const* parameters) const {
   return best;
 }
 
-int MaxMixtureCornerFactor::ChosenComponent(
-    double const* const* parameters) const {
+int MaxMixtureCornerFactor::ChosenComponent(double const* const* parameters) const {
   return Choose(parameters);
 }
 
-bool MaxMixtureCornerFactor::Evaluate(double const* const* parameters,
-                                      double* residuals,
+bool MaxMixtureCornerFactor::Evaluate(double const* const* parameters, double* residuals,
                                       double** jacobians) const {
   const int num_j = num_measurements();
   const int num_r = num_residuals();
@@ -140,18 +127,16 @@ bool MaxMixtureCornerFactor::Evaluate(double const* const* parameters,
   const double* pose = parameters[0];
 
   // The normalization entry: N_chosen - N_min >= 0 by construction of N_min.
-  const double n_chosen =
-      chosen == kNullComponent
-          ? null_cost_
-          : negative_log_weights_[static_cast<std::size_t>(chosen)];
+  const double n_chosen = chosen == kNullComponent
+                              ? null_cost_
+                              : negative_log_weights_[static_cast<std::size_t>(chosen)];
   residuals[num_r - 1] = std::sqrt(2.0 * std::max(0.0, n_chosen - min_normalization_));
 
   if (chosen == kNullComponent) {
     std::fill(residuals, residuals + 2 * num_j, 0.0);
   } else {
     for (int j = 0; j < num_j; ++j) {
-      const Eigen::Vector2d e =
-          WhitenedError(pose, parameters[CornerBlockIndex(chosen, j)], j);
+      const Eigen::Vector2d e = WhitenedError(pose, parameters[CornerBlockIndex(chosen, j)], j);
       residuals[2 * j] = e.x();
       residuals[2 * j + 1] = e.y();
     }
@@ -181,13 +166,11 @@ bool MaxMixtureCornerFactor::Evaluate(double const* const* parameters,
     if (jacobians[0] != nullptr) {
       const double* corner = parameters[corner_block];
       const Eigen::Vector2d q =
-          rotation_transpose *
-          Eigen::Vector2d(corner[0] - pose[0], corner[1] - pose[1]);
+          rotation_transpose * Eigen::Vector2d(corner[0] - pose[0], corner[1] - pose[1]);
       Eigen::Matrix<double, 2, 3> d_error_d_pose;
       d_error_d_pose.leftCols<2>() = -rotation_transpose;
       d_error_d_pose.col(2) = Eigen::Vector2d(q.y(), -q.x());
-      Eigen::Map<RowMajor2x3>(jacobians[0] + 2 * j * kPoseSize) =
-          sqrt_info * d_error_d_pose;
+      Eigen::Map<RowMajor2x3>(jacobians[0] + 2 * j * kPoseSize) = sqrt_info * d_error_d_pose;
     }
     if (jacobians[corner_block] != nullptr) {
       Eigen::Map<RowMajor2x2>(jacobians[corner_block] + 2 * j * kCornerSize) =

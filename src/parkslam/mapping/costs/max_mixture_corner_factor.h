@@ -48,7 +48,7 @@ namespace parkslam::mapping {
 
 // One measured slot corner in the vehicle frame.
 struct CornerMeasurement {
-  Eigen::Vector2d z_vehicle = Eigen::Vector2d::Zero();    // metres
+  Eigen::Vector2d z_vehicle = Eigen::Vector2d::Zero();       // metres
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();  // m^2
 };
 
@@ -64,13 +64,12 @@ class MaxMixtureCornerFactor : public ceres::CostFunction {
   // (2) of candidate k that measurement j refers to] -- see CornerBlockIndex.
   // Throws std::invalid_argument on invalid input.
   MaxMixtureCornerFactor(std::vector<CornerMeasurement> measurements,
-                         std::vector<double> candidate_weights,
-                         double null_weight, double null_chi2);
+                         std::vector<double> candidate_weights, double null_weight,
+                         double null_chi2);
 
-  static MaxMixtureCornerFactor* Create(
-      std::vector<CornerMeasurement> measurements,
-      std::vector<double> candidate_weights, double null_weight,
-      double null_chi2);
+  static MaxMixtureCornerFactor* Create(std::vector<CornerMeasurement> measurements,
+                                        std::vector<double> candidate_weights, double null_weight,
+                                        double null_chi2);
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
@@ -94,8 +93,8 @@ class MaxMixtureCornerFactor : public ceres::CostFunction {
 
   // A single candidate of weight w beats the null iff its chi2 is below
   // null_chi2 + 2 log(candidate_weight / null_weight). null_weight > 0.
-  static double CandidateAcceptanceChi2(double candidate_weight,
-                                        double null_weight, double null_chi2);
+  static double CandidateAcceptanceChi2(double candidate_weight, double null_weight,
+                                        double null_chi2);
 
   // Index into the parameter-block list of the corner of candidate k that
   // measurement j refers to: 1 + k * J + j (block 0 is the pose).
@@ -104,15 +103,12 @@ class MaxMixtureCornerFactor : public ceres::CostFunction {
   }
 
   int num_measurements() const { return static_cast<int>(z_vehicle_m_.size()); }
-  int num_candidates() const {
-    return static_cast<int>(negative_log_weights_.size());
-  }
+  int num_candidates() const { return static_cast<int>(negative_log_weights_.size()); }
   bool has_null() const { return has_null_; }
 
  private:
   // Whitened error of measurement j against corner c, and its chi2.
-  Eigen::Vector2d WhitenedError(const double* pose, const double* corner,
-                                int measurement) const;
+  Eigen::Vector2d WhitenedError(const double* pose, const double* corner, int measurement) const;
   int Choose(double const* const* parameters) const;
 
   std::vector<Eigen::Vector2d> z_vehicle_m_;

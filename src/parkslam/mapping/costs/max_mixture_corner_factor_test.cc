@@ -34,8 +34,7 @@ CornerMeasurement Measurement(double x, double y, double sigma = kSigmaM) {
 }
 
 // The map point that a pose sees at p_vehicle.
-std::vector<double> MapPoint(const std::vector<double>& pose,
-                             const Eigen::Vector2d& p_vehicle) {
+std::vector<double> MapPoint(const std::vector<double>& pose, const Eigen::Vector2d& p_vehicle) {
   const Eigen::Vector2d p = SE2(pose[0], pose[1], pose[2]) * p_vehicle;
   return {p.x(), p.y()};
 }
@@ -55,12 +54,10 @@ int Chosen(const MaxMixtureCornerFactor& factor, const Blocks& blocks) {
 const std::vector<double> kPoseFacingPlusY = {0.0, 0.0, kPi / 2};
 
 TEST(MaxMixtureCornerFactorTest, LayoutFollowsMeasurementsAndCandidates) {
-  const MaxMixtureCornerFactor factor(
-      {Measurement(1, 0), Measurement(2, 0), Measurement(3, 0)}, {0.5, 0.3},
-      0.1, 9.0);
+  const MaxMixtureCornerFactor factor({Measurement(1, 0), Measurement(2, 0), Measurement(3, 0)},
+                                      {0.5, 0.3}, 0.1, 9.0);
   EXPECT_EQ(factor.num_residuals(), 2 * 3 + 1);
-  EXPECT_EQ(factor.parameter_block_sizes(),
-            (std::vector<int>{3, 2, 2, 2, 2, 2, 2}));
+  EXPECT_EQ(factor.parameter_block_sizes(), (std::vector<int>{3, 2, 2, 2, 2, 2, 2}));
   EXPECT_EQ(factor.CornerBlockIndex(0, 0), 1);
   EXPECT_EQ(factor.CornerBlockIndex(1, 2), 6);
 }
@@ -68,8 +65,7 @@ TEST(MaxMixtureCornerFactorTest, LayoutFollowsMeasurementsAndCandidates) {
 TEST(MaxMixtureCornerFactorTest, ResidualOfChosenCandidateByHand) {
   // One corner measured 2 m ahead; candidate 0 is 2.1 m ahead (0.1 m = 1
   // sigma off along the vehicle x), candidate 1 is far away.
-  const MaxMixtureCornerFactor factor({Measurement(2.0, 0.0)}, {0.5, 0.5},
-                                      0.01, 25.0);
+  const MaxMixtureCornerFactor factor({Measurement(2.0, 0.0)}, {0.5, 0.5}, 0.01, 25.0);
   const Blocks blocks = MakeBlocks(kPoseFacingPlusY, {{0.0, 2.1}, {5.0, 5.0}});
   EXPECT_EQ(Chosen(factor, blocks), 0);
   const Eigen::VectorXd r = Residuals(factor, blocks);
@@ -129,8 +125,7 @@ class CandidateVersusNullTest : public ::testing::Test {
 };
 
 TEST_F(CandidateVersusNullTest, AcceptanceThresholdIsNullChi2PlusTwoLogWeightRatio) {
-  EXPECT_NEAR(MaxMixtureCornerFactor::CandidateAcceptanceChi2(0.8, 0.05, 9.0),
-              threshold_, 1e-12);
+  EXPECT_NEAR(MaxMixtureCornerFactor::CandidateAcceptanceChi2(0.8, 0.05, 9.0), threshold_, 1e-12);
   EXPECT_NEAR(threshold_, 14.545177444479562, 1e-12);
 }
 
@@ -166,8 +161,8 @@ TEST(MaxMixtureCornerFactorTest, NormalizationEntryIsNonNegativeAndGivesCostAbov
     const int num_k = 1 + static_cast<int>(random.Index(3));
     std::vector<CornerMeasurement> measurements;
     for (int j = 0; j < num_j; ++j) {
-      measurements.push_back(Measurement(random.Uniform(1, 8), random.Uniform(-4, 4),
-                                         random.Uniform(0.05, 0.3)));
+      measurements.push_back(
+          Measurement(random.Uniform(1, 8), random.Uniform(-4, 4), random.Uniform(0.05, 0.3)));
     }
     std::vector<double> weights;
     for (int k = 0; k < num_k; ++k) weights.push_back(random.Uniform(0.01, 1.0));
@@ -211,17 +206,17 @@ TEST(MaxMixtureCornerFactorTest, JacobiansMatchNumericAwayFromTheSwitch) {
   const MaxMixtureCornerFactor factor(measurements, {0.3, 0.5, 0.2}, 0.01, 30.0);
   for (const double yaw : {kPi - 1e-4, -kPi + 1e-4, kPi, 0.5, -2.2}) {
     for (int trial = 0; trial < 3; ++trial) {
-      const std::vector<double> pose = {random.Uniform(-20, 20),
-                                        random.Uniform(-20, 20), yaw};
+      const std::vector<double> pose = {random.Uniform(-20, 20), random.Uniform(-20, 20), yaw};
       Blocks corners;
       for (int k = 0; k < 3; ++k) {
         // Candidate 1 close (about 1 sigma), candidates 0 and 2 at least 2 m off.
         const double spread = k == 1 ? 0.1 : 1.0;
         for (const auto& m : measurements) {
-          corners.push_back(MapPoint(
-              pose, m.z_vehicle + Eigen::Vector2d(random.Uniform(-spread, spread),
-                                                  random.Uniform(-spread, spread)) +
-                        (k == 1 ? Eigen::Vector2d(0.0, 0.0) : Eigen::Vector2d(3.0, 0.0))));
+          corners.push_back(
+              MapPoint(pose, m.z_vehicle +
+                                 Eigen::Vector2d(random.Uniform(-spread, spread),
+                                                 random.Uniform(-spread, spread)) +
+                                 (k == 1 ? Eigen::Vector2d(0.0, 0.0) : Eigen::Vector2d(3.0, 0.0))));
         }
       }
       const Blocks blocks = MakeBlocks(pose, corners);
@@ -230,11 +225,17 @@ TEST(MaxMixtureCornerFactorTest, JacobiansMatchNumericAwayFromTheSwitch) {
       const auto jacobians = Jacobians(factor, blocks);
       for (int j = 0; j < 2; ++j) {
         EXPECT_EQ(jacobians[static_cast<std::size_t>(factor.CornerBlockIndex(0, j))]
-                      .cwiseAbs().maxCoeff(), 0.0);
+                      .cwiseAbs()
+                      .maxCoeff(),
+                  0.0);
         EXPECT_EQ(jacobians[static_cast<std::size_t>(factor.CornerBlockIndex(2, j))]
-                      .cwiseAbs().maxCoeff(), 0.0);
+                      .cwiseAbs()
+                      .maxCoeff(),
+                  0.0);
         EXPECT_GT(jacobians[static_cast<std::size_t>(factor.CornerBlockIndex(1, j))]
-                      .cwiseAbs().maxCoeff(), 1.0);
+                      .cwiseAbs()
+                      .maxCoeff(),
+                  1.0);
       }
       for (const auto& jac : jacobians) {
         EXPECT_EQ(jac.row(jac.rows() - 1).cwiseAbs().maxCoeff(), 0.0);
@@ -268,8 +269,7 @@ TEST(MaxMixtureCornerFactorTest, WithoutNullTheBestCandidateIsAlwaysChosen) {
 
 TEST(MaxMixtureCornerFactorTest, CeresPicksTheNearCandidateAndLeavesTheFarOneAlone) {
   const SE2 T_map_vehicle(10.0, 5.0, kPi - 0.01);
-  std::vector<double> pose = {T_map_vehicle.x(), T_map_vehicle.y(),
-                              T_map_vehicle.yaw()};
+  std::vector<double> pose = {T_map_vehicle.x(), T_map_vehicle.y(), T_map_vehicle.yaw()};
   const Eigen::Vector2d z(3.0, -1.0);
   const Eigen::Vector2d truth = T_map_vehicle * z;
   // Candidate 0 far (3 m off), candidate 1 near (0.3 m off).
@@ -280,8 +280,7 @@ TEST(MaxMixtureCornerFactorTest, CeresPicksTheNearCandidateAndLeavesTheFarOneAlo
   ceres::Problem problem;
   problem.AddParameterBlock(pose.data(), 3, new Pose2Manifold);
   problem.AddResidualBlock(
-      PosePriorFactor::Create(T_map_vehicle,
-                              Eigen::Vector3d(1e-4, 1e-4, 1e-6).asDiagonal()),
+      PosePriorFactor::Create(T_map_vehicle, Eigen::Vector3d(1e-4, 1e-4, 1e-6).asDiagonal()),
       nullptr, pose.data());
   MaxMixtureCornerFactor* factor =
       MaxMixtureCornerFactor::Create({Measurement(z.x(), z.y())}, {0.5, 0.5}, 0.01, 25.0);
@@ -305,10 +304,8 @@ TEST(MaxMixtureCornerFactorTest, CeresPicksTheNearCandidateAndLeavesTheFarOneAlo
 
 TEST(MaxMixtureCornerFactorTest, RejectsInvalidInput) {
   EXPECT_THROW(MaxMixtureCornerFactor({}, {1.0}, 0.1, 9.0), std::invalid_argument);
-  EXPECT_THROW(MaxMixtureCornerFactor({Measurement(1, 0)}, {}, 0.1, 9.0),
-               std::invalid_argument);
-  EXPECT_THROW(MaxMixtureCornerFactor({Measurement(1, 0)}, {0.0}, 0.1, 9.0),
-               std::invalid_argument);
+  EXPECT_THROW(MaxMixtureCornerFactor({Measurement(1, 0)}, {}, 0.1, 9.0), std::invalid_argument);
+  EXPECT_THROW(MaxMixtureCornerFactor({Measurement(1, 0)}, {0.0}, 0.1, 9.0), std::invalid_argument);
   EXPECT_THROW(MaxMixtureCornerFactor({Measurement(1, 0)}, {0.5}, -0.1, 9.0),
                std::invalid_argument);
   EXPECT_THROW(MaxMixtureCornerFactor({Measurement(1, 0)}, {0.5}, 0.1, -1.0),

@@ -33,11 +33,9 @@ class OdometryFactor {
 
   template <typename T>
   bool operator()(const T* pose_a, const T* pose_b, T* residuals) const {
-    const Eigen::Matrix<T, 2, 1> t_b_minus_t_a(pose_b[0] - pose_a[0],
-                                               pose_b[1] - pose_a[1]);
+    const Eigen::Matrix<T, 2, 1> t_b_minus_t_a(pose_b[0] - pose_a[0], pose_b[1] - pose_a[1]);
     Eigen::Matrix<T, 3, 1> error;
-    error.template head<2>() =
-        RotateMapToBody(pose_a[2], t_b_minus_t_a) - t_ab_m_.cast<T>();
+    error.template head<2>() = RotateMapToBody(pose_a[2], t_b_minus_t_a) - t_ab_m_.cast<T>();
     error(2) = WrapAngle(pose_b[2] - pose_a[2] - T(yaw_ab_rad_));
     Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residuals);
     r = sqrt_information_.cast<T>() * error;
@@ -45,8 +43,7 @@ class OdometryFactor {
   }
 
   // Throws std::invalid_argument for a covariance that is not SPD.
-  static ceres::CostFunction* Create(const SE2& T_a_b_measured,
-                                     const Eigen::Matrix3d& covariance) {
+  static ceres::CostFunction* Create(const SE2& T_a_b_measured, const Eigen::Matrix3d& covariance) {
     return new ceres::AutoDiffCostFunction<OdometryFactor, kNumResiduals, 3, 3>(
         new OdometryFactor(T_a_b_measured, covariance));
   }

@@ -37,12 +37,10 @@ TEST(OdometryFactorTest, ZeroResidualAtTheMeasuredRelativePose) {
 TEST(OdometryFactorTest, ResidualByHandForPoseFacingPlusY) {
   // a at (1, 2) facing +y; b 2 m further along +y, turned by 0.1 rad. In a's
   // frame b is at (2, 0). Measured (1.5, 0.2, 0.05); sigmas 0.5 m, 0.5 m, 0.1 rad.
-  const Eigen::Matrix3d covariance =
-      Eigen::Vector3d(0.25, 0.25, 0.01).asDiagonal();
+  const Eigen::Matrix3d covariance = Eigen::Vector3d(0.25, 0.25, 0.01).asDiagonal();
   const std::unique_ptr<ceres::CostFunction> cost(
       OdometryFactor::Create(SE2(1.5, 0.2, 0.05), covariance));
-  const Eigen::VectorXd r =
-      Residuals(*cost, {{1.0, 2.0, kPi / 2}, {1.0, 4.0, kPi / 2 + 0.1}});
+  const Eigen::VectorXd r = Residuals(*cost, {{1.0, 2.0, kPi / 2}, {1.0, 4.0, kPi / 2 + 0.1}});
   EXPECT_NEAR(r(0), (2.0 - 1.5) / 0.5, 1e-12);
   EXPECT_NEAR(r(1), (0.0 - 0.2) / 0.5, 1e-12);
   EXPECT_NEAR(r(2), (0.1 - 0.05) / 0.1, 1e-12);
@@ -52,8 +50,7 @@ TEST(OdometryFactorTest, YawResidualIsWrappedAcrossPi) {
   // yaw_b - yaw_a = (-pi + 0.1) - (pi - 0.1) = -2 pi + 0.2 ~ 0.2; measured 0.1.
   const std::unique_ptr<ceres::CostFunction> cost(
       OdometryFactor::Create(SE2(0.0, 0.0, 0.1), Eigen::Matrix3d::Identity()));
-  const Eigen::VectorXd r =
-      Residuals(*cost, {{0.0, 0.0, kPi - 0.1}, {0.0, 0.0, -kPi + 0.1}});
+  const Eigen::VectorXd r = Residuals(*cost, {{0.0, 0.0, kPi - 0.1}, {0.0, 0.0, -kPi + 0.1}});
   EXPECT_NEAR(r(2), 0.1, 1e-12);
 }
 
@@ -68,10 +65,8 @@ TEST(OdometryFactorTest, JacobiansMatchNumericIncludingYawNearPi) {
   const double yaws[] = {kPi - 1e-4, -kPi + 1e-4, kPi, 0.7, -2.0};
   for (const double yaw_a : yaws) {
     for (int trial = 0; trial < 4; ++trial) {
-      const std::vector<double> a = {random.Uniform(-10, 10),
-                                     random.Uniform(-10, 10), yaw_a};
-      const std::vector<double> b = {random.Uniform(-10, 10),
-                                     random.Uniform(-10, 10),
+      const std::vector<double> a = {random.Uniform(-10, 10), random.Uniform(-10, 10), yaw_a};
+      const std::vector<double> b = {random.Uniform(-10, 10), random.Uniform(-10, 10),
                                      NormalizeAngle(yaw_a + random.Uniform(-0.5, 0.5))};
       EXPECT_TRUE(JacobiansMatchNumeric(*cost, {a, b})) << "yaw_a " << yaw_a;
     }
@@ -79,21 +74,18 @@ TEST(OdometryFactorTest, JacobiansMatchNumericIncludingYawNearPi) {
 }
 
 TEST(OdometryFactorTest, SquaredResidualIsTheMahalanobisDistance) {
-  Eigen::Matrix3d covariance;  // strongly non-isotropic, correlated
+  Eigen::Matrix3d covariance;       // strongly non-isotropic, correlated
   covariance << 0.09, 0.05, 0.004,  //
       0.05, 0.04, -0.002,           //
       0.004, -0.002, 0.0025;
   const SE2 measured(2.0, 0.1, 0.05);
-  const std::unique_ptr<ceres::CostFunction> cost(
-      OdometryFactor::Create(measured, covariance));
+  const std::unique_ptr<ceres::CostFunction> cost(OdometryFactor::Create(measured, covariance));
   const std::vector<double> a = {1.0, -1.0, 0.4};
   const std::vector<double> b = {2.5, 0.9, 0.6};
   // e by hand: R(yaw_a)^T (t_b - t_a) - t_ab, yaw_b - yaw_a - yaw_ab.
   const Eigen::Vector2d relative =
-      SE2(a[0], a[1], a[2]).rotation().transpose() *
-      Eigen::Vector2d(b[0] - a[0], b[1] - a[1]);
-  const Eigen::Vector3d e(relative.x() - 2.0, relative.y() - 0.1,
-                          b[2] - a[2] - 0.05);
+      SE2(a[0], a[1], a[2]).rotation().transpose() * Eigen::Vector2d(b[0] - a[0], b[1] - a[1]);
+  const Eigen::Vector3d e(relative.x() - 2.0, relative.y() - 0.1, b[2] - a[2] - 0.05);
   const double mahalanobis = e.dot(covariance.inverse() * e);
   const Eigen::VectorXd r = Residuals(*cost, {a, b});
   EXPECT_NEAR(0.5 * r.squaredNorm(), 0.5 * mahalanobis, 1e-10 * mahalanobis);

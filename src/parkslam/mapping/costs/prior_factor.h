@@ -43,8 +43,7 @@ class PosePriorFactor {
   }
 
   // Throws std::invalid_argument for a covariance that is not SPD.
-  static ceres::CostFunction* Create(const SE2& prior,
-                                     const Eigen::Matrix3d& covariance) {
+  static ceres::CostFunction* Create(const SE2& prior, const Eigen::Matrix3d& covariance) {
     return new ceres::AutoDiffCostFunction<PosePriorFactor, kNumResiduals, 3>(
         new PosePriorFactor(prior, covariance));
   }
@@ -61,8 +60,7 @@ class PointPriorFactor {
 
   // Throws std::invalid_argument unless sigma_m > 0.
   PointPriorFactor(const Eigen::Vector2d& prior_map, double sigma_m)
-      : prior_map_m_(prior_map),
-        inverse_sigma_(1.0 / CheckedSigma(sigma_m, "sigma_m")) {}
+      : prior_map_m_(prior_map), inverse_sigma_(1.0 / CheckedSigma(sigma_m, "sigma_m")) {}
 
   template <typename T>
   bool operator()(const T* corner, T* residuals) const {
@@ -71,8 +69,7 @@ class PointPriorFactor {
     return true;
   }
 
-  static ceres::CostFunction* Create(const Eigen::Vector2d& prior_map,
-                                     double sigma_m) {
+  static ceres::CostFunction* Create(const Eigen::Vector2d& prior_map, double sigma_m) {
     return new ceres::AutoDiffCostFunction<PointPriorFactor, kNumResiduals, 2>(
         new PointPriorFactor(prior_map, sigma_m));
   }

@@ -50,8 +50,8 @@ class SlotShapeFactor {
   // angle_rad: interior angle at c0 and c2, in (0, pi). width_m: entrance
   // length |c1 - c0|; depth_m: side length |c3 - c0|. Throws
   // std::invalid_argument for values out of range.
-  SlotShapeFactor(double angle_rad, double width_m, double depth_m,
-                  double angle_sigma_rad, double length_sigma_m)
+  SlotShapeFactor(double angle_rad, double width_m, double depth_m, double angle_sigma_rad,
+                  double length_sigma_m)
       : angle_rad_(CheckedAngle(angle_rad)),
         width_m_(CheckedSigma(width_m, "width_m")),
         depth_m_(CheckedSigma(depth_m, "depth_m")),
@@ -59,8 +59,7 @@ class SlotShapeFactor {
         inverse_length_sigma_(1.0 / CheckedSigma(length_sigma_m, "length_sigma_m")) {}
 
   template <typename T>
-  bool operator()(const T* c0, const T* c1, const T* c2, const T* c3,
-                  T* residuals) const {
+  bool operator()(const T* c0, const T* c1, const T* c2, const T* c3, T* residuals) const {
     using std::atan2;
     const T* const corners[4] = {c0, c1, c2, c3};
     for (int k = 0; k < 4; ++k) {
@@ -70,8 +69,7 @@ class SlotShapeFactor {
       const T ax = next[0] - here[0], ay = next[1] - here[1];
       const T bx = prev[0] - here[0], by = prev[1] - here[1];
       const T interior = atan2(ax * by - ay * bx, ax * bx + ay * by);
-      const double expected =
-          k % 2 == 0 ? angle_rad_ : std::numbers::pi - angle_rad_;
+      const double expected = k % 2 == 0 ? angle_rad_ : std::numbers::pi - angle_rad_;
       residuals[k] = WrapAngle(interior - T(expected)) * inverse_angle_sigma_;
     }
     residuals[4] = (Distance(c0, c1) - T(width_m_)) * inverse_length_sigma_;
@@ -81,12 +79,10 @@ class SlotShapeFactor {
     return true;
   }
 
-  static ceres::CostFunction* Create(double angle_rad, double width_m,
-                                     double depth_m, double angle_sigma_rad,
-                                     double length_sigma_m) {
-    return new ceres::AutoDiffCostFunction<SlotShapeFactor, kNumResiduals, 2, 2,
-                                           2, 2>(new SlotShapeFactor(
-        angle_rad, width_m, depth_m, angle_sigma_rad, length_sigma_m));
+  static ceres::CostFunction* Create(double angle_rad, double width_m, double depth_m,
+                                     double angle_sigma_rad, double length_sigma_m) {
+    return new ceres::AutoDiffCostFunction<SlotShapeFactor, kNumResiduals, 2, 2, 2, 2>(
+        new SlotShapeFactor(angle_rad, width_m, depth_m, angle_sigma_rad, length_sigma_m));
   }
 
  private:

@@ -26,11 +26,10 @@ constexpr double kLengthSigmaM = 0.1;
 
 // Corners c0..c3 of a slot: entrance c0 -> c1 along entrance_yaw, sides at
 // interior angle `angle` (counter-clockwise from the entrance) at c0.
-Blocks Parallelogram(const Eigen::Vector2d& c0, double entrance_yaw, double angle,
-                     double width, double depth) {
+Blocks Parallelogram(const Eigen::Vector2d& c0, double entrance_yaw, double angle, double width,
+                     double depth) {
   const Eigen::Vector2d u(std::cos(entrance_yaw), std::sin(entrance_yaw));
-  const Eigen::Vector2d v(std::cos(entrance_yaw + angle),
-                          std::sin(entrance_yaw + angle));
+  const Eigen::Vector2d v(std::cos(entrance_yaw + angle), std::sin(entrance_yaw + angle));
   const Eigen::Vector2d c1 = c0 + width * u;
   const Eigen::Vector2d c2 = c1 + depth * v;
   const Eigen::Vector2d c3 = c0 + depth * v;
@@ -38,16 +37,16 @@ Blocks Parallelogram(const Eigen::Vector2d& c0, double entrance_yaw, double angl
 }
 
 std::unique_ptr<ceres::CostFunction> Factor(double angle) {
-  return std::unique_ptr<ceres::CostFunction>(SlotShapeFactor::Create(
-      angle, kWidthM, kDepthM, kAngleSigmaRad, kLengthSigmaM));
+  return std::unique_ptr<ceres::CostFunction>(
+      SlotShapeFactor::Create(angle, kWidthM, kDepthM, kAngleSigmaRad, kLengthSigmaM));
 }
 
 TEST(SlotShapeFactorTest, PerfectRectangleHasZeroResidual) {
   const auto cost = Factor(kPi / 2);
   // Several orientations, including an entrance pointing along -x (yaw pi).
   for (const double yaw : {0.0, 0.4, kPi / 2, kPi, -kPi + 0.01, -2.0}) {
-    const Eigen::VectorXd r = Residuals(
-        *cost, Parallelogram({12.0, -3.0}, yaw, kPi / 2, kWidthM, kDepthM));
+    const Eigen::VectorXd r =
+        Residuals(*cost, Parallelogram({12.0, -3.0}, yaw, kPi / 2, kWidthM, kDepthM));
     EXPECT_NEAR(r.norm(), 0.0, 1e-9) << yaw;
   }
 }
@@ -55,8 +54,8 @@ TEST(SlotShapeFactorTest, PerfectRectangleHasZeroResidual) {
 TEST(SlotShapeFactorTest, PerfectSixtyDegreeParallelogramHasZeroResidual) {
   const auto cost = Factor(DegToRad(60.0));
   for (const double yaw : {0.0, 1.0, kPi - 0.01, -kPi / 2}) {
-    const Eigen::VectorXd r = Residuals(
-        *cost, Parallelogram({-4.0, 7.5}, yaw, DegToRad(60.0), kWidthM, kDepthM));
+    const Eigen::VectorXd r =
+        Residuals(*cost, Parallelogram({-4.0, 7.5}, yaw, DegToRad(60.0), kWidthM, kDepthM));
     EXPECT_NEAR(r.norm(), 0.0, 1e-9) << yaw;
   }
 }
@@ -78,8 +77,7 @@ TEST(SlotShapeFactorTest, RectangleCheckedAsSixtyDegreeSlotHasAngleResiduals) {
 TEST(SlotShapeFactorTest, WrongSizeGivesOnlyLengthResiduals) {
   const auto cost = Factor(kPi / 2);
   // A rectangle 2.7 x 5.0 against the 2.5 x 5.3 shape.
-  const Eigen::VectorXd r =
-      Residuals(*cost, Parallelogram({1.0, 2.0}, -0.8, kPi / 2, 2.7, 5.0));
+  const Eigen::VectorXd r = Residuals(*cost, Parallelogram({1.0, 2.0}, -0.8, kPi / 2, 2.7, 5.0));
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(r(i), 0.0, 1e-9);
   EXPECT_NEAR(r(4), 0.2 / kLengthSigmaM, 1e-9);   // entrance
   EXPECT_NEAR(r(5), 0.2 / kLengthSigmaM, 1e-9);   // back line
@@ -121,28 +119,23 @@ TEST(SlotShapeFactorTest, JacobiansMatchNumericAtPerturbedSlots) {
     const auto cost = Factor(angle);
     for (const double yaw : {kPi - 1e-3, -kPi + 1e-3, 0.2, 2.0}) {
       for (int trial = 0; trial < 3; ++trial) {
-        Blocks corners = Parallelogram(
-            {random.Uniform(-30, 30), random.Uniform(-30, 30)}, yaw, angle,
-            kWidthM, kDepthM);
+        Blocks corners = Parallelogram({random.Uniform(-30, 30), random.Uniform(-30, 30)}, yaw,
+                                       angle, kWidthM, kDepthM);
         for (auto& c : corners) {
           c[0] += random.Uniform(-0.3, 0.3);
           c[1] += random.Uniform(-0.3, 0.3);
         }
         // Residuals are scaled by 1/sigma (up to 100); compare relatively.
-        EXPECT_TRUE(JacobiansMatchNumeric(*cost, corners, 1e-6, 1e-5))
-            << angle << " " << yaw;
+        EXPECT_TRUE(JacobiansMatchNumeric(*cost, corners, 1e-6, 1e-5)) << angle << " " << yaw;
       }
     }
   }
 }
 
 TEST(SlotShapeFactorTest, RejectsAnAngleOutsideZeroToPi) {
-  EXPECT_THROW(SlotShapeFactor(0.0, kWidthM, kDepthM, 0.01, 0.1),
-               std::invalid_argument);
-  EXPECT_THROW(SlotShapeFactor(kPi, kWidthM, kDepthM, 0.01, 0.1),
-               std::invalid_argument);
-  EXPECT_THROW(SlotShapeFactor(kPi / 2, kWidthM, kDepthM, 0.0, 0.1),
-               std::invalid_argument);
+  EXPECT_THROW(SlotShapeFactor(0.0, kWidthM, kDepthM, 0.01, 0.1), std::invalid_argument);
+  EXPECT_THROW(SlotShapeFactor(kPi, kWidthM, kDepthM, 0.01, 0.1), std::invalid_argument);
+  EXPECT_THROW(SlotShapeFactor(kPi / 2, kWidthM, kDepthM, 0.0, 0.1), std::invalid_argument);
 }
 
 }  // namespace

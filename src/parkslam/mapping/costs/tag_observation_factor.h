@@ -31,32 +31,28 @@ class TagObservationFactor {
   // Throws std::invalid_argument for a covariance that is not SPD or a
   // yaw_sigma_rad that is not > 0.
   TagObservationFactor(const Eigen::Vector2d& z_vehicle, double yaw_vehicle,
-                       const Eigen::Matrix2d& position_covariance,
-                       double yaw_sigma_rad)
+                       const Eigen::Matrix2d& position_covariance, double yaw_sigma_rad)
       : z_vehicle_m_(z_vehicle),
         z_yaw_rad_(WrapAngle(yaw_vehicle)),
-        sqrt_information_(SqrtInformation<3>(BlockDiagonal(
-            position_covariance, CheckedSigma(yaw_sigma_rad, "yaw_sigma_rad")))) {}
+        sqrt_information_(SqrtInformation<3>(
+            BlockDiagonal(position_covariance, CheckedSigma(yaw_sigma_rad, "yaw_sigma_rad")))) {}
 
   template <typename T>
   bool operator()(const T* pose, const T* tag, T* residuals) const {
     const Eigen::Matrix<T, 2, 1> p_minus_t(tag[0] - pose[0], tag[1] - pose[1]);
     Eigen::Matrix<T, 3, 1> error;
-    error.template head<2>() =
-        RotateMapToBody(pose[2], p_minus_t) - z_vehicle_m_.cast<T>();
+    error.template head<2>() = RotateMapToBody(pose[2], p_minus_t) - z_vehicle_m_.cast<T>();
     error(2) = WrapAngle(tag[2] - pose[2] - T(z_yaw_rad_));
     Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residuals);
     r = sqrt_information_.cast<T>() * error;
     return true;
   }
 
-  static ceres::CostFunction* Create(const Eigen::Vector2d& z_vehicle,
-                                     double yaw_vehicle,
+  static ceres::CostFunction* Create(const Eigen::Vector2d& z_vehicle, double yaw_vehicle,
                                      const Eigen::Matrix2d& position_covariance,
                                      double yaw_sigma_rad) {
-    return new ceres::AutoDiffCostFunction<TagObservationFactor, kNumResiduals,
-                                           3, 3>(new TagObservationFactor(
-        z_vehicle, yaw_vehicle, position_covariance, yaw_sigma_rad));
+    return new ceres::AutoDiffCostFunction<TagObservationFactor, kNumResiduals, 3, 3>(
+        new TagObservationFactor(z_vehicle, yaw_vehicle, position_covariance, yaw_sigma_rad));
   }
 
  private:
