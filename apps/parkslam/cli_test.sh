@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect make-training-set report; do
+for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect make-training-set report check-dataset; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -156,6 +156,23 @@ if [ -d /usr/share/fonts ]; then
 fi
 expect 0 "ID crops" -- "$PARKSLAM" make-training-set --out "$tmp/ids" --count 6 --seed 3 --kind ids
 head -1 "$tmp/ids/ids/labels.csv" | grep -q "^file,text$" && pass || fail "ids/labels.csv lacks its header"
+
+# check-dataset: a good dataset with images, then each problem named by its file.
+"$PARKSLAM" simulate --world "$(dirname "$0")/../../config/worlds/small.yaml" --seed 2 --images \
+  --image-rate-hz 1 --out "$tmp/cd" > /dev/null 2>&1
+expect 0 "cd: ok" -- "$PARKSLAM" check-dataset "$tmp/cd"
+cp -r "$tmp/cd" "$tmp/cd_missing" && rm "$tmp/cd_missing/sensors/imu.csv"
+expect nonzero "imu.csv" -- "$PARKSLAM" check-dataset "$tmp/cd_missing"
+cp -r "$tmp/cd" "$tmp/cd_backwards" && sed -i '10{h;d};11G' "$tmp/cd_backwards/sensors/wheel_speed.csv"
+expect nonzero "wheel_speed.csv:11" -- "$PARKSLAM" check-dataset "$tmp/cd_backwards"
+cp -r "$tmp/cd" "$tmp/cd_size"
+first_front=$(ls "$tmp/cd_size/images/front" | head -1)
+cp "$tmp/cd_size/images/front_mono/$first_front" "$tmp/cd_size/images/front/$first_front"
+expect nonzero "front/$first_front: 1280 x 720 pixels, but images/rig.yaml gives camera 'front' 640 x 480" -- \
+  "$PARKSLAM" check-dataset "$tmp/cd_size"
+cp -r "$tmp/cd" "$tmp/cd_gap" && sed -i '100,115d' "$tmp/cd_gap/observations/slots.jsonl"
+expect nonzero "slots.jsonl: a gap of 1.70 s" -- "$PARKSLAM" check-dataset "$tmp/cd_gap"
+expect nonzero "not a folder" -- "$PARKSLAM" check-dataset "$tmp/nothing_here"
 
 # report: a demo folder, then broken inputs named by file, line and column.
 "$PARKSLAM" demo --out "$tmp/rep" --observations --consistency-runs 2 --follow-runs 1 \

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   parkslam::app::AddMakeTrainingSetCommand(app);
   parkslam::app::AddDemoCommand(app);
   parkslam::app::AddReportCommand(app);
+  parkslam::app::AddCheckDatasetCommand(app);
   parkslam::app::SetCommandLine(argc, argv);
   try {
     app.parse(argc, argv);

@@ -3,16 +3,21 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <map>
 #include <string_view>
 #include <system_error>
 #include <vector>
 
 #include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/atomic_file.h"
+#include "parkslam/io/image_folder.h"
+#include "parkslam/io/image_header.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/json_util.h"
 #include "parkslam/io/map_json.h"
+#include "parkslam/io/rig_yaml.h"
 #include "parkslam/io/text_util.h"
 #include "parkslam/io/tum.h"
 #include "parkslam/io/yaml_util.h"
@@ -775,6 +780,176 @@ Dataset ReadDataset(const fs::path& dir) {
     dataset.slot_labels = MatchLabels(frames, dataset, labels_file.string());
   }
   return dataset;
+}
+
+namespace {
+
+StreamSummary Summarize(const std::string& name, std::vector<TimeNs> t_ns) {
+  StreamSummary s;
+  s.name = name;
+  s.count = t_ns.size();
+  if (t_ns.empty()) return s;
+  std::sort(t_ns.begin(), t_ns.end());
+  s.first_s = ToSeconds(t_ns.front());
+  s.last_s = ToSeconds(t_ns.back());
+  std::vector<double> periods;
+  for (size_t i = 1; i < t_ns.size(); ++i) {
+    const double gap = ToSeconds(t_ns[i] - t_ns[i - 1]);
+    periods.push_back(gap);
+    if (gap > s.max_gap_s) {
+      s.max_gap_s = gap;
+      s.max_gap_after_s = ToSeconds(t_ns[i - 1]);
+    }
+  }
+  if (!periods.empty()) {
+    std::nth_element(periods.begin(), periods.begin() + static_cast<long>(periods.size() / 2),
+                     periods.end());
+    s.median_period_s = periods[periods.size() / 2];
+  }
+  return s;
+}
+
+template <typename Samples>
+std::vector<TimeNs> Times(const Samples& samples) {
+  std::vector<TimeNs> t;
+  for (const auto& sample : samples) t.push_back(sample.t_ns);
+  return t;
+}
+
+// The first bytes of a file: enough for any image header.
+std::string FileHead(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes(1 << 16, '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  bytes.resize(static_cast<size_t>(in.gcount()));
+  return bytes;
+}
+
+void CheckImages(const fs::path& dir, DatasetCheck* check) {
+  const auto attempt = [check](auto&& f) {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      check->errors.push_back(e.what());
+    }
+  };
+  std::vector<ImageIndexEntry> index;
+  std::optional<camera::CameraRig> rig;
+  attempt([&] { index = ReadImageIndex(dir); });
+  attempt([&] { rig = LoadRig(dir / "images" / "rig.yaml"); });
+  std::map<std::string, std::vector<TimeNs>> times;
+  for (const ImageIndexEntry& entry : index) {
+    times[entry.camera].push_back(entry.t_ns);
+    attempt([&] {
+      const fs::path path = dir / entry.file;
+      const cv::Size size = ImageSizeFromHeader(FileHead(path), path.string());
+      const camera::CameraConfig* camera = rig ? rig->Find(entry.camera) : nullptr;
+      if (rig && camera == nullptr) {
+        ThrowIoError(path.string(), 0, "",
+                     "camera '" + entry.camera + "' is not in images/rig.yaml");
+      }
+      if (camera != nullptr &&
+          (size.width != camera->intrinsics.width || size.height != camera->intrinsics.height)) {
+        ThrowIoError(path.string(), 0, "",
+                     std::to_string(size.width) + " x " + std::to_string(size.height) +
+                         " pixels, but images/rig.yaml gives camera '" + entry.camera + "' " +
+                         std::to_string(camera->intrinsics.width) + " x " +
+                         std::to_string(camera->intrinsics.height));
+      }
+    });
+  }
+  for (const auto& [camera, t] : times) {
+    check->streams.push_back(Summarize("images/index.csv (" + camera + ")", t));
+  }
+}
+
+}  // namespace
+
+DatasetCheck CheckDataset(const fs::path& dir, double max_gap_s) {
+  DatasetCheck check;
+  const auto attempt = [&check](auto&& f) {
+    try {
+      f();
+      return true;
+    } catch (const std::exception& e) {
+      check.errors.push_back(e.what());
+      return false;
+    }
+  };
+  std::error_code error;
+  if (!fs::is_directory(dir, error)) {
+    check.errors.push_back(dir.string() + ": not a folder");
+    return check;
+  }
+  const fs::path manifest = dir / kDatasetManifestFile;
+  std::optional<Counts> counts;
+  YAML::Node root;
+  attempt([&] {
+    if (!fs::is_regular_file(manifest, error)) {
+      ThrowIoError(manifest.string(), 0, "",
+                   "missing: not a dataset folder, or a dataset not completely written");
+    }
+    root = yaml_util::LoadYaml(ReadTextFile(manifest), manifest.string());
+    Dataset unused;
+    counts = ReadManifest(root, YamlReader(manifest.string(), true), &unused);
+  });
+
+  SensorLog log;
+  const bool wheel = attempt([&] {
+    log.wheel_speeds = ReadCsv<1, WheelSpeed>(dir / kWheelSpeedFile, kWheelSpeedHeader,
+                                              {{{kMaxWheelSpeed_mps, "m/s"}}},
+                                              [](TimeNs t, const std::array<double, 1>& v) {
+                                                return WheelSpeed{t, v[0]};
+                                              });
+  });
+  const bool steering = attempt([&] {
+    log.steering_angles = ReadCsv<1, SteeringAngle>(dir / kSteeringFile, kSteeringHeader,
+                                                    {{{kMaxSteeringWheelAngle_rad, "rad"}}},
+                                                    [](TimeNs t, const std::array<double, 1>& v) {
+                                                      return SteeringAngle{t, v[0]};
+                                                    });
+  });
+  const bool imu = attempt([&] {
+    log.imu_samples = ReadCsv<2, ImuSample>(
+        dir / kImuFile, kImuHeader, {{{kMaxYawRate_radps, "rad/s"}, {kMaxAngle_rad, "rad"}}},
+        [](TimeNs t, const std::array<double, 2>& v) {
+          return ImuSample{t, v[0], v[1]};
+        });
+  });
+  const bool slots = attempt(
+      [&] { log.slot_frames = ReadJsonl<SlotObservationFrame>(dir / kSlotsFile, ParseSlotFrame); });
+  const bool tags = attempt(
+      [&] { log.tag_frames = ReadJsonl<TagObservationFrame>(dir / kTagsFile, ParseTagFrame); });
+
+  const auto stream = [&](bool read, const char* file, std::vector<TimeNs> t,
+                          std::int64_t announced) {
+    if (!read) return;
+    check.streams.push_back(Summarize(file, std::move(t)));
+    if (counts && announced != static_cast<std::int64_t>(check.streams.back().count)) {
+      check.errors.push_back(manifest.string() + ": counts: " + std::to_string(announced) +
+                             " announced for " + file + ", which holds " +
+                             std::to_string(check.streams.back().count));
+    }
+  };
+  stream(wheel, kWheelSpeedFile, Times(log.wheel_speeds), counts ? counts->wheel_speed : 0);
+  stream(steering, kSteeringFile, Times(log.steering_angles), counts ? counts->steering : 0);
+  stream(imu, kImuFile, Times(log.imu_samples), counts ? counts->imu : 0);
+  stream(slots, kSlotsFile, Times(log.slot_frames), counts ? counts->slot_frames : 0);
+  stream(tags, kTagsFile, Times(log.tag_frames), counts ? counts->tag_frames : 0);
+  if (fs::exists(dir / "images", error)) CheckImages(dir, &check);
+
+  for (const StreamSummary& s : check.streams) {
+    // A stream slower than the limit (images at 0.5 Hz, say) is judged by
+    // its own period: a missing sample is a gap of two.
+    const double limit = std::max(max_gap_s, 1.5 * s.median_period_s);
+    if (s.max_gap_s > limit) {
+      char line[256];
+      std::snprintf(line, sizeof line, "%s: a gap of %.2f s after t = %.3f s (more than %.2f s)",
+                    (dir / s.name).string().c_str(), s.max_gap_s, s.max_gap_after_s, limit);
+      check.errors.push_back(line);
+    }
+  }
+  return check;
 }
 
 }  // namespace parkslam::io

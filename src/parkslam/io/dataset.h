@@ -32,6 +32,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "parkslam/common/trajectory.h"
 #include "parkslam/map/semantic_map.h"
@@ -70,6 +71,30 @@ void WriteDataset(const std::filesystem::path& dir, const Dataset& dataset);
 // counts as announced in dataset.yaml, labels matching the slot frames.
 // Throws IoError naming the file, the line and the field.
 Dataset ReadDataset(const std::filesystem::path& dir);
+
+// What `parkslam check-dataset` reports before a long run: each stream's
+// extent, rate and longest gap, and every problem found, not only the
+// first (docs/dataset_format.md, "Checking a dataset").
+struct StreamSummary {
+  std::string name;  // the file, or "images/index.csv (front)"
+  std::size_t count = 0;
+  double first_s = 0.0, last_s = 0.0;
+  double median_period_s = 0.0;  // 0 with fewer than two samples
+  double max_gap_s = 0.0, max_gap_after_s = 0.0;
+};
+struct DatasetCheck {
+  std::vector<StreamSummary> streams;
+  std::vector<std::string> errors;  // each names its file (and line and field where it has them)
+  bool ok() const { return errors.empty(); }
+};
+
+// Reads every file of a dataset on its own, as ReadDataset does, and adds
+// what a reader of one file cannot see: a gap longer than max_gap_s (or
+// 1.5 times a slower stream's own period) in any stream (sensors,
+// observation frames, each camera's images), counts that
+// differ from dataset.yaml, images whose size (from their header) is not
+// their camera's in images/rig.yaml. Throws nothing for a bad dataset.
+DatasetCheck CheckDataset(const std::filesystem::path& dir, double max_gap_s = 1.0);
 
 }  // namespace parkslam::io
 
