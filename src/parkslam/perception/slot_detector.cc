@@ -183,7 +183,10 @@ std::vector<LineSample> GrowRun(const cv::Mat& bright, const PaintLine& rough, d
     centres.push_back(sample.centre);
   }
   const double width = Median(widths);
-  const auto [axis_point, axis_dir] = FitLine(centres, rough.dir);
+  // Named copies rather than structured bindings: Clang before 16 cannot
+  // capture bindings in the lambda below (a whole build with Debian 12's Clang).
+  const auto axis = FitLine(centres, rough.dir);
+  const Eigen::Vector2d axis_point = axis.first, axis_dir = axis.second;
   const Eigen::Vector2d axis_normal(-axis_dir.y(), axis_dir.x());
   const auto measure = [&](double t) -> std::optional<LineSample> {
     const Eigen::Vector2d on_rough = rough.point + t * rough.dir;
