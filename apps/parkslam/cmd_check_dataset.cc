@@ -56,10 +56,12 @@ void AddCheckDatasetCommand(CLI::App& app) {
                     s.last_s, s.median_period_s > 0 ? 1.0 / s.median_period_s : 0.0, s.max_gap_s);
       }
       for (const std::string& e : check.errors) std::printf("problem: %s\n", e.c_str());
-      std::printf("%s: %s\n", options->dir.c_str(),
-                  check.ok() ? "ok" : (std::to_string(check.errors.size()) + " problem(s)").c_str());
+      std::printf(
+          "%s: %s\n", options->dir.c_str(),
+          check.ok() ? "ok" : (std::to_string(check.errors.size()) + " problem(s)").c_str());
     }
-    if (!check.ok()) throw std::runtime_error(options->dir + ": the dataset has problems (listed above)");
+    if (!check.ok())
+      throw std::runtime_error(options->dir + ": the dataset has problems (listed above)");
   });
 }
 
