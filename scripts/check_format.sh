@@ -9,7 +9,7 @@ if ! command -v clang-format > /dev/null; then
   echo "skipped: clang-format is not installed (apt install clang-format)"
   exit 77
 fi
-files=$(git ls-files '*.cc' '*.h' 2> /dev/null || find src apps bench fuzz -name '*.cc' -o -name '*.h')
+files=$(git ls-files --cached --others --exclude-standard '*.cc' '*.h' 2> /dev/null || find src apps bench fuzz -name '*.cc' -o -name '*.h')
 if [ "${1:-}" = "--fix" ]; then
   echo "$files" | xargs clang-format -i
   exit 0
