@@ -802,9 +802,11 @@ StreamSummary Summarize(const std::string& name, std::vector<TimeNs> t_ns) {
     }
   }
   if (!periods.empty()) {
-    std::nth_element(periods.begin(), periods.begin() + static_cast<long>(periods.size() / 2),
-                     periods.end());
-    s.median_period_s = periods[periods.size() / 2];
+    // The lower median: with two periods, one of them a gap, the gap must
+    // not set the stream's period.
+    const size_t middle = (periods.size() - 1) / 2;
+    std::nth_element(periods.begin(), periods.begin() + static_cast<long>(middle), periods.end());
+    s.median_period_s = periods[middle];
   }
   return s;
 }

@@ -567,3 +567,48 @@ TEST(DatasetTest, TenMinuteDriveRoundTrips) {
 
 }  // namespace
 }  // namespace parkslam::io
+
+namespace parkslam::io {
+namespace {
+
+TEST(CheckDatasetTest, AGoodDatasetHasNoProblemAndItsStreamsSummarized) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  const DatasetCheck check = CheckDataset(dir / "d");
+  EXPECT_TRUE(check.ok()) << (check.errors.empty() ? "" : check.errors.front());
+  ASSERT_EQ(check.streams.size(), 5u);
+  EXPECT_EQ(check.streams[0].name, "sensors/wheel_speed.csv");
+  EXPECT_EQ(check.streams[0].count, 3u);
+  EXPECT_DOUBLE_EQ(check.streams[0].median_period_s, 0.02);
+  EXPECT_DOUBLE_EQ(check.streams[3].last_s, 0.3);  // slot frames
+}
+
+// The readers stop at the first problem; the check lists them all.
+TEST(CheckDatasetTest, EveryProblemIsListedWithItsFile) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/sensors/imu.csv", "0,0.01,-3.14159", "0,0.01,nan");
+  std::filesystem::remove(dir / "d/sensors/steering.csv");
+  EditFile(dir / "d/sensors/wheel_speed.csv", "40000000,", "1540000000,");
+  const DatasetCheck check = CheckDataset(dir / "d");
+  ASSERT_EQ(check.errors.size(), 3u);
+  EXPECT_THAT(check.errors[0], HasSubstr("steering.csv"));
+  EXPECT_THAT(check.errors[1], HasSubstr("imu.csv:2: heading_rad: not a finite number"));
+  EXPECT_THAT(check.errors[2],
+              HasSubstr("wheel_speed.csv: a gap of 1.52 s after t = 0.020 s (more than 1.00 s)"));
+  // A longer limit lets the gap pass.
+  EXPECT_EQ(CheckDataset(dir / "d", 2.0).errors.size(), 2u);
+}
+
+TEST(CheckDatasetTest, CountsAgainstTheManifestAndAMissingFolder) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  EditFile(dir / "d/dataset.yaml", "wheel_speed: 3", "wheel_speed: 4");
+  const DatasetCheck check = CheckDataset(dir / "d");
+  ASSERT_EQ(check.errors.size(), 1u);
+  EXPECT_THAT(check.errors[0], HasSubstr("4 announced for sensors/wheel_speed.csv, which holds 3"));
+  EXPECT_THAT(CheckDataset(dir / "nowhere").errors.at(0), HasSubstr("not a folder"));
+}
+
+}  // namespace
+}  // namespace parkslam::io
