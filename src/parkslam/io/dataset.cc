@@ -722,37 +722,67 @@ void WriteDataset(const fs::path& dir, const Dataset& dataset) {
   WriteFileAtomically(dir / kDatasetManifestFile, ManifestYaml(dataset));
 }
 
-Dataset ReadDataset(const fs::path& dir) {
+namespace {
+
+// Each file of a dataset, read and checked as ReadDataset and CheckDataset
+// both need it.
+YAML::Node LoadManifest(const fs::path& dir) {
   const fs::path manifest = dir / kDatasetManifestFile;
-  const std::string source = manifest.string();
   std::error_code error;
   if (!fs::is_regular_file(manifest, error)) {
-    ThrowIoError(source, 0, "",
+    ThrowIoError(manifest.string(), 0, "",
                  "missing: not a dataset folder, or a dataset not completely written");
   }
-  const YAML::Node root = yaml_util::LoadYaml(ReadTextFile(manifest), source);
+  return yaml_util::LoadYaml(ReadTextFile(manifest), manifest.string());
+}
+
+std::vector<WheelSpeed> ReadWheelSpeeds(const fs::path& dir) {
+  return ReadCsv<1, WheelSpeed>(dir / kWheelSpeedFile, kWheelSpeedHeader,
+                                {{{kMaxWheelSpeed_mps, "m/s"}}},
+                                [](TimeNs t, const std::array<double, 1>& v) {
+                                  return WheelSpeed{t, v[0]};
+                                });
+}
+
+std::vector<SteeringAngle> ReadSteeringAngles(const fs::path& dir) {
+  return ReadCsv<1, SteeringAngle>(dir / kSteeringFile, kSteeringHeader,
+                                   {{{kMaxSteeringWheelAngle_rad, "rad"}}},
+                                   [](TimeNs t, const std::array<double, 1>& v) {
+                                     return SteeringAngle{t, v[0]};
+                                   });
+}
+
+std::vector<ImuSample> ReadImuSamples(const fs::path& dir) {
+  return ReadCsv<2, ImuSample>(dir / kImuFile, kImuHeader,
+                               {{{kMaxYawRate_radps, "rad/s"}, {kMaxAngle_rad, "rad"}}},
+                               [](TimeNs t, const std::array<double, 2>& v) {
+                                 return ImuSample{t, v[0], v[1]};
+                               });
+}
+
+std::vector<SlotObservationFrame> ReadSlotFrames(const fs::path& dir) {
+  return ReadJsonl<SlotObservationFrame>(dir / kSlotsFile, ParseSlotFrame);
+}
+
+std::vector<TagObservationFrame> ReadTagFrames(const fs::path& dir) {
+  return ReadJsonl<TagObservationFrame>(dir / kTagsFile, ParseTagFrame);
+}
+
+}  // namespace
+
+Dataset ReadDataset(const fs::path& dir) {
+  const YAML::Node root = LoadManifest(dir);
+  const std::string source = (dir / kDatasetManifestFile).string();
   const YamlReader r(source, true);
   Dataset dataset;
   const Counts counts = ReadManifest(root, r, &dataset);
 
   SensorLog& log = dataset.log;
-  log.wheel_speeds = ReadCsv<1, WheelSpeed>(dir / kWheelSpeedFile, kWheelSpeedHeader,
-                                            {{{kMaxWheelSpeed_mps, "m/s"}}},
-                                            [](TimeNs t, const std::array<double, 1>& v) {
-                                              return WheelSpeed{t, v[0]};
-                                            });
-  log.steering_angles = ReadCsv<1, SteeringAngle>(dir / kSteeringFile, kSteeringHeader,
-                                                  {{{kMaxSteeringWheelAngle_rad, "rad"}}},
-                                                  [](TimeNs t, const std::array<double, 1>& v) {
-                                                    return SteeringAngle{t, v[0]};
-                                                  });
-  log.imu_samples = ReadCsv<2, ImuSample>(dir / kImuFile, kImuHeader,
-                                          {{{kMaxYawRate_radps, "rad/s"}, {kMaxAngle_rad, "rad"}}},
-                                          [](TimeNs t, const std::array<double, 2>& v) {
-                                            return ImuSample{t, v[0], v[1]};
-                                          });
-  log.slot_frames = ReadJsonl<SlotObservationFrame>(dir / kSlotsFile, ParseSlotFrame);
-  log.tag_frames = ReadJsonl<TagObservationFrame>(dir / kTagsFile, ParseTagFrame);
+  log.wheel_speeds = ReadWheelSpeeds(dir);
+  log.steering_angles = ReadSteeringAngles(dir);
+  log.imu_samples = ReadImuSamples(dir);
+  log.slot_frames = ReadSlotFrames(dir);
+  log.tag_frames = ReadTagFrames(dir);
 
   const YAML::Node c = root["counts"];
   CheckCount(r, c["wheel_speed"], "counts.wheel_speed", counts.wheel_speed, log.wheel_speeds.size(),
@@ -827,14 +857,20 @@ std::string FileHead(const fs::path& path) {
   return bytes;
 }
 
+// Runs one read or check; a failure becomes one of the check's errors.
+template <typename F>
+bool Attempt(DatasetCheck* check, F&& f) {
+  try {
+    f();
+    return true;
+  } catch (const std::exception& e) {
+    check->errors.push_back(e.what());
+    return false;
+  }
+}
+
 void CheckImages(const fs::path& dir, DatasetCheck* check) {
-  const auto attempt = [check](auto&& f) {
-    try {
-      f();
-    } catch (const std::exception& e) {
-      check->errors.push_back(e.what());
-    }
-  };
+  const auto attempt = [check](auto&& f) { return Attempt(check, f); };
   std::vector<ImageIndexEntry> index;
   std::optional<camera::CameraRig> rig;
   attempt([&] { index = ReadImageIndex(dir); });
@@ -869,15 +905,7 @@ void CheckImages(const fs::path& dir, DatasetCheck* check) {
 
 DatasetCheck CheckDataset(const fs::path& dir, double max_gap_s) {
   DatasetCheck check;
-  const auto attempt = [&check](auto&& f) {
-    try {
-      f();
-      return true;
-    } catch (const std::exception& e) {
-      check.errors.push_back(e.what());
-      return false;
-    }
-  };
+  const auto attempt = [&check](auto&& f) { return Attempt(&check, f); };
   std::error_code error;
   if (!fs::is_directory(dir, error)) {
     check.errors.push_back(dir.string() + ": not a folder");
@@ -887,41 +915,17 @@ DatasetCheck CheckDataset(const fs::path& dir, double max_gap_s) {
   std::optional<Counts> counts;
   YAML::Node root;
   attempt([&] {
-    if (!fs::is_regular_file(manifest, error)) {
-      ThrowIoError(manifest.string(), 0, "",
-                   "missing: not a dataset folder, or a dataset not completely written");
-    }
-    root = yaml_util::LoadYaml(ReadTextFile(manifest), manifest.string());
+    root = LoadManifest(dir);
     Dataset unused;
     counts = ReadManifest(root, YamlReader(manifest.string(), true), &unused);
   });
 
   SensorLog log;
-  const bool wheel = attempt([&] {
-    log.wheel_speeds = ReadCsv<1, WheelSpeed>(dir / kWheelSpeedFile, kWheelSpeedHeader,
-                                              {{{kMaxWheelSpeed_mps, "m/s"}}},
-                                              [](TimeNs t, const std::array<double, 1>& v) {
-                                                return WheelSpeed{t, v[0]};
-                                              });
-  });
-  const bool steering = attempt([&] {
-    log.steering_angles = ReadCsv<1, SteeringAngle>(dir / kSteeringFile, kSteeringHeader,
-                                                    {{{kMaxSteeringWheelAngle_rad, "rad"}}},
-                                                    [](TimeNs t, const std::array<double, 1>& v) {
-                                                      return SteeringAngle{t, v[0]};
-                                                    });
-  });
-  const bool imu = attempt([&] {
-    log.imu_samples = ReadCsv<2, ImuSample>(
-        dir / kImuFile, kImuHeader, {{{kMaxYawRate_radps, "rad/s"}, {kMaxAngle_rad, "rad"}}},
-        [](TimeNs t, const std::array<double, 2>& v) {
-          return ImuSample{t, v[0], v[1]};
-        });
-  });
-  const bool slots = attempt(
-      [&] { log.slot_frames = ReadJsonl<SlotObservationFrame>(dir / kSlotsFile, ParseSlotFrame); });
-  const bool tags = attempt(
-      [&] { log.tag_frames = ReadJsonl<TagObservationFrame>(dir / kTagsFile, ParseTagFrame); });
+  const bool wheel = attempt([&] { log.wheel_speeds = ReadWheelSpeeds(dir); });
+  const bool steering = attempt([&] { log.steering_angles = ReadSteeringAngles(dir); });
+  const bool imu = attempt([&] { log.imu_samples = ReadImuSamples(dir); });
+  const bool slots = attempt([&] { log.slot_frames = ReadSlotFrames(dir); });
+  const bool tags = attempt([&] { log.tag_frames = ReadTagFrames(dir); });
 
   const auto stream = [&](bool read, const char* file, std::vector<TimeNs> t,
                           std::int64_t announced) {

@@ -562,15 +562,21 @@ void Mapper::IndexSlotRecord(const SlotRecord& record) {
 void Mapper::MoveEvidence(const SlotRecord& record, int slot_index, int sign) {
   if (slot_index < 0) return;
   SlotLandmark& slot = slots_[slot_index];
-  slot.observations += sign;
+  AddEvidence(record, sign, &slot.votes, &slot.observations, &slot.corner_observations);
+}
+
+void Mapper::AddEvidence(const SlotRecord& record, int sign, std::map<std::string, double>* votes,
+                         int* observations,
+                         std::array<int, kSlotCorners>* corner_observations) const {
+  *observations += sign;
   for (int j = 0; j < kSlotCorners; ++j) {
-    slot.corner_observations[j] += sign * static_cast<int>(record.observation.corner_observed[j]);
+    (*corner_observations)[j] += sign * static_cast<int>(record.observation.corner_observed[j]);
   }
   for (const IdHypothesis& h :
        FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
-    double& votes = slot.votes[h.id];
-    votes += sign * h.probability;
-    if (votes < 1e-9) slot.votes.erase(h.id);  // what a removal leaves of a vote
+    double& v = (*votes)[h.id];
+    v += sign * h.probability;
+    if (v < 1e-9) votes->erase(h.id);  // what a removal leaves of a vote
   }
 }
 
@@ -641,15 +647,8 @@ void Mapper::RetireOldRecords() {
     if (record.chosen < 0) continue;
     // Its evidence is already counted in the slot it chose; keep it there.
     SlotLandmark& slot = slots_[record.chosen];
-    ++slot.retired_observations;
-    for (int j = 0; j < kSlotCorners; ++j) {
-      slot.retired_corner_observations[j] +=
-          static_cast<int>(record.observation.corner_observed[j]);
-    }
-    for (const IdHypothesis& h :
-         FullIdHypotheses(record.observation.id, options_.id_hypothesis_min)) {
-      slot.retired_votes[h.id] += h.probability;
-    }
+    AddEvidence(record, +1, &slot.retired_votes, &slot.retired_observations,
+                &slot.retired_corner_observations);
   }
   slot_records_.resize(kept_slots);
   size_t kept_tags = 0;

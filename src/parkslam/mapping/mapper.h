@@ -132,6 +132,9 @@ class Mapper {
   // Adds (sign +1) or removes (-1) what one record says of slot_index
   // (observation count, corners seen, ID votes); nothing for slot -1.
   void MoveEvidence(const SlotRecord& record, int slot_index, int sign);
+  // The same, to any tallies: a slot's own, or what its retired records said.
+  void AddEvidence(const SlotRecord& record, int sign, std::map<std::string, double>* votes,
+                   int* observations, std::array<int, kSlotCorners>* corner_observations) const;
   // The owner of each ID from the alive slots' votes.
   void RebuildIdOwners();
   // Files the record about to be appended under each of its candidates.
