@@ -6,21 +6,14 @@
 
 #include <Eigen/Core>
 
+#include "parkslam/common/chi_square.h"
+
 namespace parkslam::eval {
 
 // Normalised estimation error squared, error^T covariance^-1 error, for an
 // error over (x_m, y_m, yaw_rad) whose yaw the caller has already wrapped.
 // The covariance must be symmetric positive definite.
 double Nees(const Eigen::Vector3d& error, const Eigen::Matrix3d& covariance);
-
-// The p-quantile of the chi-square distribution with dof degrees of freedom:
-// the x with P(dof / 2, x / 2) = p for the regularised lower incomplete gamma
-// function P. Solved by bisection to about 1e-12 relative. Throws
-// std::invalid_argument unless 0 < p < 1 and dof >= 1.
-double ChiSquareQuantile(double p, int dof);
-
-// The regularised lower incomplete gamma function P(a, x), a > 0, x >= 0.
-double RegularizedLowerGamma(double a, double x);
 
 struct NeesBand {
   double lower = 0.0;

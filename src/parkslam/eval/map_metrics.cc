@@ -9,7 +9,7 @@
 #include <tuple>
 #include <unordered_map>
 
-#include "parkslam/eval/alignment.h"
+#include "parkslam/common/alignment.h"
 
 namespace parkslam::eval {
 namespace {

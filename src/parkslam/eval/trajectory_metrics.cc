@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "parkslam/common/alignment.h"
 #include "parkslam/common/angles.h"
-#include "parkslam/eval/alignment.h"
 
 namespace parkslam::eval {
 namespace {

@@ -7,9 +7,9 @@
 #include <set>
 #include <stdexcept>
 
+#include "parkslam/common/alignment.h"
 #include "parkslam/common/angles.h"
-#include "parkslam/eval/alignment.h"
-#include "parkslam/eval/consistency.h"
+#include "parkslam/common/chi_square.h"
 
 namespace parkslam::localization {
 namespace {
@@ -75,7 +75,7 @@ Localizer::Localizer(const SemanticMap& map, const LocalizerOptions& options,
     tag_by_id_[map_.tags[i].tag_id] = i;
   }
   for (int dof = 1; dof <= 4; ++dof) {
-    gate_chi2_[dof] = eval::ChiSquareQuantile(options_.gate_probability, dof);
+    gate_chi2_[dof] = ChiSquareQuantile(options_.gate_probability, dof);
   }
 }
 
@@ -249,8 +249,8 @@ bool Localizer::TryRelocalize(TimeNs t_ns) {
     const auto it = id.empty() ? slot_by_id_.end() : slot_by_id_.find(id);
     if (it == slot_by_id_.end()) continue;
     const MapSlot& slot = map_.slots[it->second];
-    hypotheses.push_back(eval::AlignPointSets({obs.corners_vehicle[0], obs.corners_vehicle[1]},
-                                              {slot.corners_map[0], slot.corners_map[1]}));
+    hypotheses.push_back(AlignPointSets({obs.corners_vehicle[0], obs.corners_vehicle[1]},
+                                        {slot.corners_map[0], slot.corners_map[1]}));
   }
   for (const TagObservation& obs : now.tags) {
     const auto it = tag_by_id_.find(obs.tag_id);
@@ -288,7 +288,7 @@ bool Localizer::TryRelocalize(TimeNs t_ns) {
   P.diagonal() << Square(options_.reloc_position_sigma_m), Square(options_.reloc_position_sigma_m),
       Square(options_.reloc_yaw_sigma_rad);
   // Refined on every supporting point of the last seconds.
-  SetPose(eval::AlignPointSets(best_support.points_now, best_support.points_map), P);
+  SetPose(AlignPointSets(best_support.points_now, best_support.points_map), P);
   return true;
 }
 

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "parkslam/render/digit_font.h"
+#include "parkslam/font/digit_font.h"
 
 namespace parkslam::perception {
 namespace {
@@ -15,11 +15,11 @@ namespace {
 // Training patches are drawn at twice the patch resolution and averaged
 // down (cv::INTER_AREA), as the reader samples the top view.
 constexpr int kSupersample = 2;
-constexpr double kDrawShiftScale = 1 << render::kGlyphDrawShift;
+constexpr double kDrawShiftScale = 1 << font::kGlyphDrawShift;
 
 // Digit-to-digit pitch in digit heights: a neighbour's glyph origin lies
 // this far to the left or right.
-constexpr double kPitch = render::kDigitWidth + render::kDigitGap;
+constexpr double kPitch = font::kDigitWidth + font::kDigitGap;
 
 // Normalized values are clamped to this range: paint brighter than the
 // estimate, or floor darker than it (stains), carries no extra evidence.
@@ -33,12 +33,12 @@ struct PatchFrame {
   double px_per_height;
 
   Eigen::Vector2d operator()(double x, double y) const {
-    const double qx = x - render::kDigitWidth / 2, qy = y - 0.5;
+    const double qx = x - font::kDigitWidth / 2, qy = y - 0.5;
     const double sx = a.scale_x * qx + a.shear * a.scale_y * qy, sy = a.scale_y * qy;
     const double c = std::cos(a.rotation_rad), s = std::sin(a.rotation_rad);
     const double rx = c * sx - s * sy + a.offset.x(), ry = s * sx + c * sy + a.offset.y();
-    const double X = kDigitPatchMarginX + render::kDigitWidth / 2 + rx;  // from the left edge
-    const double Y = kDigitPatchMarginY + 0.5 - ry;                      // from the top edge
+    const double X = kDigitPatchMarginX + font::kDigitWidth / 2 + rx;  // from the left edge
+    const double Y = kDigitPatchMarginY + 0.5 - ry;                    // from the top edge
     return {X * px_per_height - 0.5, Y * px_per_height - 0.5};
   }
 };
@@ -69,13 +69,13 @@ std::uint8_t RandomNonDigitSegments(Random& rng) {
     for (int s = 0; s < 7; ++s) lit += (segments >> s) & 1;
     if (lit > 5) continue;
     bool is_digit = false;
-    for (char d = '0'; d <= '9'; ++d) is_digit = is_digit || render::DigitSegments(d) == segments;
+    for (char d = '0'; d <= '9'; ++d) is_digit = is_digit || font::DigitSegments(d) == segments;
     if (!is_digit) return segments;
   }
 }
 
 std::uint8_t RandomDigitSegments(Random& rng) {
-  return render::DigitSegments(static_cast<char>('0' + rng.Index(10)));
+  return font::DigitSegments(static_cast<char>('0' + rng.Index(10)));
 }
 
 }  // namespace
@@ -107,7 +107,7 @@ DigitAugmentation RandomAugmentation(int label, Random& rng) {
   if (rng.Bernoulli(0.6)) a.left_segments = RandomDigitSegments(rng);
   if (rng.Bernoulli(0.6)) a.right_segments = RandomDigitSegments(rng);
   if (label < 10) {
-    a.segments = render::DigitSegments(static_cast<char>('0' + label));
+    a.segments = font::DigitSegments(static_cast<char>('0' + label));
     // A chip or two: still the digit.
     if (rng.Bernoulli(0.25)) {
       a.flakes = 1;
@@ -132,7 +132,7 @@ DigitAugmentation RandomAugmentation(int label, Random& rng) {
     a.segments = rng.Bernoulli(0.5) ? 0 : RandomNonDigitSegments(rng);
     a.stripe_width = rng.Uniform(0.15, 0.3);
     a.stripe_angle_rad = rng.Uniform(0.0, std::numbers::pi);
-    a.stripe_point = {rng.Uniform(0.0, render::kDigitWidth), rng.Uniform(0.0, 1.0)};
+    a.stripe_point = {rng.Uniform(0.0, font::kDigitWidth), rng.Uniform(0.0, 1.0)};
   }
   return a;
 }
@@ -142,7 +142,7 @@ cv::Mat RenderDigitPatch(const DigitAugmentation& a, Random& rng) {
   const cv::Size big(kSupersample * kDigitPatchCols, kSupersample * kDigitPatchRows);
   const PatchFrame frame{a, px_per_height};
   const auto draw = [&](std::uint8_t segments, double x_shift, cv::Mat* mask) {
-    render::DrawSevenSegments(
+    font::DrawSevenSegments(
         segments, 1.0, a.stroke, [&](double x, double y) { return frame(x + x_shift, y); }, 255,
         mask);
   };
@@ -164,11 +164,10 @@ cv::Mat RenderDigitPatch(const DigitAugmentation& a, Random& rng) {
       quad[i] = {static_cast<int>(std::lround(p.x() * kDrawShiftScale)),
                  static_cast<int>(std::lround(p.y() * kDrawShiftScale))};
     }
-    cv::fillConvexPoly(mask, quad.data(), 4, cv::Scalar(255), cv::LINE_AA, render::kGlyphDrawShift);
+    cv::fillConvexPoly(mask, quad.data(), 4, cv::Scalar(255), cv::LINE_AA, font::kGlyphDrawShift);
   }
   for (int f = 0; f < a.flakes; ++f) {
-    const double x =
-        rng.Uniform(-render::kDigitGap / 2, render::kDigitWidth + render::kDigitGap / 2);
+    const double x = rng.Uniform(-font::kDigitGap / 2, font::kDigitWidth + font::kDigitGap / 2);
     const double y = rng.Uniform(0.0, 1.0);
     const double r = rng.Uniform(a.min_flake_radius, a.max_flake_radius) * px_per_height;
     const Eigen::Vector2d c = frame(x, y);
@@ -176,7 +175,7 @@ cv::Mat RenderDigitPatch(const DigitAugmentation& a, Random& rng) {
                cv::Point(static_cast<int>(std::lround(c.x() * kDrawShiftScale)),
                          static_cast<int>(std::lround(c.y() * kDrawShiftScale))),
                static_cast<int>(std::lround(r * a.scale_x * kDrawShiftScale)), cv::Scalar(0),
-               cv::FILLED, cv::LINE_AA, render::kGlyphDrawShift);
+               cv::FILLED, cv::LINE_AA, font::kGlyphDrawShift);
   }
 
   // Grey levels: floor plus paint, the paint's contrast varying linearly
@@ -206,7 +205,7 @@ cv::Mat RenderDigitPatch(const DigitAugmentation& a, Random& rng) {
   // The reader normalizes by the brightest paint of the whole ID, which
   // blur dims: the peak of a blurred, unbroken "8" drawn alike.
   cv::Mat reference = cv::Mat::zeros(big, CV_8U);
-  draw(render::DigitSegments('8'), 0.0, &reference);
+  draw(font::DigitSegments('8'), 0.0, &reference);
   cv::Mat reference_blurred;
   reference.convertTo(reference_blurred, CV_32F, 1.0 / 255.0);
   cv::filter2D(reference_blurred, reference_blurred, -1, kernel);

@@ -6,7 +6,7 @@
 // regression (a softmax over 10 digits and one "not a digit" class) on a
 // small normalized patch of one painted seven-segment digit. It is trained
 // in-process, deterministically, on digits drawn in the simulator's own font
-// (render/digit_font.h) under augmentation that mimics the fused top view:
+// (font/digit_font.h) under augmentation that mimics the fused top view:
 // scale, stroke, rotation and shear, misalignment, blur (also along one
 // direction, as the fisheye's resolution falls with distance), noise,
 // contrast and its estimation error, neighbouring digits, and flakes.
@@ -48,7 +48,7 @@ struct DigitTrainingOptions {
 // How one training patch is drawn (exposed for tests). Geometry is in digit
 // heights, grey levels in 0..255 before normalization.
 struct DigitAugmentation {
-  std::uint8_t segments = 0;  // lit segments (render::DigitSegments); 0: none
+  std::uint8_t segments = 0;  // lit segments (font::DigitSegments); 0: none
   double scale_x = 1.0, scale_y = 1.0;
   double rotation_rad = 0.0;
   double shear = 0.0;                                // x += shear * y

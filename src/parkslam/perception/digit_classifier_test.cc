@@ -6,7 +6,7 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "parkslam/render/digit_font.h"
+#include "parkslam/font/digit_font.h"
 
 namespace parkslam::perception {
 namespace {
@@ -17,20 +17,20 @@ int ArgMax(const ClassProbabilities& p) {
 
 // The seven-segment font, shared with the simulator's ground raster.
 TEST(DigitFontTest, SegmentsOfTheDigits) {
-  EXPECT_EQ(render::DigitSegments('8'), 0b1111111);
-  EXPECT_EQ(render::DigitSegments('1'), 0b0000110);  // b and c
-  EXPECT_EQ(render::DigitSegments('7'), 0b0000111);
-  EXPECT_EQ(render::DigitSegments('?'), 0);
-  EXPECT_DOUBLE_EQ(render::IdWidth(2, 0.6), 0.6 * (2 * 0.55 + 0.25));
-  EXPECT_DOUBLE_EQ(render::IdWidth(3, 0.6), 0.6 * (3 * 0.55 + 2 * 0.25));
-  EXPECT_DOUBLE_EQ(render::IdWidth(0, 0.6), 0.0);
+  EXPECT_EQ(font::DigitSegments('8'), 0b1111111);
+  EXPECT_EQ(font::DigitSegments('1'), 0b0000110);  // b and c
+  EXPECT_EQ(font::DigitSegments('7'), 0b0000111);
+  EXPECT_EQ(font::DigitSegments('?'), 0);
+  EXPECT_DOUBLE_EQ(font::IdWidth(2, 0.6), 0.6 * (2 * 0.55 + 0.25));
+  EXPECT_DOUBLE_EQ(font::IdWidth(3, 0.6), 0.6 * (3 * 0.55 + 2 * 0.25));
+  EXPECT_DOUBLE_EQ(font::IdWidth(0, 0.6), 0.0);
 }
 
 TEST(DigitFontTest, DrawsTheLitSegmentsOnly) {
   // A digit 100 px tall, its foot-left corner at pixel (20, 119), upright.
   cv::Mat image = cv::Mat::zeros(130, 100, CV_8U);
-  render::DrawSevenSegmentDigit('1', 100.0, 15.0, {20.0, 119.0}, {1.0, 0.0}, {0.0, -1.0}, 255,
-                                &image);
+  font::DrawSevenSegmentDigit('1', 100.0, 15.0, {20.0, 119.0}, {1.0, 0.0}, {0.0, -1.0}, 255,
+                              &image);
   const auto at = [&](double x, double y) {  // glyph coordinates
     return image.at<std::uint8_t>(static_cast<int>(119 - y), static_cast<int>(20 + x));
   };
@@ -40,8 +40,8 @@ TEST(DigitFontTest, DrawsTheLitSegmentsOnly) {
   EXPECT_EQ(at(27, 50), 0);    // g
   EXPECT_EQ(at(27, 95), 0);    // a
   cv::Mat eight = cv::Mat::zeros(130, 100, CV_8U);
-  render::DrawSevenSegmentDigit('8', 100.0, 15.0, {20.0, 119.0}, {1.0, 0.0}, {0.0, -1.0}, 255,
-                                &eight);
+  font::DrawSevenSegmentDigit('8', 100.0, 15.0, {20.0, 119.0}, {1.0, 0.0}, {0.0, -1.0}, 255,
+                              &eight);
   // Every segment box of "8" is filled: 3 horizontal, 4 vertical, overlaps
   // at the corners and where g meets the verticals. OpenCV's antialiased
   // fill bleeds up to a pixel beyond the edges (vertices at pixel centres).
@@ -49,7 +49,7 @@ TEST(DigitFontTest, DrawsTheLitSegmentsOnly) {
   const double outline_px = 4 * 55 + 4 * 100 + 6 * 15;
   EXPECT_GT(cv::sum(eight)[0] / 255.0, area);
   EXPECT_LT(cv::sum(eight)[0] / 255.0, area + outline_px);
-  EXPECT_THROW(render::DrawSevenSegmentDigit('8', 10.0, 1.5, {0, 0}, {1, 0}, {0, -1}, 255, nullptr),
+  EXPECT_THROW(font::DrawSevenSegmentDigit('8', 10.0, 1.5, {0, 0}, {1, 0}, {0, -1}, 255, nullptr),
                std::invalid_argument);
 }
 

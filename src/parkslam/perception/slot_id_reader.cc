@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "parkslam/render/digit_font.h"
+#include "parkslam/font/digit_font.h"
 
 namespace parkslam::perception {
 namespace {
@@ -199,12 +199,12 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
   const Eigen::Vector2d right(-up.y(), up.x());
   const Eigen::Vector2d mid = (entrance.corner0_px + entrance.corner1_px) / 2;
   const double height_px = options_.id_height_m * ppm;
-  const double width_px = render::kDigitWidth * height_px;
-  const double pitch_px = (render::kDigitWidth + render::kDigitGap) * height_px;
-  const double stroke_px = render::kDigitStroke * height_px;
+  const double width_px = font::kDigitWidth * height_px;
+  const double pitch_px = (font::kDigitWidth + font::kDigitGap) * height_px;
+  const double stroke_px = font::kDigitStroke * height_px;
   const double shift_px = options_.max_offset_m * ppm;
   const double margin_px = kRegionMarginM * ppm;
-  const double max_width_px = render::IdWidth(options_.max_digits, height_px);
+  const double max_width_px = font::IdWidth(options_.max_digits, height_px);
   const int cols = static_cast<int>(std::ceil(max_width_px + 2 * (shift_px + margin_px))) + 1;
   const int rows = static_cast<int>(std::ceil(height_px + 2 * (shift_px + margin_px))) + 1;
   const double center_col = (cols - 1) / 2.0;
@@ -316,7 +316,7 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
   Layout layout;
   std::vector<double> best_open_score(static_cast<size_t>(options_.max_digits) + 1, -1e300);
   for (int n = 1; n <= options_.max_digits; ++n) {
-    const double id_width_px = render::IdWidth(n, height_px);
+    const double id_width_px = font::IdWidth(n, height_px);
     for (double shift = -shift_px; shift <= shift_px + 1e-9; shift += kLayoutStepPx) {
       const double left = center_col + shift - id_width_px / 2;
       double inside = 0.0, right_strokes = 0.0;
@@ -345,7 +345,7 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
   if (layout.digits == 0) return give_up("no digits");
   d.digits_found = layout.digits;
   d.stray_ink = layout.stray_ink;
-  d.offset_px = {layout.left_px + render::IdWidth(layout.digits, height_px) / 2 - center_col,
+  d.offset_px = {layout.left_px + font::IdWidth(layout.digits, height_px) / 2 - center_col,
                  nominal_top - band_top};
   // Paint the layout leaves out: digits beyond the search range (the
   // entrance far off), or other paint.
@@ -360,7 +360,7 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
   // The digits themselves, with the classifier's margins, must be seen.
   {
     const double pad = kDigitPatchMarginX * height_px;
-    const double id_width_px = render::IdWidth(layout.digits, height_px);
+    const double id_width_px = font::IdWidth(layout.digits, height_px);
     const double unseen = unseen_sums.Sum(layout.left_px - pad, layout.left_px + id_width_px + pad);
     if (unseen > kMaxNoDataShare * (id_width_px + 2 * pad) * height_px) return give_up("not seen");
   }

@@ -10,7 +10,7 @@
 //     reading;
 //  3. layout: the band of the digits' height holding the most ink, then the
 //     number of digits and their place along it that best explain the ink
-//     (the font's geometry: render/digit_font.h), within max_offset_m of
+//     (the font's geometry: font/digit_font.h), within max_offset_m of
 //     where the entrance puts them; a layout that a longer ID partly out of
 //     sight would explain as well, or one leaving much paint unexplained,
 //     gives no reading;

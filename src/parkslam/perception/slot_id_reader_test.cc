@@ -14,7 +14,7 @@
 #include "parkslam/camera/top_view.h"
 #include "parkslam/common/random.h"
 #include "parkslam/common/se2.h"
-#include "parkslam/render/digit_font.h"
+#include "parkslam/font/digit_font.h"
 #include "parkslam/render/ground_raster.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/route.h"
@@ -419,17 +419,17 @@ TEST(SlotIdReaderTest, DefacedDigitGivesAPartialReading) {
   };
   const Eigen::Vector2d foot_left =
       id.center_map - id.right_map * (id.width_m / 2) - id.up_map * (id.height_m / 2) +
-      id.right_map * ((render::kDigitWidth + render::kDigitGap) * id.height_m);
-  const render::GlyphToPixel to_pixel = [&](double x, double y) {
+      id.right_map * ((font::kDigitWidth + font::kDigitGap) * id.height_m);
+  const font::GlyphToPixel to_pixel = [&](double x, double y) {
     return pixel_of_map(foot_left + id.right_map * x + id.up_map * y);
   };
-  const double h = id.height_m, t = render::kDigitStroke * h;
+  const double h = id.height_m, t = font::kDigitStroke * h;
   const Eigen::Vector2d floor_probe = pixel_of_map(foot_left + id.up_map * 1.5);
   const double floor_grey = view.image.at<std::uint8_t>(static_cast<int>(floor_probe.y()),
                                                         static_cast<int>(floor_probe.x()));
   // The digit's box and 4 cm around it.
   constexpr double kPadM = 0.04;
-  const double w = render::kDigitWidth * h;
+  const double w = font::kDigitWidth * h;
   std::vector<cv::Point> box;
   for (const auto& [x, y] : {std::pair{-kPadM, -kPadM}, std::pair{w + kPadM, -kPadM},
                              std::pair{w + kPadM, h + kPadM}, std::pair{-kPadM, h + kPadM}}) {
@@ -438,7 +438,7 @@ TEST(SlotIdReaderTest, DefacedDigitGivesAPartialReading) {
   }
   cv::fillConvexPoly(view.image, box, cv::Scalar(floor_grey));
   cv::Mat bars = cv::Mat::zeros(view.image.size(), CV_8U);
-  render::DrawSevenSegments(0b0001001, h, t, to_pixel, 255, &bars);
+  font::DrawSevenSegments(0b0001001, h, t, to_pixel, 255, &bars);
   view.image.setTo(220, bars);
 
   const SlotIdReading reading = DefaultReader().Read(view.image, view.entrance);

@@ -10,7 +10,7 @@
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
 #include "parkslam/common/seed_mix.h"
-#include "parkslam/render/digit_font.h"
+#include "parkslam/font/digit_font.h"
 
 namespace parkslam::render {
 namespace {
@@ -23,7 +23,7 @@ constexpr std::uint64_t kDirtStreamTag = 0xd17;
 // many fractional bits.
 constexpr int kDrawShift = 4;
 constexpr double kDrawScale = 1 << kDrawShift;
-static_assert(kDrawShift == kGlyphDrawShift, "IDs are drawn with the font's precision");
+static_assert(kDrawShift == font::kGlyphDrawShift, "IDs are drawn with the font's precision");
 
 // Intermediate scale of the low-frequency concrete fields, in raster pixels.
 constexpr int kShadingStepPx = 8;
@@ -160,15 +160,15 @@ void DrawId(const RasterFrame& frame, const sim::WorldSlot& slot, const GroundRa
                        cv::Rect(0, 0, paint->cols, paint->rows);
   if (roi.empty()) return;
   cv::Mat mask = cv::Mat::zeros(roi.size(), CV_8U);
-  const double h = id.height_m, w = kDigitWidth * h, t = kDigitStroke * h;
+  const double h = id.height_m, w = font::kDigitWidth * h, t = font::kDigitStroke * h;
   const Eigen::Vector2d foot_left = box[0];
   for (size_t k = 0; k < slot.painted_id.size(); ++k) {
     const char ch = slot.painted_id[k];
     if (ch < '0' || ch > '9') continue;
     const Eigen::Vector2d digit_origin =
-        foot_left + id.right_map * (static_cast<double>(k) * (w + kDigitGap * h));
-    // The shared font (render/digit_font.h), in the local mask's pixels.
-    DrawSevenSegmentDigit(
+        foot_left + id.right_map * (static_cast<double>(k) * (w + font::kDigitGap * h));
+    // The shared font (font/digit_font.h), in the local mask's pixels.
+    font::DrawSevenSegmentDigit(
         ch, h, t,
         [&](double x, double y) -> Eigen::Vector2d {
           const Eigen::Vector2d pixel =
@@ -369,7 +369,8 @@ IdPlacement PlaceId(const sim::WorldSlot& slot, const GroundRasterOptions& optio
   id.right_map = Eigen::Vector2d(id.up_map.y(), -id.up_map.x());
   id.height_m = options.id_height_m;
   const double n = static_cast<double>(slot.painted_id.size());
-  id.width_m = n > 0 ? options.id_height_m * (n * kDigitWidth + (n - 1) * kDigitGap) : 0.0;
+  id.width_m =
+      n > 0 ? options.id_height_m * (n * font::kDigitWidth + (n - 1) * font::kDigitGap) : 0.0;
   id.center_map = (c[0] + c[1]) / 2 + id.up_map * (options.id_setback_m + id.height_m / 2);
   return id;
 }

@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <system_error>
 
-#include "parkslam/render/digit_font.h"
+#include "parkslam/font/digit_font.h"
 
 namespace parkslam::scene {
 namespace {
@@ -98,16 +98,16 @@ cv::Mat FontBook::DrawSevenSegment(const std::string& text, double cap_height_px
   const double h = std::max(4.0, cap_height_px);
   const int margin = std::max(2, static_cast<int>(std::lround(h / 4)));
   const int n = std::max(1, static_cast<int>(text.size()));
-  const double width = render::IdWidth(n, h);
+  const double width = font::IdWidth(n, h);
   cv::Mat mask(static_cast<int>(std::ceil(h)) + 2 * margin,
                static_cast<int>(std::ceil(width)) + 2 * margin, CV_8UC1, cv::Scalar(0));
-  const double stroke = render::kDigitStroke * h;
-  const double advance = (render::kDigitWidth + render::kDigitGap) * h;
+  const double stroke = font::kDigitStroke * h;
+  const double advance = (font::kDigitWidth + font::kDigitGap) * h;
   for (size_t k = 0; k < text.size(); ++k) {
     // Glyph y is up from the digit's foot; image rows go down.
     const double left = margin + advance * static_cast<double>(k);
     const double foot = margin + h;
-    render::DrawSevenSegmentDigit(
+    font::DrawSevenSegmentDigit(
         text[k], h, stroke,
         [&](double x, double y) -> Eigen::Vector2d {
           return {left + x, foot - y};

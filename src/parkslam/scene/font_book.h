@@ -48,7 +48,7 @@ class FontBook {
   // round. `font` is taken modulo size().
   cv::Mat Draw(const std::string& text, int font, double cap_height_px);
 
-  // The same in the default lot's seven-segment face (render/digit_font.h),
+  // The same in the default lot's seven-segment face (font/digit_font.h),
   // digit height cap_height_px: the IDs the simulator paints. Characters
   // other than digits leave a blank digit cell.
   static cv::Mat DrawSevenSegment(const std::string& text, double cap_height_px);

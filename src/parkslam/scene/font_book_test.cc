@@ -48,7 +48,7 @@ TEST(FontBookTest, SevenSegmentDigitsAreTheDefaultLotsGlyphs) {
   cv::Mat ink;
   cv::threshold(eight, ink, 128, 255, cv::THRESH_BINARY);
   const cv::Rect box = cv::boundingRect(ink);
-  // render/digit_font.h: a digit is 0.55 of its height wide.
+  // font/digit_font.h: a digit is 0.55 of its height wide.
   EXPECT_NEAR(box.height, 40, 2);
   EXPECT_NEAR(box.width, 22, 2);
   // An 8 lights all seven segments, a 1 two of them.

@@ -207,7 +207,7 @@ struct SceneSamplerOptions {
   // Ego vehicle, for keeping the lot's solids off the car.
   double ego_length_m = 4.7, ego_width_m = 1.85, ego_rear_overhang_m = 1.0;
   // Share of the rows whose IDs are digits in the default lot's
-  // seven-segment face (render/digit_font.h). Taken from the row's font
+  // seven-segment face (font/digit_font.h). Taken from the row's font
   // draw, so that 0 leaves every scene exactly as it was.
   double seven_segment_share = 0.0;
 

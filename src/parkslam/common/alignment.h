@@ -1,12 +1,12 @@
-#ifndef PARKSLAM_EVAL_ALIGNMENT_H_
-#define PARKSLAM_EVAL_ALIGNMENT_H_
+#ifndef PARKSLAM_COMMON_ALIGNMENT_H_
+#define PARKSLAM_COMMON_ALIGNMENT_H_
 
 #include <Eigen/Core>
 #include <vector>
 
 #include "parkslam/common/se2.h"
 
-namespace parkslam::eval {
+namespace parkslam {
 
 // The rigid transform T (rotation and translation, no scale) minimising
 //   sum_i || target_i - T * source_i ||^2,
@@ -18,6 +18,6 @@ namespace parkslam::eval {
 SE2 AlignPointSets(const std::vector<Eigen::Vector2d>& source,
                    const std::vector<Eigen::Vector2d>& target);
 
-}  // namespace parkslam::eval
+}  // namespace parkslam
 
-#endif  // PARKSLAM_EVAL_ALIGNMENT_H_
+#endif  // PARKSLAM_COMMON_ALIGNMENT_H_

@@ -1,4 +1,4 @@
-#include "parkslam/eval/alignment.h"
+#include "parkslam/common/alignment.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
 
-namespace parkslam::eval {
+namespace parkslam {
 namespace {
 
 std::vector<Eigen::Vector2d> RandomPoints(Random* random, int count) {
@@ -74,4 +74,4 @@ TEST(AlignPointSetsTest, ThrowsOnSinglePoint) {
 }
 
 }  // namespace
-}  // namespace parkslam::eval
+}  // namespace parkslam

@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_RENDER_DIGIT_FONT_H_
-#define PARKSLAM_RENDER_DIGIT_FONT_H_
+#ifndef PARKSLAM_FONT_DIGIT_FONT_H_
+#define PARKSLAM_FONT_DIGIT_FONT_H_
 
 // The seven-segment font of the slot IDs painted on the floor (paper III-A:
 // the slot ID is painted inside the slot and read in the top view). One
@@ -15,7 +15,7 @@
 #include <functional>
 #include <opencv2/core.hpp>
 
-namespace parkslam::render {
+namespace parkslam::font {
 
 // Proportions of a digit, relative to its height.
 inline constexpr double kDigitWidth = 0.55;
@@ -60,6 +60,6 @@ void DrawSevenSegmentDigit(char digit, double height, double stroke,
                            const Eigen::Vector2d& foot_left_px, const Eigen::Vector2d& x_axis_px,
                            const Eigen::Vector2d& y_axis_px, double value, cv::Mat* image);
 
-}  // namespace parkslam::render
+}  // namespace parkslam::font
 
-#endif  // PARKSLAM_RENDER_DIGIT_FONT_H_
+#endif  // PARKSLAM_FONT_DIGIT_FONT_H_

@@ -1,10 +1,10 @@
-#include "parkslam/eval/alignment.h"
+#include "parkslam/common/alignment.h"
 
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-namespace parkslam::eval {
+namespace parkslam {
 namespace {
 
 Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& points) {
@@ -42,4 +42,4 @@ SE2 AlignPointSets(const std::vector<Eigen::Vector2d>& source,
   return SE2(target_centroid - rotation_only * source_centroid, yaw_rad);
 }
 
-}  // namespace parkslam::eval
+}  // namespace parkslam

@@ -1,10 +1,10 @@
-#include "parkslam/render/digit_font.h"
+#include "parkslam/font/digit_font.h"
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
-namespace parkslam::render {
+namespace parkslam::font {
 namespace {
 
 constexpr std::array<std::uint8_t, 10> kDigitSegments = {0b0111111, 0b0000110, 0b1011011, 0b1001111,
@@ -83,4 +83,4 @@ void DrawSevenSegmentDigit(char digit, double height, double stroke,
       value, image);
 }
 
-}  // namespace parkslam::render
+}  // namespace parkslam::font
