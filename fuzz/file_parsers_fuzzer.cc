@@ -1,5 +1,5 @@
 // Fuzzes the parsers of single files, each the way the program reads it:
-// PARKSLAM_FUZZ_PARSER names one of map_json, scenario_yaml, rig_yaml, tum,
+// PARKSLAM_FUZZ_PARSER names one of map_json, scenario_yaml, rig_yaml, tum, g2o,
 // ps2_labels, numeric_csv, image_index, image_header, homography_rig.
 // (The homography rig reads front/back/left/right.yaml of a folder; the
 // first byte of an input picks the file, the rest replaces it.)
@@ -12,6 +12,7 @@
 
 #include "fuzz/fuzz_util.h"
 #include "parkslam/io/atomic_file.h"
+#include "parkslam/io/g2o.h"
 #include "parkslam/io/homography_rig.h"
 #include "parkslam/io/image_folder.h"
 #include "parkslam/io/image_header.h"
@@ -69,6 +70,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const fs::path file = ScratchDir() / "poses.tum";
     WriteBytes(file, text);
     ExpectAcceptedOrNamedRejection([&] { (void)io::ReadTum(file); }, "poses.tum");
+  } else if (kParser == "g2o") {
+    const fs::path file = ScratchDir() / "graph.g2o";
+    WriteBytes(file, text);
+    ExpectAcceptedOrNamedRejection([&] { (void)io::ReadG2o(file); }, "graph.g2o");
   } else if (kParser == "ps2_labels") {
     const fs::path file = ScratchDir() / "labels.json";
     WriteBytes(file, text);

@@ -13,12 +13,14 @@
 #include "fuzz/fuzz_util.h"
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/io/atomic_file.h"
+#include "parkslam/io/g2o.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/numeric_csv.h"
 #include "parkslam/io/ps2_labels.h"
 #include "parkslam/io/rig_yaml.h"
 #include "parkslam/io/scenario_yaml.h"
 #include "parkslam/io/tum.h"
+#include "parkslam/sim/pose_graph_generator.h"
 #include "parkslam/sim/scenario_config.h"
 
 namespace {
@@ -60,6 +62,16 @@ int main(int argc, char** argv) {
               {"groundtruth/trajectory.tum", "groundtruth/map.json"});
   Seed(out, "fuzz_map_json", "template", io::ReadTextFile(dataset / "groundtruth/map.json"));
   Seed(out, "fuzz_tum", "template", io::ReadTextFile(dataset / "groundtruth/trajectory.tum"));
+  {
+    parkslam::sim::SyntheticGraphOptions graph_options;
+    graph_options.poses = 40;
+    graph_options.grid_cells = 4;
+    parkslam::sim::SyntheticGraph graph = parkslam::sim::MakeSyntheticGraph(graph_options, 1);
+    graph.graph.points[1000] = Eigen::Vector2d(1.5, 2.0);
+    graph.graph.point_edges.push_back(
+        {3, 1000, Eigen::Vector2d(0.5, 1.0), Eigen::Matrix2d::Identity()});
+    Seed(out, "fuzz_g2o", "template", io::FormatG2o(graph.graph));
+  }
   Seed(out, "fuzz_image_index", "template", io::ReadTextFile(dataset / "images/index.csv"));
   Seed(out, "fuzz_scenario_yaml", "default", io::ScenarioToYaml(parkslam::sim::DefaultScenario()));
   Seed(out, "fuzz_rig_yaml", "default", io::RigToYaml(parkslam::camera::DefaultRig()));

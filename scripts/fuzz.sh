@@ -46,7 +46,7 @@ CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPARKSLA
 cmake --build build-fuzz -j"$(nproc)" --target fuzz_all
 
 all=(fuzz_sensor_csv fuzz_observations_jsonl fuzz_dataset_yaml fuzz_groundtruth fuzz_map_json
-     fuzz_scenario_yaml fuzz_rig_yaml fuzz_tum fuzz_ps2_labels fuzz_numeric_csv fuzz_image_index
+     fuzz_scenario_yaml fuzz_rig_yaml fuzz_tum fuzz_g2o fuzz_ps2_labels fuzz_numeric_csv fuzz_image_index
      fuzz_image_header fuzz_homography_rig)
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 for t in "${targets[@]}"; do
@@ -63,6 +63,7 @@ sources_of() {
     fuzz_scenario_yaml) echo "io/scenario_yaml.cc io/yaml_util.cc" ;;
     fuzz_rig_yaml) echo "io/rig_yaml.cc io/yaml_util.cc" ;;
     fuzz_tum) echo "io/tum.cc io/text_util.cc" ;;
+    fuzz_g2o) echo "io/g2o.cc io/text_util.cc" ;;
     fuzz_ps2_labels) echo "io/ps2_labels.cc io/json_util.cc" ;;
     fuzz_numeric_csv) echo "io/numeric_csv.cc io/text_util.cc" ;;
     fuzz_image_index) echo "io/image_folder.cc io/text_util.cc" ;;

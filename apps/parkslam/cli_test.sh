@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect make-training-set report check-dataset; do
+for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect make-training-set report check-dataset solve-graph make-graph; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -173,6 +173,23 @@ expect nonzero "front/$first_front: 1280 x 720 pixels, but images/rig.yaml gives
 cp -r "$tmp/cd" "$tmp/cd_gap" && sed -i '100,115d' "$tmp/cd_gap/observations/slots.jsonl"
 expect nonzero "slots.jsonl: a gap of 1.70 s" -- "$PARKSLAM" check-dataset "$tmp/cd_gap"
 expect nonzero "not a folder" -- "$PARKSLAM" check-dataset "$tmp/nothing_here"
+
+# make-graph and solve-graph: a ring with outliers, solved plainly and with Max-Mixture.
+expect 0 "300 poses.*20 random" -- "$PARKSLAM" make-graph --world ring --poses 300 --outliers 20 \
+  --seed 4 --out "$tmp/ring.g2o" --truth "$tmp/ring_truth.g2o"
+expect 0 "Max-Mixture: 2[0-9] of" -- "$PARKSLAM" solve-graph "$tmp/ring.g2o" --robust maxmix \
+  --truth "$tmp/ring_truth.g2o" --out "$tmp/ring_mm.g2o"
+mm_rmse=$("$PARKSLAM" solve-graph "$tmp/ring.g2o" --robust maxmix --json --out "$tmp/ring_mm.g2o" \
+  --truth "$tmp/ring_truth.g2o" | sed 's/.*"rmse_m":\([0-9.e-]*\).*/\1/')
+plain_rmse=$("$PARKSLAM" solve-graph "$tmp/ring.g2o" --json --out "$tmp/ring_plain.g2o" \
+  --truth "$tmp/ring_truth.g2o" | sed 's/.*"rmse_m":\([0-9.e-]*\).*/\1/')
+awk -v m="$mm_rmse" -v p="$plain_rmse" 'BEGIN { exit !(m < 0.5 && p > 5 * m) }' && pass ||
+  fail "solve-graph: Max-Mixture RMSE $mm_rmse m against plain $plain_rmse m"
+grep -c "^VERTEX_SE2" "$tmp/ring_mm.g2o" | grep -qx 300 && pass || fail "solve-graph wrote no 300 vertices"
+expect nonzero "ring.g2o: lies|input FILE" -- "$PARKSLAM" solve-graph "$tmp/ring.g2o" --out "$tmp/ring.g2o"
+printf 'VERTEX_SE2 0 0 0 0\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n' > "$tmp/bad.g2o"
+expect nonzero "bad.g2o:2: EDGE_SE2.to: no VERTEX_SE2 1" -- "$PARKSLAM" solve-graph "$tmp/bad.g2o" --out "$tmp/o.g2o"
+[ ! -e "$tmp/o.g2o" ] && pass || fail "solve-graph wrote an output for a bad input"
 
 # report: a demo folder, then broken inputs named by file, line and column.
 "$PARKSLAM" demo --out "$tmp/rep" --observations --consistency-runs 2 --follow-runs 1 \

@@ -34,6 +34,8 @@ void AddEvalDetectCommand(CLI::App& app);
 void AddMakeTrainingSetCommand(CLI::App& app);
 void AddReportCommand(CLI::App& app);
 void AddCheckDatasetCommand(CLI::App& app);
+void AddSolveGraphCommand(CLI::App& app);
+void AddMakeGraphCommand(CLI::App& app);
 
 // The command line as the user typed it (main() records it), for the
 // records a run leaves (metrics.json, report.html).

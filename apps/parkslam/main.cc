@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
   parkslam::app::AddDemoCommand(app);
   parkslam::app::AddReportCommand(app);
   parkslam::app::AddCheckDatasetCommand(app);
+  parkslam::app::AddSolveGraphCommand(app);
+  parkslam::app::AddMakeGraphCommand(app);
   parkslam::app::SetCommandLine(argc, argv);
   try {
     app.parse(argc, argv);

@@ -176,4 +176,23 @@ TrajectoryMetrics EvaluateTrajectory(const Trajectory& truth, const Trajectory& 
   return metrics;
 }
 
+double AlignedPositionRmse(const std::map<int, SE2>& estimate, const std::map<int, SE2>& truth) {
+  std::vector<Eigen::Vector2d> estimated, true_positions;
+  for (const auto& [id, T] : estimate) {
+    const auto it = truth.find(id);
+    if (it == truth.end()) continue;
+    estimated.push_back(T.translation());
+    true_positions.push_back(it->second.translation());
+  }
+  if (estimated.size() < 2) {
+    throw std::invalid_argument("AlignedPositionRmse: fewer than 2 poses match the truth");
+  }
+  const SE2 T_truth_estimate = AlignPointSets(estimated, true_positions);
+  double sum = 0.0;
+  for (size_t i = 0; i < estimated.size(); ++i) {
+    sum += (T_truth_estimate * estimated[i] - true_positions[i]).squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(estimated.size()));
+}
+
 }  // namespace parkslam::eval

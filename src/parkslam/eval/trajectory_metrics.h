@@ -1,6 +1,8 @@
 #ifndef PARKSLAM_EVAL_TRAJECTORY_METRICS_H_
 #define PARKSLAM_EVAL_TRAJECTORY_METRICS_H_
 
+#include <map>
+
 #include "parkslam/common/se2.h"
 #include "parkslam/common/trajectory.h"
 
@@ -50,6 +52,13 @@ struct TrajectoryMetrics {
 // truth is unsorted, or for non-positive segment lengths.
 TrajectoryMetrics EvaluateTrajectory(const Trajectory& truth, const Trajectory& estimate,
                                      const TrajectoryMetricsOptions& options = {});
+
+// RMS position error of poses matched by vertex id (a pose graph against its
+// truth), after the rigid alignment that minimises it (AlignPointSets), so
+// that the gauge of the solution does not count. Ids of the estimate missing
+// from the truth are skipped. Throws std::invalid_argument when fewer than 2
+// ids match.
+double AlignedPositionRmse(const std::map<int, SE2>& estimate, const std::map<int, SE2>& truth);
 
 }  // namespace parkslam::eval
 

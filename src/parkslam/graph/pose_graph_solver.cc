@@ -1,0 +1,270 @@
+#include "parkslam/graph/pose_graph_solver.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <stdexcept>
+
+#include "parkslam/graph/max_mixture_pose_edge_factor.h"
+#include "parkslam/graph/point_edge_factor.h"
+#include "parkslam/graph/pose_edge_factor.h"
+#include "parkslam/mapping/costs/angle.h"
+
+namespace parkslam::graph {
+namespace {
+
+using PoseBlock = std::array<double, 3>;
+using PointBlock = std::array<double, 2>;
+
+PoseBlock ToBlock(const SE2& T) { return {T.x(), T.y(), T.yaw()}; }
+SE2 FromBlock(const PoseBlock& b) { return SE2(b[0], b[1], b[2]); }
+
+// The incremental schedule: the order of each pose id, and for each step of
+// that order the edges that become complete there.
+struct Schedule {
+  std::vector<int> pose_ids;                     // in id order
+  std::map<int, int> order;                      // pose id -> index in pose_ids
+  std::vector<std::vector<int>> pose_edges_at;   // by order index
+  std::vector<std::vector<int>> point_edges_at;  // by order index
+  std::vector<int> odometry_into;                // edge from the previous pose, or -1
+};
+
+Schedule MakeSchedule(const PoseGraph& graph) {
+  Schedule s;
+  for (const auto& [id, pose] : graph.poses) {
+    s.order[id] = static_cast<int>(s.pose_ids.size());
+    s.pose_ids.push_back(id);
+  }
+  s.pose_edges_at.resize(s.pose_ids.size());
+  s.point_edges_at.resize(s.pose_ids.size());
+  s.odometry_into.assign(s.pose_ids.size(), -1);
+  for (size_t i = 0; i < graph.pose_edges.size(); ++i) {
+    const PoseEdge& e = graph.pose_edges[i];
+    const int a = s.order.at(e.from), b = s.order.at(e.to);
+    s.pose_edges_at[std::max(a, b)].push_back(static_cast<int>(i));
+    if (std::abs(a - b) == 1 && IsOdometry(e) && s.odometry_into[std::max(a, b)] < 0) {
+      s.odometry_into[std::max(a, b)] = static_cast<int>(i);
+    }
+  }
+  for (size_t i = 0; i < graph.point_edges.size(); ++i) {
+    s.point_edges_at[s.order.at(graph.point_edges[i].pose)].push_back(static_cast<int>(i));
+  }
+  return s;
+}
+
+}  // namespace
+
+std::string ValidateSolveOptions(const SolveOptions& o) {
+  if (!(o.null_weight > 0.0 && o.null_weight <= 1.0)) return "null_weight must be in (0, 1]";
+  if (!(o.null_information_scale > 0.0 && o.null_information_scale < 1.0)) {
+    return "null_information_scale must be in (0, 1)";
+  }
+  if (o.incremental_step < 0) return "incremental_step must be >= 0";
+  if (o.max_iterations < 1 || o.max_iterations > 100000) {
+    return "max_iterations must be in [1, 100000]";
+  }
+  if (!(o.function_tolerance > 0.0 && o.function_tolerance < 1.0)) {
+    return "function_tolerance must be in (0, 1)";
+  }
+  return "";
+}
+
+SolveSummary SolvePoseGraph(const SolveOptions& options, PoseGraph* graph) {
+  if (const std::string error = ValidateSolveOptions(options); !error.empty()) {
+    throw std::invalid_argument("SolvePoseGraph: " + error);
+  }
+  CheckPoseGraph(*graph);
+  const auto start = std::chrono::steady_clock::now();
+  const Schedule schedule = MakeSchedule(*graph);
+  const int pose_count = static_cast<int>(schedule.pose_ids.size());
+  const bool robust = options.robust == RobustKernel::kMaxMixture;
+
+  // Storage with stable addresses (map nodes) for Ceres' parameter blocks.
+  std::map<int, PoseBlock> poses;
+  std::map<int, PointBlock> points;
+  std::vector<const MaxMixturePoseEdgeFactor*> mixture_of(graph->pose_edges.size(), nullptr);
+
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  mapping::Pose2Manifold pose_manifold;
+
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = options.function_tolerance;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+
+  SolveSummary summary;
+  const bool fix_first = graph->fixed.empty();
+  // Dead-reckoning covariance of each pose since its last anchor (a pose
+  // held fixed or joined by a kept closure), in the world frame, for the
+  // gate of new closures.
+  std::vector<Eigen::Matrix3d> drift(pose_count, Eigen::Matrix3d::Zero());
+  std::vector<bool> anchored(pose_count, false);
+  auto propagate_drift = [&](int index) {
+    if (index == 0 || anchored[index] || graph->fixed.contains(schedule.pose_ids[index])) {
+      drift[index].setZero();
+      return;
+    }
+    drift[index] = drift[index - 1];
+    const int edge = schedule.odometry_into[index];
+    if (edge < 0) return;
+    // T_i = T_(i-1) (+) u: first-order propagation of the covariance.
+    const PoseEdge& e = graph->pose_edges[edge];
+    const SE2 previous = FromBlock(poses.at(schedule.pose_ids[index - 1]));
+    const SE2 u = e.from == schedule.pose_ids[index - 1] ? e.T_from_to : e.T_from_to.inverse();
+    const Eigen::Vector2d step_world = previous.rotation() * u.translation();
+    Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+    A(0, 2) = -step_world.y();
+    A(1, 2) = step_world.x();
+    Eigen::Matrix3d B = Eigen::Matrix3d::Identity();
+    B.topLeftCorner<2, 2>() = previous.rotation();
+    drift[index] =
+        A * drift[index - 1] * A.transpose() + B * e.information.inverse() * B.transpose();
+  };
+  auto add_pose = [&](int index) {
+    const int id = schedule.pose_ids[index];
+    SE2 initial = graph->poses.at(id);
+    if (index > 0 && !graph->fixed.contains(id)) {
+      // The correction the predecessor received, applied to this pose.
+      const int previous = schedule.pose_ids[index - 1];
+      const SE2 correction = FromBlock(poses.at(previous)) * graph->poses.at(previous).inverse();
+      initial = correction * initial;
+    }
+    PoseBlock& block = poses[id] = ToBlock(initial);
+    problem.AddParameterBlock(block.data(), 3, &pose_manifold);
+    if (graph->fixed.contains(id) || (fix_first && index == 0)) {
+      problem.SetParameterBlockConstant(block.data());
+    }
+    propagate_drift(index);
+  };
+  auto add_mixture = [&](int i) {
+    const PoseEdge& e = graph->pose_edges[i];
+    auto* factor = new MaxMixturePoseEdgeFactor(e.T_from_to, e.information, options.null_weight,
+                                                options.null_information_scale);
+    mixture_of[i] = factor;
+    problem.AddResidualBlock(factor, nullptr, poses.at(e.from).data(), poses.at(e.to).data());
+  };
+  // A new closure whose error is within the drift of its poses enters as a
+  // plain edge for one solve, so that it can pull the trajectory it corrects;
+  // then it becomes a Max-Mixture edge like every other closure.
+  const double gate_chi2 = MaxMixturePoseEdgeFactor::NullThresholdChi2(
+      options.null_weight, options.null_information_scale);
+  auto passes_gate = [&](const PoseEdge& e) {
+    const SE2 a = FromBlock(poses.at(e.from));
+    const Eigen::Vector3d error = PoseEdgeError(e, a, FromBlock(poses.at(e.to)));
+    Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
+    G.topLeftCorner<2, 2>() = (a.rotation() * e.T_from_to.rotation()).transpose();
+    const Eigen::Matrix3d covariance =
+        e.information.inverse() +
+        G * (drift[schedule.order.at(e.from)] + drift[schedule.order.at(e.to)]) * G.transpose();
+    return error.dot(covariance.ldlt().solve(error)) <= gate_chi2;
+  };
+  std::vector<std::pair<int, ceres::ResidualBlockId>> on_trial;
+  std::vector<int> new_closures;
+  auto add_edges = [&](int index) {
+    for (int i : schedule.pose_edges_at[index]) {
+      const PoseEdge& e = graph->pose_edges[i];
+      double* a = poses.at(e.from).data();
+      double* b = poses.at(e.to).data();
+      if (robust && !IsOdometry(e)) {
+        new_closures.push_back(i);
+        if (options.gate_new_closures && passes_gate(e)) {
+          on_trial.emplace_back(
+              i, problem.AddResidualBlock(PoseEdgeFactor::Create(e.T_from_to, e.information),
+                                          nullptr, a, b));
+        } else {
+          add_mixture(i);
+        }
+      } else {
+        problem.AddResidualBlock(PoseEdgeFactor::Create(e.T_from_to, e.information), nullptr, a, b);
+      }
+    }
+    for (int i : schedule.point_edges_at[index]) {
+      const PointEdge& e = graph->point_edges[i];
+      double* pose = poses.at(e.pose).data();
+      auto [it, inserted] = points.try_emplace(e.point);
+      if (inserted) {
+        // First sight: the measurement from the pose as it stands now.
+        const Eigen::Vector2d p = FromBlock(poses.at(e.pose)) * e.p_pose;
+        it->second = {p.x(), p.y()};
+        problem.AddParameterBlock(it->second.data(), 2);
+        if (graph->fixed.contains(e.point)) problem.SetParameterBlockConstant(it->second.data());
+      }
+      problem.AddResidualBlock(PointEdgeFactor::Create(e.p_pose, e.information), nullptr, pose,
+                               it->second.data());
+    }
+  };
+  auto solve = [&] {
+    ceres::Solver::Summary solver_summary;
+    ceres::Solve(solver_options, &problem, &solver_summary);
+    ++summary.solves;
+    summary.iterations +=
+        solver_summary.num_successful_steps + solver_summary.num_unsuccessful_steps;
+    if (solver_summary.termination_type != ceres::CONVERGENCE) summary.converged = false;
+  };
+
+  const int step = options.incremental_step > 0 ? options.incremental_step : pose_count;
+  for (int added = 0; added < pose_count;) {
+    const int from = added;
+    const int until = std::min(pose_count, added + step);
+    for (int index = from; index < until; ++index) add_pose(index);
+    for (int index = from; index < until; ++index) add_edges(index);
+    added = until;
+    if (problem.NumResidualBlocks() == 0) continue;
+    solve();
+    if (!on_trial.empty()) {
+      for (const auto& [i, block] : on_trial) {
+        problem.RemoveResidualBlock(block);
+        add_mixture(i);
+      }
+      on_trial.clear();
+      solve();
+    }
+    // Kept closures anchor their poses; the drift restarts there.
+    for (int i : new_closures) {
+      const PoseEdge& e = graph->pose_edges[i];
+      if (!mixture_of[i]->NullChosen(poses.at(e.from).data(), poses.at(e.to).data())) {
+        anchored[schedule.order.at(e.from)] = anchored[schedule.order.at(e.to)] = true;
+      }
+    }
+    new_closures.clear();
+    for (int index = from; index < until; ++index) propagate_drift(index);
+  }
+
+  // Read back, then judge every closure at the solution.
+  for (const auto& [id, block] : poses) graph->poses[id] = FromBlock(block);
+  for (const auto& [id, block] : points) graph->points[id] = Eigen::Vector2d(block[0], block[1]);
+  summary.pose_edge_kept.assign(graph->pose_edges.size(), true);
+  for (size_t i = 0; i < graph->pose_edges.size(); ++i) {
+    const PoseEdge& e = graph->pose_edges[i];
+    if (!IsOdometry(e)) ++summary.loop_closures;
+    if (mixture_of[i] != nullptr &&
+        mixture_of[i]->NullChosen(poses.at(e.from).data(), poses.at(e.to).data())) {
+      summary.pose_edge_kept[i] = false;
+      ++summary.rejected;
+      continue;
+    }
+    summary.chi2 += PoseEdgeChi2(*graph, e);
+  }
+  for (const PointEdge& e : graph->point_edges) {
+    const Eigen::Vector2d r =
+        graph->poses.at(e.pose).inverse() * graph->points.at(e.point) - e.p_pose;
+    summary.chi2 += r.dot(e.information * r);
+  }
+  summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace parkslam::graph

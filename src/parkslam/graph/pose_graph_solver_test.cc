@@ -1,0 +1,130 @@
+#include "parkslam/graph/pose_graph_solver.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "parkslam/eval/trajectory_metrics.h"
+#include "parkslam/sim/pose_graph_generator.h"
+
+namespace parkslam::graph {
+namespace {
+
+sim::SyntheticGraph Manhattan(int poses, std::uint64_t seed) {
+  sim::SyntheticGraphOptions options;
+  options.poses = poses;
+  options.grid_cells = 12;
+  return sim::MakeSyntheticGraph(options, seed);
+}
+
+double SolvedRmse(const SolveOptions& options, const sim::SyntheticGraph& problem,
+                  SolveSummary* summary = nullptr) {
+  PoseGraph graph = problem.graph;
+  const SolveSummary s = SolvePoseGraph(options, &graph);
+  if (summary != nullptr) *summary = s;
+  return eval::AlignedPositionRmse(graph.poses, problem.truth);
+}
+
+SolveOptions MaxMixture() {
+  SolveOptions options;
+  options.robust = RobustKernel::kMaxMixture;
+  return options;
+}
+
+TEST(PoseGraphSolverTest, ClosuresUndoTheDrift) {
+  const sim::SyntheticGraph problem = Manhattan(600, 1);
+  const double dead_reckoning = eval::AlignedPositionRmse(problem.graph.poses, problem.truth);
+  SolveSummary summary;
+  const double solved = SolvedRmse(SolveOptions{}, problem, &summary);
+  EXPECT_GT(summary.loop_closures, 50);
+  EXPECT_LT(solved, 0.25 * dead_reckoning) << dead_reckoning;
+  EXPECT_LT(solved, 0.15);
+  // At the optimum, chi2 is about (edges - poses) * 3 dof; well under the
+  // edges' 3 each.
+  const double edges = static_cast<double>(problem.graph.pose_edges.size());
+  EXPECT_LT(summary.chi2, 3.0 * edges);
+  EXPECT_GT(summary.chi2, 0.5 * (edges - 600.0) * 3.0);
+  EXPECT_EQ(summary.rejected, 0);
+}
+
+TEST(PoseGraphSolverTest, MaxMixtureKeepsEveryTrueClosureWithoutOutliers) {
+  const sim::SyntheticGraph problem = Manhattan(600, 2);
+  SolveSummary plain, mixture;
+  const double plain_rmse = SolvedRmse(SolveOptions{}, problem, &plain);
+  const double mixture_rmse = SolvedRmse(MaxMixture(), problem, &mixture);
+  EXPECT_EQ(mixture.rejected, 0);
+  EXPECT_NEAR(mixture_rmse, plain_rmse, 1e-3);
+  EXPECT_NEAR(mixture.chi2, plain.chi2, 1e-3 * plain.chi2);
+}
+
+TEST(PoseGraphSolverTest, MaxMixtureRejectsTenPercentRandomOutliers) {
+  const sim::SyntheticGraph clean = Manhattan(600, 3);
+  SolveSummary clean_summary;
+  const double clean_rmse = SolvedRmse(MaxMixture(), clean, &clean_summary);
+  sim::SyntheticGraph noisy = clean;
+  Random random(33);
+  const int outliers = clean_summary.loop_closures / 10 + 1;
+  sim::AddRandomOutliers(outliers, &random, &noisy.graph);
+
+  SolveSummary plain, mixture;
+  const double plain_rmse = SolvedRmse(SolveOptions{}, noisy, &plain);
+  const double mixture_rmse = SolvedRmse(MaxMixture(), noisy, &mixture);
+  EXPECT_GT(plain_rmse, 5.0 * clean_rmse) << "plain least squares should be pulled off";
+  EXPECT_LT(mixture_rmse, 1.1 * clean_rmse) << clean_rmse;
+  EXPECT_EQ(mixture.rejected, outliers);
+  EXPECT_NEAR(mixture.chi2, clean_summary.chi2, 0.01 * clean_summary.chi2);
+}
+
+TEST(PoseGraphSolverTest, MaxMixtureRejectsConsistentGroupsOnARing) {
+  sim::SyntheticGraphOptions options;
+  options.world = sim::GraphWorld::kRing;
+  options.poses = 500;
+  options.poses_per_lap = 100;
+  options.radius_m = 15.0;
+  const sim::SyntheticGraph clean = sim::MakeSyntheticGraph(options, 4);
+  const double clean_rmse = SolvedRmse(MaxMixture(), clean);
+  sim::SyntheticGraph noisy = clean;
+  Random random(44);
+  const int outliers = sim::AddGroupedOutliers(5, 4, noisy.truth, &random, &noisy.graph);
+  ASSERT_EQ(outliers, 20);
+  SolveSummary mixture;
+  const double plain_rmse = SolvedRmse(SolveOptions{}, noisy);
+  const double mixture_rmse = SolvedRmse(MaxMixture(), noisy, &mixture);
+  EXPECT_GT(plain_rmse, 3.0 * clean_rmse);
+  EXPECT_LT(mixture_rmse, 1.1 * clean_rmse) << clean_rmse;
+  EXPECT_GE(mixture.rejected, outliers);
+}
+
+TEST(PoseGraphSolverTest, FixedVertexStaysAndInvalidOptionsThrow) {
+  sim::SyntheticGraph problem = Manhattan(100, 5);
+  problem.graph.fixed = {50};
+  const SE2 held = problem.graph.poses.at(50);
+  PoseGraph graph = problem.graph;
+  SolvePoseGraph(SolveOptions{}, &graph);
+  EXPECT_EQ(graph.poses.at(50).translation(), held.translation());
+  EXPECT_EQ(graph.poses.at(50).yaw(), held.yaw());
+  SolveOptions bad;
+  bad.null_weight = 0.0;
+  EXPECT_EQ(ValidateSolveOptions(bad), "null_weight must be in (0, 1]");
+  EXPECT_THROW(SolvePoseGraph(bad, &graph), std::invalid_argument);
+}
+
+TEST(SyntheticGraphTest, SameSeedSameGraphAndTrueEdgesFitTheTruth) {
+  const sim::SyntheticGraph a = Manhattan(300, 6);
+  const sim::SyntheticGraph b = Manhattan(300, 6);
+  ASSERT_EQ(a.graph.pose_edges.size(), b.graph.pose_edges.size());
+  for (size_t i = 0; i < a.graph.pose_edges.size(); ++i) {
+    EXPECT_EQ(a.graph.pose_edges[i].T_from_to.x(), b.graph.pose_edges[i].T_from_to.x());
+  }
+  // At the truth, each edge's chi2 is chi-square(3): mean 3.
+  PoseGraph at_truth = a.graph;
+  at_truth.poses = a.truth;
+  double sum = 0.0;
+  for (const PoseEdge& e : at_truth.pose_edges) sum += PoseEdgeChi2(at_truth, e);
+  const double mean = sum / static_cast<double>(at_truth.pose_edges.size());
+  EXPECT_GT(mean, 2.5);
+  EXPECT_LT(mean, 3.5);
+}
+
+}  // namespace
+}  // namespace parkslam::graph

@@ -1,0 +1,42 @@
+#ifndef PARKSLAM_IO_G2O_H_
+#define PARKSLAM_IO_G2O_H_
+
+// Planar pose graphs in the g2o text format, the field's common exchange
+// format for SLAM benchmark graphs (Intel, M3500, ...). One element a line:
+//
+//   VERTEX_SE2 id x y theta
+//   VERTEX_XY id x y
+//   EDGE_SE2 from to dx dy dtheta I11 I12 I13 I22 I23 I33
+//   EDGE_SE2_XY pose point dx dy I11 I12 I22
+//   FIX id [id ...]
+//
+// I.. is the upper triangle of the information matrix, row by row. Lines
+// starting with '#' and blank lines are skipped; any other element type is
+// an error naming its line (3D types and TORO's VERTEX2/EDGE2 are not read).
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "parkslam/graph/pose_graph.h"
+
+namespace parkslam::io {
+
+// Throws IoError naming the source, the line and the field
+// ("m3500.g2o:12: EDGE_SE2.I22: not a finite number"): wrong field counts,
+// numbers that are not finite or beyond the plausible ranges
+// (docs/plausible_ranges.md), duplicate vertex ids, edges naming vertices
+// that do not exist, information matrices that are not positive definite,
+// and a graph without a pose.
+graph::PoseGraph ParseG2o(std::string_view text, const std::string& source_name);
+graph::PoseGraph ReadG2o(const std::filesystem::path& path);
+
+// Vertices (in id order), FIX, then the edges, with every number written
+// so that it reads back exactly.
+std::string FormatG2o(const graph::PoseGraph& graph);
+// Writes atomically.
+void WriteG2o(const std::filesystem::path& path, const graph::PoseGraph& graph);
+
+}  // namespace parkslam::io
+
+#endif  // PARKSLAM_IO_G2O_H_

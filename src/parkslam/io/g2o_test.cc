@@ -1,0 +1,88 @@
+#include "parkslam/io/g2o.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "parkslam/io/io_error.h"
+
+namespace parkslam::io {
+namespace {
+
+// The message of the IoError that parsing `text` throws, or "" if none.
+std::string ParseError(const std::string& text) {
+  try {
+    ParseG2o(text, "g.g2o");
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+constexpr const char* kSmall =
+    "# a small graph\n"
+    "EDGE_SE2 0 1 1 0 0.1 500 0 0 500 0 1000\n"  // edges may come before vertices
+    "VERTEX_SE2 0 0 0 0\n"
+    "VERTEX_SE2 1 1.01 0.02 0.09\n"
+    "VERTEX_SE2 2 2 0.1 0.2\n"
+    "VERTEX_XY 10 3 4\n"
+    "EDGE_SE2 1 2 1 0 0.1 500 1 0 400 0 1000\n"
+    "EDGE_SE2 0 2 2 0.1 0.2 100 0 0 100 0 200\n"
+    "EDGE_SE2_XY 2 10 1 3.9 50 0 50\n"
+    "FIX 0\n";
+
+TEST(G2oTest, ParsesEveryElement) {
+  const graph::PoseGraph g = ParseG2o(kSmall, "g.g2o");
+  ASSERT_EQ(g.poses.size(), 3u);
+  EXPECT_DOUBLE_EQ(g.poses.at(1).x(), 1.01);
+  EXPECT_DOUBLE_EQ(g.poses.at(1).yaw(), 0.09);
+  ASSERT_EQ(g.points.size(), 1u);
+  EXPECT_DOUBLE_EQ(g.points.at(10).y(), 4.0);
+  ASSERT_EQ(g.pose_edges.size(), 3u);
+  EXPECT_EQ(g.pose_edges[1].from, 1);
+  EXPECT_DOUBLE_EQ(g.pose_edges[1].information(0, 1), 1.0);
+  EXPECT_DOUBLE_EQ(g.pose_edges[1].information(1, 0), 1.0);
+  EXPECT_DOUBLE_EQ(g.pose_edges[1].information(1, 1), 400.0);
+  EXPECT_FALSE(graph::IsOdometry(g.pose_edges[2]));
+  ASSERT_EQ(g.point_edges.size(), 1u);
+  EXPECT_DOUBLE_EQ(g.point_edges[0].p_pose.y(), 3.9);
+  EXPECT_EQ(g.fixed, std::set<int>{0});
+}
+
+TEST(G2oTest, RoundTripsExactly) {
+  graph::PoseGraph g = ParseG2o(kSmall, "g.g2o");
+  g.poses[1] = SE2(1.0 / 3.0, -2.0 / 7.0, 0.123456789012345);
+  const std::string text = FormatG2o(g);
+  const graph::PoseGraph back = ParseG2o(text, "back.g2o");
+  EXPECT_EQ(FormatG2o(back), text);
+  EXPECT_EQ(back.poses.at(1).x(), 1.0 / 3.0);
+  EXPECT_EQ(back.poses.at(1).yaw(), g.poses.at(1).yaw());
+}
+
+TEST(G2oTest, ErrorsNameTheLineAndTheField) {
+  EXPECT_EQ(ParseError("VERTEX_SE2 0 0 0\n"),
+            "g.g2o:1: VERTEX_SE2: expected 4 values after the type, found 3");
+  EXPECT_EQ(ParseError("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 0 nan 0\n"),
+            "g.g2o:2: VERTEX_SE2.y: not a finite number");
+  EXPECT_EQ(ParseError("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1e300 0 0\n"),
+            "g.g2o:2: VERTEX_SE2.x: 1e+300 is beyond the plausible 100000 m");
+  EXPECT_EQ(ParseError("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 0 1 0 0\n"),
+            "g.g2o:2: VERTEX_SE2.id: vertex 0 is already defined on line 1");
+  EXPECT_EQ(ParseError("VERTEX_SE2 -3 0 0 0\n"),
+            "g.g2o:1: VERTEX_SE2.id: not a vertex id (an integer in [0, 2^31)) '-3'");
+  EXPECT_EQ(ParseError("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 0 0 0\n"
+                       "EDGE_SE2 0 1 1 0 0 1 0 0 -1 0 1\n"),
+            "g.g2o:3: EDGE_SE2.I: the information matrix is not positive definite");
+  EXPECT_EQ(ParseError("VERTEX_SE2 0 0 0 0\nEDGE_SE2 0 5 1 0 0 1 0 0 1 0 1\n"),
+            "g.g2o:2: EDGE_SE2.to: no VERTEX_SE2 5");
+  EXPECT_EQ(ParseError("VERTEX_SE2 0 0 0 0\nEDGE_SE2_XY 0 1 1 0 1 0 1\n"),
+            "g.g2o:2: EDGE_SE2_XY.point: no VERTEX_XY 1");
+  EXPECT_EQ(ParseError("VERTEX_SE2 0 0 0 0\nFIX 3\n"), "g.g2o:2: FIX.id: no vertex 3");
+  EXPECT_EQ(ParseError("VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n"),
+            "g.g2o:1: VERTEX_SE3:QUAT: unknown element type (this reader takes VERTEX_SE2, "
+            "VERTEX_XY, EDGE_SE2, EDGE_SE2_XY and FIX)");
+  EXPECT_EQ(ParseError("# nothing\n"), "g.g2o: no VERTEX_SE2");
+}
+
+}  // namespace
+}  // namespace parkslam::io
