@@ -17,7 +17,7 @@ io::Dataset DefaultDataset() {
   sim::Simulation simulation = sim::Simulate(scenario, 1);
   io::Dataset dataset;
   dataset.name = "bench";
-  dataset.scenario = scenario;
+  io::SetScenario(scenario, &dataset);
   dataset.groundtruth_trajectory = sim::GroundTruthTrajectory(simulation);
   dataset.groundtruth_map = sim::ToSemanticMap(simulation.world);
   dataset.log = std::move(simulation.log);

@@ -16,8 +16,7 @@ void BM_LocalizationUpdate(benchmark::State& state) {
   scenario.sensors.ids.partial_rate = 0.10;
   const sim::Simulation simulation = sim::Simulate(scenario, 2);
   const SemanticMap map = sim::ToSemanticMap(simulation.world);
-  const auto odometry =
-      pipeline::EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle);
+  const auto odometry = odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
   // Time only the camera frames (the odometry samples between them are fed
   // untimed), each frame's full localizer work.
   std::vector<SensorEvent> events;

@@ -37,7 +37,7 @@ mapping::Mapper FeedAll(mapping::MappingMode mode, mapping::TrustRegion region, 
   options.trust_region = region;
   options.initial_trust_region_radius = radius;
   mapping::Mapper mapper(
-      options, pipeline::EkfOptionsFromSensorSpec(d.scenario.sensors.odometry, d.scenario.vehicle),
+      options, odometry::EkfOptionsFromSpec(d.scenario.sensors.odometry, d.scenario.vehicle),
       d.simulation.states.front().T_map_vehicle);
   SensorLogSource source(d.simulation.log);
   while (const auto event = source.Next()) mapper.Process(*event);

@@ -31,8 +31,7 @@ BENCHMARK(BM_SimulateTenMinuteDrive)->Unit(benchmark::kMillisecond);
 void BM_DeadReckoningTenMinuteDrive(benchmark::State& state) {
   const sim::ScenarioConfig scenario = TenMinuteDrive();
   const sim::Simulation sim = sim::Simulate(scenario, 1);
-  const auto options =
-      pipeline::EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle);
+  const auto options = odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
   for (auto _ : state) {
     SensorLogSource source(sim.log);
     const auto result = pipeline::RunDeadReckoning(source, options, {});

@@ -201,7 +201,7 @@ int main(int argc, char** argv) {
   const sim::Simulation second = sim::Simulate(scenario, seed + 1);
   const SemanticMap truth = sim::ToSemanticMap(drive.world);
   const odometry::OdometryEkfOptions ekf =
-      pipeline::EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle);
+      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
   const TimeNs start_ns = drive.states.front().t_ns;
   const double drive_min = ToSeconds(drive.states.back().t_ns - start_ns) / 60.0;
   std::printf("%d laps, %.1f min of drive each; simulated in %.1f s; %.1f MB resident\n",

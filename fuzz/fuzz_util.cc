@@ -46,7 +46,7 @@ io::Dataset TemplateDataset() {
   d.name = "fuzz-template";
   d.seed = 7;
   d.created_by = "parkslam fuzz";
-  d.scenario = sim::DefaultScenario();
+  io::SetScenario(sim::DefaultScenario(), &d);
   SensorLog& log = d.log;
   log.wheel_speeds = {{0, 1.25}, {20'000'000, 1.5}, {40'000'000, 1.5}};
   log.steering_angles = {{0, 0.1}, {20'000'000, -0.3}};

@@ -174,6 +174,20 @@ cp -r "$tmp/cd" "$tmp/cd_gap" && sed -i '100,115d' "$tmp/cd_gap/observations/slo
 expect nonzero "slots.jsonl: a gap of 1.70 s" -- "$PARKSLAM" check-dataset "$tmp/cd_gap"
 expect nonzero "not a folder" -- "$PARKSLAM" check-dataset "$tmp/nothing_here"
 
+# A recording from a real car has no scenario: it is checked, mapped and
+# localized (on its recorded images) all the same; live rendering needs a world.
+cp -r "$tmp/cd" "$tmp/real" && sed -i '/^scenario:/,$d' "$tmp/real/dataset.yaml"
+grep -q "^scenario:" "$tmp/real/dataset.yaml" && fail "the scenario was not removed" || pass
+expect 0 "real: ok" -- "$PARKSLAM" check-dataset "$tmp/real"
+expect 0 "map written" -- "$PARKSLAM" map "$tmp/real" --images --out "$tmp/real_map.json"
+expect 0 "slot corner RMSE 0\.0[0-4]" -- "$PARKSLAM" eval-map --map "$tmp/real_map.json" \
+  --truth "$tmp/real/groundtruth/map.json"
+expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/real_map.json" "$tmp/real" --images \
+  --out "$tmp/real_loc.tum"
+expect 0 "ATE rmse / mean / max 0\.0[0-4]" -- "$PARKSLAM" eval-traj \
+  --truth "$tmp/real/groundtruth/trajectory.tum" --estimate "$tmp/real_loc.tum"
+expect nonzero "no scenario" -- "$PARKSLAM" map "$tmp/real" --live-images 1 --out "$tmp/x.json"
+
 # make-graph and solve-graph: a ring with outliers, solved plainly and with Max-Mixture.
 expect 0 "300 poses.*20 random" -- "$PARKSLAM" make-graph --world ring --poses 300 --outliers 20 \
   --seed 4 --out "$tmp/ring.g2o" --truth "$tmp/ring_truth.g2o"

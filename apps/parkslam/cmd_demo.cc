@@ -214,7 +214,7 @@ void AddDemoCommand(CLI::App& app) {
     const SE2 T_world_map = eval::EvaluateMap(map, truth_map).T_truth_map;
     localization::Localizer localizer(
         map, localization::LocalizerOptions{},
-        pipeline::EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle));
+        odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle));
     Trajectory localized;
     std::vector<localization::LocalizationEstimate> estimates;
     {

@@ -56,8 +56,7 @@ void AddLocalizeCommand(CLI::App& app) {
     const io::Dataset dataset = io::ReadDataset(options->dataset);
     localization::Localizer localizer(
         map, localization::LocalizerOptions{},
-        pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
-                                           dataset.scenario.vehicle));
+        odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle));
     if (!options->init.empty()) {
       const Eigen::Vector3d sigma(0.5, 0.5, 0.1);
       localizer.SetPose(ParsePose(options->init, "--init"), sigma.cwiseAbs2().asDiagonal());
@@ -140,9 +139,8 @@ void AddLocalizeCommand(CLI::App& app) {
       Progress trials("  kidnap trials", kidnap.trials);
       const pipeline::KidnapResult k = pipeline::RunKidnapTrials(
           map, dataset.log, truth_map, localization::LocalizerOptions{},
-          pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
-                                             dataset.scenario.vehicle),
-          kidnap, [&trials](int done, int) { trials.Update(done); });
+          odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), kidnap,
+          [&trials](int done, int) { trials.Update(done); });
       trials.Finish();
       std::vector<double> times = k.recovery_s;
       std::sort(times.begin(), times.end());

@@ -23,7 +23,7 @@ io::Dataset SimulateDataset(const sim::ScenarioConfig& scenario, std::uint64_t s
   dataset.name = scenario.world.name + "-seed" + std::to_string(seed);
   dataset.seed = seed;
   dataset.created_by = std::string("parkslam simulate ") + kVersion;
-  dataset.scenario = scenario;
+  io::SetScenario(scenario, &dataset);
   dataset.groundtruth_trajectory = sim::GroundTruthTrajectory(simulation);
   dataset.groundtruth_map = sim::ToSemanticMap(simulation.world);
   dataset.groundtruth_map->metadata["seed"] = std::to_string(seed);
@@ -36,10 +36,7 @@ pipeline::DeadReckoningResult RunOdometry(const io::Dataset& dataset,
                                           const pipeline::DeadReckoningOptions& options) {
   SensorLogSource source(dataset.log);
   return pipeline::RunDeadReckoning(
-      source,
-      pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
-                                         dataset.scenario.vehicle),
-      options);
+      source, odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), options);
 }
 
 nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& m) {
@@ -101,9 +98,14 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
   if (dataset.groundtruth_trajectory.size() < 2) {
     throw std::runtime_error(dataset.name + ": live images need the dataset's ground truth");
   }
+  if (!dataset.scenario) {
+    throw std::runtime_error(dataset.name +
+                             ": live images render the simulated world, and this dataset has "
+                             "no scenario (a recording); use its recorded images (--images)");
+  }
   live_ = std::make_unique<Live>();
-  live_->world = sim::BuildWorld(dataset.scenario.world,
-                                 static_cast<std::uint64_t>(dataset.scenario.world.seed));
+  live_->world = sim::BuildWorld(dataset.scenario->world,
+                                 static_cast<std::uint64_t>(dataset.scenario->world.seed));
   live_->renderer = std::make_unique<render::Renderer>(live_->world, camera::DefaultRig(),
                                                        render::RenderOptions{}, dataset.seed);
   live_->source = std::make_unique<pipeline::RenderingSource>(
@@ -212,10 +214,8 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
                          const pipeline::PerceptionOptions& perception,
                          const std::vector<pipeline::SensorFault>& faults,
                          std::string* faults_seen) {
-  mapping::Mapper mapper(options,
-                         pipeline::EkfOptionsFromSensorSpec(dataset.scenario.sensors.odometry,
-                                                            dataset.scenario.vehicle),
-                         initial_pose);
+  mapping::Mapper mapper(
+      options, odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), initial_pose);
   const DriveSpan span = SpanOf(dataset.log);
   std::optional<Progress> bar;
   if (progress) bar.emplace("  mapping", span.TotalTenths());

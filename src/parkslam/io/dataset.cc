@@ -606,8 +606,14 @@ std::string ManifestYaml(const Dataset& d) {
   AppendKey(&out, 2, "map");
   out += d.groundtruth_map ? "true\n" : "false\n";
   AppendCount(&out, "slot_label_frames", d.slot_labels.size());
-  out += "scenario:\n";
-  yaml_util::AppendScenarioYaml(d.scenario, 2, &out);
+  out += "vehicle:\n";
+  yaml_util::AppendVehicleYaml(d.vehicle, 2, &out);
+  out += "sensors:\n  odometry:\n";
+  yaml_util::AppendOdometrySpecYaml(d.odometry_spec, 4, &out);
+  if (d.scenario) {
+    out += "scenario:\n";
+    yaml_util::AppendScenarioYaml(*d.scenario, 2, &out);
+  }
   return out;
 }
 
@@ -629,19 +635,71 @@ void CheckFormat(const YamlReader& r, const YAML::Node& root) {
   const YAML::Node version = root["version"];
   if (!version) r.Fail(root, "version", "missing key");
   const std::int64_t number = r.Int64(version, "version");
-  if (number != kDatasetFormatVersion) {
+  if (number != kDatasetFormatVersion && number != 1) {
     r.Fail(version, "version",
            "unsupported version " + std::to_string(number) + " (this build reads " +
                std::to_string(kDatasetFormatVersion) + ")");
   }
 }
 
+// The vehicle, the odometry specification and the optional scenario. In
+// version 1 the first two live only inside the scenario.
+void ReadCarAndScenario(const YAML::Node& root, const YamlReader& r, bool version_1,
+                        Dataset* dataset) {
+  std::string error;
+  if (root["scenario"]) {
+    sim::ScenarioConfig scenario = sim::DefaultScenario();
+    yaml_util::ReadScenarioNode(r, root["scenario"], "scenario", &scenario);
+    if (!scenario.IsValid(&error)) r.Fail(root["scenario"], "", "scenario." + error);
+    dataset->scenario = scenario;
+  }
+  if (version_1) {
+    dataset->vehicle = dataset->scenario->vehicle;
+    dataset->odometry_spec = dataset->scenario->sensors.odometry;
+    return;
+  }
+  const YAML::Node vehicle = root["vehicle"];
+  if (!vehicle) r.Fail(root, "vehicle", "missing key (the car's wheelbase, steering ratio, size)");
+  yaml_util::ReadVehicleNode(r, vehicle, "vehicle", &dataset->vehicle);
+  if (!dataset->vehicle.IsValid(&error)) r.Fail(vehicle, "", error);
+  const YAML::Node sensors = root["sensors"];
+  if (!sensors) r.Fail(root, "sensors", "missing key (the odometry sensors' rates and noise)");
+  r.ExpectKeys(sensors, "sensors", {"odometry"});
+  yaml_util::ReadOdometrySpecNode(r, sensors["odometry"], "sensors.odometry",
+                                  &dataset->odometry_spec);
+  if (!dataset->odometry_spec.IsValid(&error)) r.Fail(sensors["odometry"], "", error);
+  // A simulated dataset's scenario must describe the same car.
+  if (dataset->scenario) {
+    std::string in_scenario, top_level;
+    yaml_util::AppendVehicleYaml(dataset->scenario->vehicle, 0, &in_scenario);
+    yaml_util::AppendVehicleYaml(dataset->vehicle, 0, &top_level);
+    if (in_scenario != top_level) {
+      r.Fail(root["scenario"]["vehicle"], "scenario.vehicle", "differs from the vehicle section");
+    }
+    in_scenario.clear();
+    top_level.clear();
+    yaml_util::AppendOdometrySpecYaml(dataset->scenario->sensors.odometry, 0, &in_scenario);
+    yaml_util::AppendOdometrySpecYaml(dataset->odometry_spec, 0, &top_level);
+    if (in_scenario != top_level) {
+      r.Fail(root["scenario"]["sensors"], "scenario.sensors.odometry",
+             "differs from the sensors.odometry section");
+    }
+  }
+}
+
 // Reads dataset.yaml into the dataset's header fields and returns the counts.
 Counts ReadManifest(const YAML::Node& root, const YamlReader& r, Dataset* dataset) {
   CheckFormat(r, root);
-  r.ExpectKeys(root, "",
-               {"format", "version", "name", "seed", "created_by", "duration_s", "counts",
-                "groundtruth", "scenario"});
+  const bool version_1 = r.Int64(root["version"], "version") == 1;
+  if (version_1) {
+    r.ExpectKeys(root, "",
+                 {"format", "version", "name", "seed", "created_by", "duration_s", "counts",
+                  "groundtruth", "scenario"});
+  } else {
+    r.CheckKeys(root, "",
+                {"format", "version", "name", "seed", "created_by", "duration_s", "counts",
+                 "groundtruth", "vehicle", "sensors", "scenario"});
+  }
   dataset->name = r.String(root["name"], "name");
   dataset->seed = r.Uint64(root["seed"], "seed");
   dataset->created_by = r.String(root["created_by"], "created_by");
@@ -661,11 +719,7 @@ Counts ReadManifest(const YAML::Node& root, const YamlReader& r, Dataset* datase
   counts.trajectory_poses = Count(r, g["trajectory_poses"], "groundtruth.trajectory_poses");
   counts.map = r.Bool(g["map"], "groundtruth.map");
   counts.slot_label_frames = Count(r, g["slot_label_frames"], "groundtruth.slot_label_frames");
-  dataset->scenario = sim::DefaultScenario();
-  yaml_util::ReadScenarioNode(r, root["scenario"], "scenario", &dataset->scenario);
-  // The commands take the vehicle and the sensor noise from here.
-  std::string error;
-  if (!dataset->scenario.IsValid(&error)) r.Fail(root["scenario"], "", "scenario." + error);
+  ReadCarAndScenario(root, r, version_1, dataset);
   return counts;
 }
 
@@ -685,6 +739,12 @@ void RemoveStale(const fs::path& file) {
 }
 
 }  // namespace
+
+void SetScenario(const sim::ScenarioConfig& scenario, Dataset* dataset) {
+  dataset->scenario = scenario;
+  dataset->vehicle = scenario.vehicle;
+  dataset->odometry_spec = scenario.sensors.odometry;
+}
 
 void WriteDataset(const fs::path& dir, const Dataset& dataset) {
   CheckLabelsMatch(dataset, (dir / kLabelsFile).string());

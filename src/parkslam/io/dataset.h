@@ -3,10 +3,12 @@
 
 // A recorded drive on disk (a folder):
 //
-//   dataset.yaml                   format "parkslam-dataset", version 1, name,
+//   dataset.yaml                   format "parkslam-dataset", version 2, name,
 //                                  seed, created_by, duration_s, counts per
-//                                  file, and the scenario it was made with.
-//                                  Written last: it marks a complete dataset.
+//                                  file, the vehicle, the odometry sensors'
+//                                  specification, and for simulated data the
+//                                  scenario it was made with. Written last:
+//                                  it marks a complete dataset.
 //   sensors/wheel_speed.csv        t_ns,speed_mps
 //   sensors/steering.csv           t_ns,steering_wheel_rad
 //   sensors/imu.csv                t_ns,yaw_rate_radps,heading_rad
@@ -43,21 +45,33 @@
 namespace parkslam::io {
 
 inline constexpr char kDatasetFormatName[] = "parkslam-dataset";
-inline constexpr int kDatasetFormatVersion = 1;
+// Version 1 held the vehicle and the sensors only inside the scenario; it is
+// still read.
+inline constexpr int kDatasetFormatVersion = 2;
 inline constexpr char kDatasetManifestFile[] = "dataset.yaml";
 
 struct Dataset {
   std::string name;  // "default-seed1"
   std::uint64_t seed = 0;
   std::string created_by;  // "parkslam simulate 0.1.0"
-  // The world, route, vehicle and sensor configuration it was made with.
-  sim::ScenarioConfig scenario;
+  // What the estimators know of the car and its sensors, as from a
+  // datasheet: dataset.yaml's vehicle and sensors.odometry.
+  VehicleParameters vehicle;
+  OdometrySensorSpec odometry_spec;
+  // Simulated data only: the world, route, vehicle and sensor configuration
+  // it was made with (its vehicle and odometry are the two above). A
+  // recording from a real car has none.
+  std::optional<sim::ScenarioConfig> scenario;
   SensorLog log;
   Trajectory groundtruth_trajectory;           // empty when absent
   std::optional<SemanticMap> groundtruth_map;  // absent when no ground truth
   // Empty when absent; else one vector per slot frame of the log.
   sim::SlotObservationLabels slot_labels;
 };
+
+// A simulated dataset's header: the scenario, and the vehicle and odometry
+// specification taken from it.
+void SetScenario(const sim::ScenarioConfig& scenario, Dataset* dataset);
 
 // Writes every file atomically, dataset.yaml last (after removing an old
 // one), and removes ground-truth files of an earlier dataset in `dir` that

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/test_util.h"
 
@@ -15,6 +16,7 @@ namespace {
 
 using testing::ErrorOf;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using testing::TempDir;
 
 DigitReading Digit(std::vector<DigitHypothesis> hypotheses) { return {std::move(hypotheses)}; }
@@ -49,9 +51,10 @@ Dataset SampleDataset() {
   d.name = "hand-made";
   d.seed = 18'446'744'073'709'551'615ULL;  // the largest seed
   d.created_by = "io test";
-  d.scenario = sim::DefaultScenario();
-  d.scenario.world.name = "test lot";
-  d.scenario.route.laps = 1;
+  sim::ScenarioConfig scenario = sim::DefaultScenario();
+  scenario.world.name = "test lot";
+  scenario.route.laps = 1;
+  SetScenario(scenario, &d);
   SensorLog& log = d.log;
   log.wheel_speeds = {{0, 1.25}, {20'000'000, -0.5}, {40'000'000, 1e-7}};
   log.steering_angles = {{0, 0.1}, {20'000'000, -3.3}};
@@ -102,10 +105,17 @@ void ExpectDatasetsEqual(const Dataset& a, const Dataset& b) {
   EXPECT_EQ(a.name, b.name);
   EXPECT_EQ(a.seed, b.seed);
   EXPECT_EQ(a.created_by, b.created_by);
-  EXPECT_EQ(a.scenario.world.name, b.scenario.world.name);
-  EXPECT_EQ(a.scenario.route.laps, b.scenario.route.laps);
-  EXPECT_EQ(a.scenario.world.rows.size(), b.scenario.world.rows.size());
-  EXPECT_EQ(a.scenario.route.loop_m, b.scenario.route.loop_m);
+  EXPECT_EQ(a.vehicle.wheelbase_m, b.vehicle.wheelbase_m);
+  EXPECT_EQ(a.vehicle.steering_ratio, b.vehicle.steering_ratio);
+  EXPECT_EQ(a.odometry_spec.gyro_sigma_radps, b.odometry_spec.gyro_sigma_radps);
+  EXPECT_EQ(a.odometry_spec.imu_rate_hz, b.odometry_spec.imu_rate_hz);
+  ASSERT_EQ(a.scenario.has_value(), b.scenario.has_value());
+  if (a.scenario) {
+    EXPECT_EQ(a.scenario->world.name, b.scenario->world.name);
+    EXPECT_EQ(a.scenario->route.laps, b.scenario->route.laps);
+    EXPECT_EQ(a.scenario->world.rows.size(), b.scenario->world.rows.size());
+    EXPECT_EQ(a.scenario->route.loop_m, b.scenario->route.loop_m);
+  }
 
   ASSERT_EQ(a.log.wheel_speeds.size(), b.log.wheel_speeds.size());
   for (std::size_t i = 0; i < a.log.wheel_speeds.size(); ++i) {
@@ -235,7 +245,9 @@ TEST(DatasetTest, WritesTheDocumentedFileContents) {
   EXPECT_THAT(slots, HasSubstr("\"id\":[[[\"1\",0.6]],[]]"));
   EXPECT_THAT(slots, HasSubstr("{\"t_ns\":300000000,\"slots\":[]}"));
   const std::string manifest = ReadTextFile(dir / "d/dataset.yaml");
-  EXPECT_THAT(manifest, HasSubstr("format: \"parkslam-dataset\"\nversion: 1\n"));
+  EXPECT_THAT(manifest, HasSubstr("format: \"parkslam-dataset\"\nversion: 2\n"));
+  EXPECT_THAT(manifest, HasSubstr("\nvehicle:\n  wheelbase_m: 2.7\n  steering_ratio: 15\n"));
+  EXPECT_THAT(manifest, HasSubstr("\nsensors:\n  odometry:\n    wheel_rate_hz: 50\n"));
   EXPECT_THAT(manifest, HasSubstr("counts:\n  wheel_speed: 3\n  steering: 2\n  imu: 2\n"));
   EXPECT_THAT(manifest, HasSubstr("duration_s: 0.3\n"));
   EXPECT_THAT(manifest, HasSubstr("\nscenario:\n  world:\n    name: \"test lot\"\n"));
@@ -436,8 +448,66 @@ TEST(DatasetTest, ImplausibleObservationsAreRefused) {
   EXPECT_EQ(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[4e-04,-6e-04,9e-04]"), "");
 }
 
-// The commands take the vehicle and the sensor noise from the scenario in
-// dataset.yaml: it must be valid.
+// A recording from a real car: the vehicle and the sensors' datasheet, no
+// scenario.
+TEST(DatasetTest, ADatasetWithoutScenarioRoundTrips) {
+  const TempDir dir;
+  Dataset d = SampleDataset();
+  d.scenario.reset();
+  d.vehicle.wheelbase_m = 2.85;
+  d.odometry_spec.gyro_sigma_radps = 0.002;
+  WriteDataset(dir / "d", d);
+  const std::string manifest = ReadTextFile(dir / "d/dataset.yaml");
+  EXPECT_THAT(manifest, Not(HasSubstr("scenario")));
+  const Dataset back = ReadDataset(dir / "d");
+  ExpectDatasetsEqual(d, back);
+  EXPECT_EQ(back.vehicle.wheelbase_m, 2.85);
+  EXPECT_FALSE(back.scenario.has_value());
+}
+
+TEST(DatasetTest, EveryVehicleAndSensorFieldIsRequired) {
+  const TempDir dir;
+  Dataset d = SampleDataset();
+  d.scenario.reset();
+  WriteDataset(dir / "d", d);
+  EditFile(dir / "d/dataset.yaml", "  steering_ratio: 15\n", "");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("vehicle.steering_ratio: missing key"));
+  WriteDataset(dir / "d", d);
+  EditFile(dir / "d/dataset.yaml", "    imu_rate_hz: 100\n", "    imu_rate_hz: 0\n");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("sensors.odometry.imu_rate_hz: must be in [1, 1000] Hz"));
+}
+
+TEST(DatasetTest, AScenarioOfAnotherCarIsRefused) {
+  const TempDir dir;
+  Dataset d = SampleDataset();
+  d.vehicle.wheelbase_m = 3.1;  // the scenario still says 2.7
+  WriteDataset(dir / "d", d);
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
+              HasSubstr("scenario.vehicle: differs from the vehicle section"));
+}
+
+// Version 1 kept the vehicle and the sensors only in the scenario.
+TEST(DatasetTest, VersionOneIsStillRead) {
+  const TempDir dir;
+  WriteDataset(dir / "d", SampleDataset());
+  std::string manifest = ReadTextFile(dir / "d/dataset.yaml");
+  const std::size_t vehicle = manifest.find("\nvehicle:\n");
+  const std::size_t scenario = manifest.find("\nscenario:\n");
+  ASSERT_NE(vehicle, std::string::npos);
+  ASSERT_NE(scenario, std::string::npos);
+  manifest.erase(vehicle, scenario - vehicle);
+  manifest.replace(manifest.find("version: 2"), 10, "version: 1");
+  WriteFileAtomically(dir / "d/dataset.yaml", manifest);
+  const Dataset back = ReadDataset(dir / "d");
+  ASSERT_TRUE(back.scenario.has_value());
+  EXPECT_EQ(back.vehicle.wheelbase_m, back.scenario->vehicle.wheelbase_m);
+  EXPECT_EQ(back.odometry_spec.imu_rate_hz, 100.0);
+}
+
+// The commands take the vehicle and the sensor noise from dataset.yaml, and
+// an embedded scenario must be valid.
 TEST(DatasetTest, ImplausibleScenarioInDatasetYamlIsRefused) {
   const std::string error = ErrorReadingEdited("dataset.yaml", "max_x_m: 87.5", "max_x_m: 1e9");
   EXPECT_THAT(error, HasSubstr("dataset.yaml:"));
@@ -463,9 +533,9 @@ TEST(DatasetTest, UnknownKeyInEmbeddedScenarioNamesItsPath) {
 TEST(DatasetTest, WrongFormatIsRejected) {
   const TempDir dir;
   WriteDataset(dir / "d", SampleDataset());
-  EditFile(dir / "d/dataset.yaml", "version: 1", "version: 2");
+  EditFile(dir / "d/dataset.yaml", "version: 2", "version: 3");
   EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
-              HasSubstr("version: unsupported version 2"));
+              HasSubstr("version: unsupported version 3"));
 }
 
 TEST(DatasetTest, FileShorterThanAnnouncedIsReported) {

@@ -349,6 +349,43 @@ void AppendScenarioYaml(const sim::ScenarioConfig& config, int indent, std::stri
   WriteFields(copy, indent, out);
 }
 
+namespace {
+
+// ReadValue, with every field of T required (a recording's datasheet leaves
+// nothing to a default).
+template <typename T>
+void ReadEveryField(const YamlReader& reader, const YAML::Node& node, const std::string& path,
+                    T* value) {
+  reader.ExpectMap(node, path);
+  auto require = [&](const char* name, auto&) {
+    if (!node[name]) reader.Fail(node, JoinKey(path, name), "missing key");
+  };
+  value->VisitFields(require);
+  ReadValue(reader, node, path, value);
+}
+
+}  // namespace
+
+void ReadVehicleNode(const YamlReader& reader, const YAML::Node& node, const std::string& path,
+                     VehicleParameters* vehicle) {
+  ReadEveryField(reader, node, path, vehicle);
+}
+
+void AppendVehicleYaml(const VehicleParameters& vehicle, int indent, std::string* out) {
+  VehicleParameters copy = vehicle;
+  WriteFields(copy, indent, out);
+}
+
+void ReadOdometrySpecNode(const YamlReader& reader, const YAML::Node& node, const std::string& path,
+                          OdometrySensorSpec* spec) {
+  ReadEveryField(reader, node, path, spec);
+}
+
+void AppendOdometrySpecYaml(const OdometrySensorSpec& spec, int indent, std::string* out) {
+  OdometrySensorSpec copy = spec;
+  WriteFields(copy, indent, out);
+}
+
 }  // namespace yaml_util
 
 std::string ScenarioToYaml(const sim::ScenarioConfig& config) {

@@ -80,6 +80,15 @@ void ReadScenarioNode(const YamlReader& reader, const YAML::Node& node, const st
 // The scenario as block YAML, every line indented by `indent` spaces.
 void AppendScenarioYaml(const sim::ScenarioConfig& config, int indent, std::string* out);
 
+// The vehicle and the odometry sensors' specification of a dataset, every
+// field required; written as block YAML at `indent`.
+void ReadVehicleNode(const YamlReader& reader, const YAML::Node& node, const std::string& path,
+                     VehicleParameters* vehicle);
+void AppendVehicleYaml(const VehicleParameters& vehicle, int indent, std::string* out);
+void ReadOdometrySpecNode(const YamlReader& reader, const YAML::Node& node, const std::string& path,
+                          OdometrySensorSpec* spec);
+void AppendOdometrySpecYaml(const OdometrySensorSpec& spec, int indent, std::string* out);
+
 }  // namespace parkslam::io::yaml_util
 
 #endif  // PARKSLAM_IO_YAML_UTIL_H_

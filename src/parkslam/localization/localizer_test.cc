@@ -32,9 +32,8 @@ const Fixture& Default() {
 }
 
 Localizer MakeLocalizer(const Fixture& f) {
-  return Localizer(
-      f.map, LocalizerOptions{},
-      pipeline::EkfOptionsFromSensorSpec(f.scenario.sensors.odometry, f.scenario.vehicle));
+  return Localizer(f.map, LocalizerOptions{},
+                   odometry::EkfOptionsFromSpec(f.scenario.sensors.odometry, f.scenario.vehicle));
 }
 
 double PositionError(const Fixture& f, const LocalizationEstimate& e) {

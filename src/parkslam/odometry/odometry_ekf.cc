@@ -263,4 +263,20 @@ bool OdometryEkf::Process(const SensorEvent& event) {
   return true;
 }
 
+OdometryEkfOptions EkfOptionsFromSpec(const OdometrySensorSpec& spec,
+                                      const VehicleParameters& vehicle) {
+  OdometryEkfOptions o;
+  o.vehicle = vehicle;
+  o.wheel_speed_sigma_mps = spec.wheel_speed_sigma_mps;
+  o.steering_wheel_sigma_rad = spec.steering_wheel_sigma_rad;
+  o.gyro_sigma_radps = spec.gyro_sigma_radps;
+  o.heading_sigma_rad = spec.heading_sigma_rad;
+  o.gyro_bias_walk_radps_per_sqrt_s = spec.gyro_bias_walk_radps_per_sqrt_s;
+  o.heading_bias_walk_rad_per_sqrt_s = spec.heading_bias_walk_rad_per_sqrt_s;
+  o.gyro_bias_sigma_radps = spec.gyro_bias_sigma_radps;
+  o.heading_bias_sigma_rad = spec.heading_bias_sigma_rad;
+  o.wheel_scale_sigma = spec.wheel_speed_scale_sigma;
+  return o;
+}
+
 }  // namespace parkslam::odometry

@@ -36,6 +36,7 @@
 
 #include "parkslam/common/se2.h"
 #include "parkslam/common/time.h"
+#include "parkslam/sensor/odometry_spec.h"
 #include "parkslam/sensor/sensor_data.h"
 #include "parkslam/sensor/vehicle.h"
 
@@ -72,6 +73,11 @@ struct OdometryEkfOptions {
 
   bool IsValid(std::string* error) const;
 };
+
+// The filter tuned from the sensors' datasheet (a dataset's
+// sensors.odometry section) and the vehicle.
+OdometryEkfOptions EkfOptionsFromSpec(const OdometrySensorSpec& spec,
+                                      const VehicleParameters& vehicle);
 
 // What the filter saw of its inputs' faults.
 struct OdometryEkfStats {

@@ -4,22 +4,6 @@
 
 namespace parkslam::pipeline {
 
-odometry::OdometryEkfOptions EkfOptionsFromSensorSpec(const sim::OdometrySensorConfig& spec,
-                                                      const VehicleParameters& vehicle) {
-  odometry::OdometryEkfOptions o;
-  o.vehicle = vehicle;
-  o.wheel_speed_sigma_mps = spec.wheel_speed_sigma_mps;
-  o.steering_wheel_sigma_rad = spec.steering_wheel_sigma_rad;
-  o.gyro_sigma_radps = spec.gyro_sigma_radps;
-  o.heading_sigma_rad = spec.heading_sigma_rad;
-  o.gyro_bias_walk_radps_per_sqrt_s = spec.gyro_bias_walk_radps_per_sqrt_s;
-  o.heading_bias_walk_rad_per_sqrt_s = spec.heading_bias_walk_rad_per_sqrt_s;
-  o.gyro_bias_sigma_radps = spec.gyro_bias_sigma_radps;
-  o.heading_bias_sigma_rad = spec.heading_bias_sigma_rad;
-  o.wheel_scale_sigma = spec.wheel_speed_scale_sigma;
-  return o;
-}
-
 DeadReckoningResult RunDeadReckoning(SensorSource& source,
                                      const odometry::OdometryEkfOptions& ekf_options,
                                      const DeadReckoningOptions& options) {

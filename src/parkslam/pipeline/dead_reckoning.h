@@ -10,14 +10,8 @@
 #include "parkslam/common/trajectory.h"
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/sensor/sensor_log.h"
-#include "parkslam/sim/scenario_config.h"
 
 namespace parkslam::pipeline {
-
-// The EKF tuned from the sensors' specification (the dataset's
-// sensors.odometry section, as a datasheet would give it).
-odometry::OdometryEkfOptions EkfOptionsFromSensorSpec(const sim::OdometrySensorConfig& spec,
-                                                      const VehicleParameters& vehicle);
 
 struct DeadReckoningOptions {
   double output_rate_hz = 50.0;

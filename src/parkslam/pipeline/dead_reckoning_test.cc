@@ -16,7 +16,7 @@ TEST(DeadReckoningTest, DefaultDriveDriftsLessThanOnePercent) {
   const sim::Simulation sim = sim::Simulate(scenario, 1);
   SensorLogSource source(sim.log);
   const DeadReckoningResult dr = RunDeadReckoning(
-      source, EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle), {});
+      source, odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle), {});
   EXPECT_EQ(dr.rejected_events, 0);
   const eval::TrajectoryMetrics m =
       eval::EvaluateTrajectory(sim::GroundTruthTrajectory(sim), ToTrajectory(dr.poses));
@@ -32,7 +32,7 @@ TEST(DeadReckoningTest, OutputAtRequestedRate) {
   DeadReckoningOptions options;
   options.output_rate_hz = 10.0;
   const DeadReckoningResult dr = RunDeadReckoning(
-      source, EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle), options);
+      source, odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle), options);
   const double duration_s = ToSeconds(sim.states.back().t_ns - sim.states.front().t_ns);
   EXPECT_NEAR(static_cast<double>(dr.poses.size()), duration_s * 10.0, 2.0);
   EXPECT_EQ(dr.poses[1].t_ns - dr.poses[0].t_ns, 100'000'000);
@@ -45,7 +45,7 @@ TEST(DeadReckoningTest, KnownInitialPoseIsUsed) {
   DeadReckoningOptions options;
   options.initial_pose = sim.states.front().T_map_vehicle;
   const DeadReckoningResult dr = RunDeadReckoning(
-      source, EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle), options);
+      source, odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle), options);
   EXPECT_NEAR((dr.poses.front().T_map_vehicle.translation() -
                sim.states.front().T_map_vehicle.translation())
                   .norm(),

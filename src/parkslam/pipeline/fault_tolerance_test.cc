@@ -33,7 +33,7 @@ struct Drives {
   sim::Simulation second_drive = sim::Simulate(scenario, 2);
   SemanticMap truth = sim::ToSemanticMap(mapping_drive.world);
   odometry::OdometryEkfOptions ekf =
-      EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle);
+      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
 };
 
 const Drives& TheDrives() {

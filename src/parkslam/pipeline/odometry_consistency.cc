@@ -19,7 +19,7 @@ OdometryConsistency EvaluateOdometryConsistency(const sim::ScenarioConfig& scena
   std::vector<double> nees_sum;
   std::vector<int> nees_count;
   const odometry::OdometryEkfOptions ekf_options =
-      EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle);
+      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
   DeadReckoningOptions dr_options;
   dr_options.output_rate_hz = 1.0 / sample_period_s;
 

@@ -67,7 +67,8 @@ TEST(RenderingSourceTest, MapperTakesTheLiveStreamUnchanged) {
   // Until perception reads pixels, camera frames pass through the pipeline
   // without changing the map.
   const ShortDrive& d = Drive();
-  const auto odometry = EkfOptionsFromSensorSpec(d.scenario.sensors.odometry, d.scenario.vehicle);
+  const auto odometry =
+      odometry::EkfOptionsFromSpec(d.scenario.sensors.odometry, d.scenario.vehicle);
   mapping::Mapper plain({}, odometry, d.truth.front().T_map_vehicle);
   mapping::Mapper live({}, odometry, d.truth.front().T_map_vehicle);
   SensorLogSource a(d.simulation.log), b(d.simulation.log);

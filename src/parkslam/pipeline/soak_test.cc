@@ -33,7 +33,7 @@ Result MapLaps(int laps, int history,
   options.max_records_per_landmark = records_per_landmark;
   options.retire_check_min_records = retire_check_min_records;
   mapping::Mapper mapper(options,
-                         EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle));
+                         odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle));
   SensorLogSource source(drive.log);
   while (const auto event = source.Next()) mapper.Process(*event);
   const size_t stored = mapper.slot_records().size() + mapper.tag_records().size();

@@ -98,7 +98,7 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
   const Trajectory trace_map = Transformed(T_map_world, trace_world);
   const control::Trace trace(trace_map);  // throws for a degenerate trace
   const odometry::OdometryEkfOptions odometry_options =
-      EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle);
+      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
   const SE2 start_world = TraceStart(trace_world);
   const double cruise_mps = options.speed_kmh / 3.6;
   const double timeout_s = options.timeout_factor * trace.length_m() / cruise_mps + 60.0;

@@ -300,7 +300,7 @@ TEST(KidnapTest, RelocalizesInAlmostAllTrials) {
   const KidnapResult r = RunKidnapTrials(
       sim::ToSemanticMap(simulation.world), simulation.log, sim::GroundTruthTrajectory(simulation),
       localization::LocalizerOptions{},
-      EkfOptionsFromSensorSpec(scenario.sensors.odometry, scenario.vehicle), options);
+      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle), options);
   EXPECT_EQ(r.trials, 20);
   EXPECT_GE(r.successes, 19);
 }

@@ -32,6 +32,12 @@ class Checker {
     ok_ = false;
     if (error_ != nullptr) *error_ = field + ": " + what;
   }
+  // A check made elsewhere whose message already names the field.
+  void Require(bool condition, const std::string& message) {
+    if (!ok_ || condition) return;
+    ok_ = false;
+    if (error_ != nullptr) *error_ = message;
+  }
   void Rate(double value, const std::string& field) {
     Require(std::isfinite(value) && value >= 0.0 && value <= 1.0, field,
             "must be a probability in [0, 1]");
@@ -165,30 +171,8 @@ void CheckRoute(const RouteConfig& r, Checker& c) {
 }
 
 void CheckSensors(const SensorConfig& s, Checker& c) {
-  const OdometrySensorConfig& o = s.odometry;
-  const std::string odometry = "sensors.odometry.";
-  c.InRange(o.wheel_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz, odometry + "wheel_rate_hz",
-            "Hz");
-  c.InRange(o.steering_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz, odometry + "steering_rate_hz",
-            "Hz");
-  c.InRange(o.imu_rate_hz, kMinSensorRate_hz, kMaxSensorRate_hz, odometry + "imu_rate_hz", "Hz");
-  // A noise no larger than the plausible magnitude of what it disturbs.
-  c.InRange(o.wheel_speed_sigma_mps, 0.0, kMaxWheelSpeed_mps, odometry + "wheel_speed_sigma_mps",
-            "m/s");
-  c.InRange(o.wheel_speed_scale_sigma, 0.0, kMaxRelativeSigma, odometry + "wheel_speed_scale_sigma",
-            "");
-  c.InRange(o.steering_wheel_sigma_rad, 0.0, kMaxSteeringWheelAngle_rad,
-            odometry + "steering_wheel_sigma_rad", "rad");
-  c.InRange(o.gyro_sigma_radps, 0.0, kMaxYawRate_radps, odometry + "gyro_sigma_radps", "rad/s");
-  c.InRange(o.gyro_bias_sigma_radps, 0.0, kMaxYawRate_radps, odometry + "gyro_bias_sigma_radps",
-            "rad/s");
-  c.InRange(o.gyro_bias_walk_radps_per_sqrt_s, 0.0, kMaxYawRate_radps,
-            odometry + "gyro_bias_walk_radps_per_sqrt_s", "rad/s/sqrt(s)");
-  c.InRange(o.heading_sigma_rad, 0.0, kMaxAngleSigma_rad, odometry + "heading_sigma_rad", "rad");
-  c.InRange(o.heading_bias_sigma_rad, 0.0, kMaxAngleSigma_rad, odometry + "heading_bias_sigma_rad",
-            "rad");
-  c.InRange(o.heading_bias_walk_rad_per_sqrt_s, 0.0, kMaxAngleSigma_rad,
-            odometry + "heading_bias_walk_rad_per_sqrt_s", "rad/sqrt(s)");
+  std::string odometry_error;
+  c.Require(s.odometry.IsValid(&odometry_error), odometry_error);
 
   const SlotSensorConfig& sl = s.slots;
   c.InRange(sl.rate_hz, kMinSensorRate_hz, kMaxCameraRate_hz, "sensors.slots.rate_hz", "Hz");
