@@ -188,6 +188,18 @@ expect 0 "ATE rmse / mean / max 0\.0[0-4]" -- "$PARKSLAM" eval-traj \
   --truth "$tmp/real/groundtruth/trajectory.tum" --estimate "$tmp/real_loc.tum"
 expect nonzero "no scenario" -- "$PARKSLAM" map "$tmp/real" --live-images 1 --out "$tmp/x.json"
 
+# --config and --dump-config: the algorithm options from one file.
+expect 0 "^mapper:" -- "$PARKSLAM" map --dump-config
+expect 0 "^follower:" -- "$PARKSLAM" follow --dump-config
+"$PARKSLAM" localize --dump-config > "$tmp/options.yaml"
+expect 0 "map written" -- "$PARKSLAM" map "$tmp/cd" --config "$tmp/options.yaml" --out "$tmp/cfg_map.json"
+expect 0 "map written" -- "$PARKSLAM" map "$tmp/cd" --config "$(dirname "$0")/../../config/options.yaml" \
+  --out "$tmp/cfg_map2.json"
+printf 'localizer:\n  nn_radius: 2\n' > "$tmp/typo.yaml"
+expect nonzero "typo.yaml:2: localizer.nn_radius: unknown key \(did you mean 'nn_radius_m'\?\)" -- \
+  "$PARKSLAM" localize --map "$tmp/cfg_map.json" "$tmp/cd" --config "$tmp/typo.yaml" --out "$tmp/t.tum"
+[ ! -e "$tmp/t.tum" ] && pass || fail "localize wrote an output despite a bad --config"
+
 # make-graph and solve-graph: a ring with outliers, solved plainly and with Max-Mixture.
 expect 0 "300 poses.*20 random" -- "$PARKSLAM" make-graph --world ring --poses 300 --outliers 20 \
   --seed 4 --out "$tmp/ring.g2o" --truth "$tmp/ring_truth.g2o"

@@ -105,6 +105,7 @@ void AddDemoCommand(CLI::App& app) {
     std::string detector = "classical";
     int perception_frames = 24;
     bool no_report = false;
+    ConfigOptions config;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -142,11 +143,13 @@ void AddDemoCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--no-report", options->no_report, "Do not write report.html");
   AddDetectorOption(cmd, &options->detector);
+  AddConfigOptions(cmd, &options->config);
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
     const std::filesystem::path out = options->out;
     const double image_rate_hz = options->observations ? 0.0 : options->live_images_hz;
-    pipeline::PerceptionOptions perception;
+    const pipeline::AlgorithmOptions config = options->config.Load();
+    pipeline::PerceptionOptions perception = config.front_end;
     perception.detector = pipeline::ParseDetectorKind(options->detector);
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     nlohmann::json metrics;
@@ -178,8 +181,8 @@ void AddDemoCommand(CLI::App& app) {
                ? "semantic mapping on pixels (top view, slots, IDs, tags; Max-Mixture back-end)"
                : "semantic mapping (slots, IDs, tags; Max-Mixture back-end)");
     t0 = std::chrono::steady_clock::now();
-    const mapping::Mapper mapper = BuildMap(dataset, mapping::MapperOptions{}, dr.initial_pose,
-                                            true, image_rate_hz, {}, perception);
+    const mapping::Mapper mapper =
+        BuildMap(dataset, config.mapper, dr.initial_pose, true, image_rate_hz, {}, perception);
     metrics["mapping_s"] = SecondsSince(t0);
     const Trajectory mapped_trajectory = mapper.KeyframeTrajectory();
     io::WriteMap(out / "map.json", mapper.Map());
@@ -213,7 +216,7 @@ void AddDemoCommand(CLI::App& app) {
     io::WriteDataset(out / "second_drive", second);
     const SE2 T_world_map = eval::EvaluateMap(map, truth_map).T_truth_map;
     localization::Localizer localizer(
-        map, localization::LocalizerOptions{},
+        map, config.localizer,
         odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle));
     Trajectory localized;
     std::vector<localization::LocalizationEstimate> estimates;
@@ -252,6 +255,8 @@ void AddDemoCommand(CLI::App& app) {
       follow_options.seed = options->seed + 2000;
       follow_options.live_image_rate_hz = image_rate_hz;
       follow_options.perception = perception;
+      follow_options.localizer = config.localizer;
+      follow_options.follower = config.follower;
       Progress progress("  runs", options->follow_runs);
       follow = pipeline::FollowTrace(scenario, map, T_world_map.inverse(),
                                      dataset.groundtruth_trajectory, follow_options,

@@ -38,6 +38,7 @@ void AddEvalDetectCommand(CLI::App& app) {
     int input_size = 256;
     int flips = 1;
     double min_confidence = 0.0;
+    ConfigOptions config;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -90,19 +91,22 @@ void AddEvalDetectCommand(CLI::App& app) {
                   "With --detector learned: the marking-point threshold (default: the network's, "
                   "chosen on the synthetic validation set)")
       ->check(CLI::Range(0.01, 0.99));
-  cmd->callback([options] {
+  AddConfigOptions(cmd, &options->config);
+  cmd->callback([options, cmd] {
     io::CheckOutputsSpareInputs({{options->out_dir, "--out-dir"}},
                                 {{options->ps2, "--ps2"}, {options->models, "--models"}});
     Scores scores;
     if (!options->out_dir.empty()) std::filesystem::create_directories(options->out_dir);
-    pipeline::PerceptionOptions perception_options;
+    pipeline::PerceptionOptions perception_options = options->config.Load().front_end;
     perception_options.detector = pipeline::ParseDetectorKind(options->detector);
     if (!options->models.empty()) {
       perception_options.learned_slots.model_path = options->models + "/marking_points.onnx";
       perception_options.learned_ids.model_path = options->models + "/slot_ids.onnx";
     }
-    perception_options.learned_slots.input_size_px = options->input_size;
-    perception_options.learned_slots.flips = options->flips;
+    if (cmd->count("--input-size") > 0) {
+      perception_options.learned_slots.input_size_px = options->input_size;
+    }
+    if (cmd->count("--flips") > 0) perception_options.learned_slots.flips = options->flips;
     if (options->min_confidence > 0.0) {
       perception_options.learned_slots.min_confidence = options->min_confidence;
     }
@@ -120,7 +124,7 @@ void AddEvalDetectCommand(CLI::App& app) {
           o.model_path = pipeline::DefaultModelDir() + "/marking_points.onnx";
         learned = std::make_unique<perception::LearnedSlotDetector>(o);
       } else {
-        classical = std::make_unique<perception::SlotDetector>();
+        classical = std::make_unique<perception::SlotDetector>(perception_options.slots);
       }
       const auto detect = [&](const cv::Mat& image) {
         return learned ? learned->Detect(image) : classical->Detect(image);

@@ -100,6 +100,7 @@ void AddFollowCommand(CLI::App& app) {
     double live_images_hz = 0.0;
     std::string detector = "classical";
     std::string vehicle = "ideal";
+    ConfigOptions config;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -131,6 +132,7 @@ void AddFollowCommand(CLI::App& app) {
                   "pose, writing nothing, and localize on what the front end finds in them")
       ->check(CLI::Range(0.0, 30.0));
   AddDetectorOption(cmd, &options->detector);
+  AddConfigOptions(cmd, &options->config);
   cmd->add_option("--vehicle", options->vehicle,
                   "The car between commands and road: ideal (a kinematic bicycle that obeys at "
                   "once) or realistic (0.15 s actuator delay, 0.5 s speed lag, tyre slip in "
@@ -167,7 +169,11 @@ void AddFollowCommand(CLI::App& app) {
       trace_world = Transformed(T_world_map, io::ReadTum(options->trace));
     }
 
+    const pipeline::AlgorithmOptions config = options->config.Load();
     pipeline::TraceFollowingOptions follow;
+    follow.perception = config.front_end;
+    follow.localizer = config.localizer;
+    follow.follower = config.follower;
     follow.runs = options->runs;
     follow.speed_kmh = options->speed_kmh;
     follow.seed = options->seed;

@@ -23,6 +23,7 @@ void AddLocalizeCommand(CLI::App& app) {
     bool global = false;
     int kidnap_trials = 0;
     PixelOptions pixels;
+    ConfigOptions config;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -38,6 +39,7 @@ void AddLocalizeCommand(CLI::App& app) {
       "Also write the estimate at every camera frame beside the truth, in the lot's "
       "frame (localization.csv for `parkslam report`; needs the dataset's ground truth)");
   AddPixelOptions(cmd, &options->pixels);
+  AddConfigOptions(cmd, &options->config);
   cmd->add_option("--kidnap-trials", options->kidnap_trials,
                   "Also run this many kidnapped-robot trials on the drive: the belief is "
                   "replaced by a confident wrong pose; a trial succeeds when the localizer is "
@@ -52,10 +54,11 @@ void AddLocalizeCommand(CLI::App& app) {
   cmd->callback([options] {
     io::CheckOutputsSpareInputs({{options->out, "--out"}, {options->log, "--log"}},
                                 {{options->dataset, "DIR"}, {options->map, "--map"}});
+    const pipeline::AlgorithmOptions config = options->config.Load();
     const SemanticMap map = io::ReadMap(options->map);
     const io::Dataset dataset = io::ReadDataset(options->dataset);
     localization::Localizer localizer(
-        map, localization::LocalizerOptions{},
+        map, config.localizer,
         odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle));
     if (!options->init.empty()) {
       const Eigen::Vector3d sigma(0.5, 0.5, 0.1);
@@ -74,7 +77,7 @@ void AddLocalizeCommand(CLI::App& app) {
     const std::filesystem::path recorded =
         options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
     DatasetStream stream(dataset, options->pixels.live_images_hz, recorded,
-                         options->pixels.Perception(), options->pixels.Faults());
+                         options->pixels.Perception(config.front_end), options->pixels.Faults());
     SensorSource& source = stream.source();
     const DriveSpan span = SpanOf(dataset.log);
     Progress progress("  localizing", span.TotalTenths());
@@ -138,7 +141,7 @@ void AddLocalizeCommand(CLI::App& app) {
       kidnap.trials = options->kidnap_trials;
       Progress trials("  kidnap trials", kidnap.trials);
       const pipeline::KidnapResult k = pipeline::RunKidnapTrials(
-          map, dataset.log, truth_map, localization::LocalizerOptions{},
+          map, dataset.log, truth_map, config.localizer,
           odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), kidnap,
           [&trials](int done, int) { trials.Update(done); });
       trials.Finish();

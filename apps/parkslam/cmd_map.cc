@@ -20,6 +20,7 @@ void AddMapCommand(CLI::App& app) {
                                               solver = "lm";
     double initial_trust_region = 1e8;
     PixelOptions pixels;
+    ConfigOptions config;
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -57,15 +58,17 @@ void AddMapCommand(CLI::App& app) {
           "1e-32..1e16"))
       ->capture_default_str();
   AddPixelOptions(cmd, &options->pixels);
+  AddConfigOptions(cmd, &options->config);
   cmd->add_option("--init", options->init,
                   "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
                   "map frame starts at the first pose");
-  cmd->callback([options] {
+  cmd->callback([options, cmd] {
     io::CheckOutputsSpareInputs(
         {{options->out, "--out"}, {options->trajectory_out, "--trajectory-out"}},
         {{options->dataset, "DIR"}});
+    const pipeline::AlgorithmOptions config = options->config.Load();
     const io::Dataset dataset = io::ReadDataset(options->dataset);
-    mapping::MapperOptions mapper_options;
+    mapping::MapperOptions mapper_options = config.mapper;
     mapper_options.robust =
         options->robust == "none" ? mapping::RobustMode::kNone : mapping::RobustMode::kMaxMixture;
     mapper_options.mode =
@@ -73,16 +76,18 @@ void AddMapCommand(CLI::App& app) {
     mapper_options.trust_region = options->solver == "dogleg"
                                       ? mapping::TrustRegion::kDogleg
                                       : mapping::TrustRegion::kLevenbergMarquardt;
-    mapper_options.initial_trust_region_radius = options->initial_trust_region;
+    if (cmd->count("--initial-trust-region") > 0) {
+      mapper_options.initial_trust_region_radius = options->initial_trust_region;
+    }
     std::optional<SE2> init;
     if (!options->init.empty()) init = ParsePose(options->init, "--init");
     const auto start = std::chrono::steady_clock::now();
     const std::filesystem::path recorded =
         options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
     std::string faults_seen;
-    mapping::Mapper mapper =
-        BuildMap(dataset, mapper_options, init, true, options->pixels.live_images_hz, recorded,
-                 options->pixels.Perception(), options->pixels.Faults(), &faults_seen);
+    mapping::Mapper mapper = BuildMap(
+        dataset, mapper_options, init, true, options->pixels.live_images_hz, recorded,
+        options->pixels.Perception(config.front_end), options->pixels.Faults(), &faults_seen);
     const double total_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     io::WriteMap(options->out, mapper.Map());

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "parkslam/common/se2.h"
+#include "parkslam/pipeline/algorithm_options.h"
 #include "parkslam/pipeline/fault_injection.h"
 #include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/sim/scenario_config.h"
@@ -67,13 +68,24 @@ sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options);
 
 // Where the cameras' frames come from for `map` and `localize`: rendered
 // live at a rate, or the dataset's own images.
+// --config FILE.yaml (the algorithm options, io/options_yaml.h) and
+// --dump-config (print their defaults and exit).
+struct ConfigOptions {
+  std::string file;
+  // The defaults overlaid with --config; throws IoError naming the file and
+  // the key.
+  pipeline::AlgorithmOptions Load() const;
+};
+void AddConfigOptions(CLI::App* command, ConfigOptions* options);
+
 struct PixelOptions {
   double live_images_hz = 0.0;
   bool images = false;
   std::string detector = "classical";
   std::vector<std::string> faults;  // --fault, as written
-  // The front end's options for the chosen detector.
-  pipeline::PerceptionOptions Perception() const;
+  // The front end's options (from --config, else the defaults) with the
+  // chosen detector.
+  pipeline::PerceptionOptions Perception(const pipeline::PerceptionOptions& base = {}) const;
   // The parsed --fault options; throws std::runtime_error naming the bad one.
   std::vector<pipeline::SensorFault> Faults() const;
 };

@@ -1,10 +1,12 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <stdexcept>
 
 #include "commands.h"
 #include "parkslam/common/plausible_ranges.h"
+#include "parkslam/io/options_yaml.h"
 #include "parkslam/io/scenario_yaml.h"
 
 namespace parkslam::app {
@@ -138,10 +140,30 @@ void AddDetectorOption(CLI::App* command, std::string* detector) {
       ->capture_default_str();
 }
 
-pipeline::PerceptionOptions PixelOptions::Perception() const {
-  pipeline::PerceptionOptions o;
+pipeline::PerceptionOptions PixelOptions::Perception(
+    const pipeline::PerceptionOptions& base) const {
+  pipeline::PerceptionOptions o = base;
   o.detector = pipeline::ParseDetectorKind(detector);
   return o;
+}
+
+pipeline::AlgorithmOptions ConfigOptions::Load() const {
+  return file.empty() ? pipeline::AlgorithmOptions{} : io::LoadOptionsFile(file);
+}
+
+void AddConfigOptions(CLI::App* command, ConfigOptions* options) {
+  command
+      ->add_option("--config", options->file,
+                   "Algorithm options (front end, mapper, localizer, follower) from a YAML file; "
+                   "only the keys it gives change (see --dump-config, config/options.yaml)")
+      ->check(CLI::ExistingFile);
+  command->add_flag_callback(
+      "--dump-config",
+      [] {
+        std::cout << io::OptionsToYaml(pipeline::AlgorithmOptions{});
+        throw CLI::Success();
+      },
+      "Print every algorithm option with its default as YAML and exit");
 }
 
 }  // namespace parkslam::app

@@ -38,6 +38,20 @@ struct TopViewOptions {
   double footprint_rear_overhang_m = 1.0;
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("size_px", size_px);
+    v("extent_m", extent_m);
+    v("center_x_m", center_x_m);
+    v("blend_angle_rad", blend_angle_rad);
+    v("camera_priority_rad", camera_priority_rad);
+    v("mask_footprint", mask_footprint);
+    v("footprint_length_m", footprint_length_m);
+    v("footprint_width_m", footprint_width_m);
+    v("footprint_rear_overhang_m", footprint_rear_overhang_m);
+  }
 };
 
 class TopViewFusion {

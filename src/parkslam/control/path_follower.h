@@ -31,6 +31,21 @@ struct PathFollowerOptions {
   double curvature_lookbehind_m = 1.0;
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("lookahead_base_m", lookahead_base_m);
+    v("lookahead_per_mps", lookahead_per_mps);
+    v("max_lateral_accel_mps2", max_lateral_accel_mps2);
+    v("max_accel_mps2", max_accel_mps2);
+    v("max_decel_mps2", max_decel_mps2);
+    v("stop_distance_m", stop_distance_m);
+    v("stop_speed_mps", stop_speed_mps);
+    v("search_window_m", search_window_m);
+    v("curvature_horizon_m", curvature_horizon_m);
+    v("curvature_lookbehind_m", curvature_lookbehind_m);
+  }
 };
 
 // Follows a Trace with pure pursuit and a speed profile (paper IV-B: the car

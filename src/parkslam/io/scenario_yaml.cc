@@ -8,6 +8,7 @@
 
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
+#include "parkslam/io/options_yaml.h"
 #include "parkslam/io/text_util.h"
 #include "parkslam/io/yaml_util.h"
 
@@ -40,8 +41,9 @@ inline constexpr bool kIsVector<std::vector<T>> = true;
 // Fields written as one YAML scalar or one short flow list.
 template <typename T>
 inline constexpr bool kIsScalar =
-    std::is_same_v<T, double> || std::is_same_v<T, int> || std::is_same_v<T, bool> ||
-    std::is_same_v<T, std::string> || std::is_same_v<T, Eigen::Vector2d>;
+    std::is_same_v<T, double> || std::is_same_v<T, float> || std::is_same_v<T, int> ||
+    std::is_same_v<T, bool> || std::is_same_v<T, std::string> ||
+    std::is_same_v<T, Eigen::Vector2d> || std::is_same_v<T, std::vector<double>>;
 
 // ---------------------------------------------------------------------------
 // Reading. All overloads are declared before the templates that call them.
@@ -49,6 +51,17 @@ inline constexpr bool kIsScalar =
 void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
                double* value) {
   *value = r.Double(node, path);
+}
+void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path, float* value) {
+  *value = static_cast<float>(r.BoundedDouble(node, path, 1e30, ""));
+}
+void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
+               std::vector<double>* values) {
+  r.ExpectSequence(node, path);
+  std::vector<double> read;
+  for (std::size_t i = 0; i < node.size(); ++i)
+    read.push_back(r.Double(node[i], IndexKey(path, i)));
+  *values = std::move(read);
 }
 void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path, int* value) {
   *value = r.Int(node, path);
@@ -126,10 +139,21 @@ void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& p
 // Writing.
 
 void AppendScalar(std::string* out, double value) { yaml_util::AppendYamlDouble(out, value); }
+void AppendScalar(std::string* out, float value) {
+  yaml_util::AppendYamlDouble(out, static_cast<double>(value));
+}
 void AppendScalar(std::string* out, int value) { out->append(std::to_string(value)); }
 void AppendScalar(std::string* out, bool value) { out->append(value ? "true" : "false"); }
 void AppendScalar(std::string* out, const std::string& value) {
   yaml_util::AppendYamlString(out, value);
+}
+void AppendScalar(std::string* out, const std::vector<double>& values) {
+  out->push_back('[');
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i > 0) out->append(", ");
+    yaml_util::AppendYamlDouble(out, values[i]);
+  }
+  out->push_back(']');
 }
 void AppendScalar(std::string* out, const Eigen::Vector2d& p) {
   out->push_back('[');
@@ -433,6 +457,30 @@ void ApplyOverride(sim::ScenarioConfig* config, const std::string& assignment) {
   sim::ScenarioConfig updated = *config;
   Overrider(key, *steps, value).Apply(updated, 0, "");
   *config = std::move(updated);
+}
+
+std::string OptionsToYaml(const pipeline::AlgorithmOptions& options) {
+  std::string out =
+      "# parkslam algorithm options (--config FILE.yaml): front end, mapper, localizer,\n"
+      "# follower. Give only the keys you change; units are in the key names.\n";
+  pipeline::AlgorithmOptions copy = options;  // VisitFields() is not const
+  WriteFields(copy, 0, &out);
+  return out;
+}
+
+pipeline::AlgorithmOptions OptionsFromYaml(const std::string& yaml_text,
+                                           const pipeline::AlgorithmOptions& base,
+                                           const std::string& source_name) {
+  const YAML::Node root = yaml_util::LoadYaml(yaml_text, source_name);
+  pipeline::AlgorithmOptions options = base;
+  if (!root.IsNull()) ReadValue(YamlReader(source_name, true), root, "", &options);
+  std::string error;
+  if (!options.IsValid(&error)) ThrowIoError(source_name, 0, "", error);
+  return options;
+}
+
+pipeline::AlgorithmOptions LoadOptionsFile(const std::filesystem::path& path) {
+  return OptionsFromYaml(ReadTextFile(path), pipeline::AlgorithmOptions{}, path.string());
 }
 
 }  // namespace parkslam::io

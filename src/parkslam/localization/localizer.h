@@ -53,6 +53,29 @@ struct LocalizerOptions {
   double reloc_yaw_sigma_rad = 0.05;
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("corner_sigma_floor_m", corner_sigma_floor_m);
+    v("guessed_corner_sigma_m", guessed_corner_sigma_m);
+    v("map_corner_sigma_floor_m", map_corner_sigma_floor_m);
+    v("tag_map_sigma_m", tag_map_sigma_m);
+    v("tag_map_yaw_sigma_rad", tag_map_yaw_sigma_rad);
+    v("id_min_confidence", id_min_confidence);
+    v("nn_radius_m", nn_radius_m);
+    v("gate_probability", gate_probability);
+    v("lost_after_s", lost_after_s);
+    v("lost_min_rejected", lost_min_rejected);
+    v("lost_position_sigma_m", lost_position_sigma_m);
+    v("reloc_window_s", reloc_window_s);
+    v("reloc_inlier_m", reloc_inlier_m);
+    v("reloc_min_inliers", reloc_min_inliers);
+    v("reloc_min_landmarks", reloc_min_landmarks);
+    v("reloc_ambiguity_ratio", reloc_ambiguity_ratio);
+    v("reloc_position_sigma_m", reloc_position_sigma_m);
+    v("reloc_yaw_sigma_rad", reloc_yaw_sigma_rad);
+  }
 };
 
 enum class LocalizerState { kUninitialized, kTracking, kLost };

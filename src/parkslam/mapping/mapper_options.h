@@ -101,6 +101,46 @@ struct MapperOptions {
   double tag_size_m = 0.488;
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  // Not listed: robust, mode, trust_region (choices set on the command line).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("keyframe_distance_m", keyframe_distance_m);
+    v("keyframe_yaw_rad", keyframe_yaw_rad);
+    v("idle_keyframe_distance_m", idle_keyframe_distance_m);
+    v("keyframe_interval_s", keyframe_interval_s);
+    v("min_corner_sigma_m", min_corner_sigma_m);
+    v("guessed_corner_sigma_m", guessed_corner_sigma_m);
+    v("shape_angle_sigma_rad", shape_angle_sigma_rad);
+    v("shape_length_sigma_m", shape_length_sigma_m);
+    v("right_angle_tolerance_rad", right_angle_tolerance_rad);
+    v("id_hypothesis_min", id_hypothesis_min);
+    v("id_confidence_min", id_confidence_min);
+    v("id_search_radius_m", id_search_radius_m);
+    v("nn_search_radius_m", nn_search_radius_m);
+    v("max_candidates", max_candidates);
+    v("prediction_sigma_m", prediction_sigma_m);
+    v("prediction_sigma_per_m", prediction_sigma_per_m);
+    v("geometry_weight", geometry_weight);
+    v("null_weight", null_weight);
+    v("null_chi2", null_chi2);
+    v("merge_distance_m", merge_distance_m);
+    v("min_observations", min_observations);
+    v("id_min_votes", id_min_votes);
+    v("window_keyframes", window_keyframes);
+    v("window_history_observations", window_history_observations);
+    v("max_records_per_landmark", max_records_per_landmark);
+    v("retire_check_min_records", retire_check_min_records);
+    v("online_merge_every_keyframes", online_merge_every_keyframes);
+    v("prune_unconfirmed_after_keyframes", prune_unconfirmed_after_keyframes);
+    v("online_iterations", online_iterations);
+    v("batch_window_every", batch_window_every);
+    v("final_iterations", final_iterations);
+    v("final_rounds", final_rounds);
+    v("initial_trust_region_radius", initial_trust_region_radius);
+    v("tag_size_m", tag_size_m);
+  }
 };
 
 }  // namespace parkslam::mapping

@@ -55,6 +55,21 @@ struct LearnedSlotDetectorOptions {
   double classical_match_rad = 0.5235987755982988;  // 30 degrees
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  // Not listed: classical (choices set on the command line).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("model_path", model_path);
+    v("input_size_px", input_size_px);
+    v("min_confidence", min_confidence);
+    v("flips", flips);
+    v("nms_radius_px", nms_radius_px);
+    v("pairing", pairing);
+    v("classical_options", classical_options);
+    v("classical_match_px", classical_match_px);
+    v("classical_match_rad", classical_match_rad);
+  }
 };
 
 class LearnedSlotDetector {

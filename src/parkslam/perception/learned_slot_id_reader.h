@@ -45,6 +45,17 @@ struct LearnedSlotIdReaderOptions {
   double min_digit_probability = 0.5;
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("model_path", model_path);
+    v("pixels_per_m", pixels_per_m);
+    v("id_setback_m", id_setback_m);
+    v("id_height_m", id_height_m);
+    v("min_hypothesis_probability", min_hypothesis_probability);
+    v("min_digit_probability", min_digit_probability);
+  }
 };
 
 // Where painted text stands in the top view: its centre, the direction a

@@ -116,6 +116,39 @@ struct SlotDetectorOptions {
   bool require_entrance_facing_vehicle = true;
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("pixels_per_m", pixels_per_m);
+    v("min_line_width_m", min_line_width_m);
+    v("max_line_width_m", max_line_width_m);
+    v("min_entrance_m", min_entrance_m);
+    v("max_entrance_m", max_entrance_m);
+    v("parallel_min_entrance_m", parallel_min_entrance_m);
+    v("standard_depth_m", standard_depth_m);
+    v("parallel_depth_m", parallel_depth_m);
+    v("max_direction_difference_rad", max_direction_difference_rad);
+    v("on_line_tolerance_m", on_line_tolerance_m);
+    v("min_contrast_grey", min_contrast_grey);
+    v("local_contrast_factor", local_contrast_factor);
+    v("local_window_m", local_window_m);
+    v("relative_contrast", relative_contrast);
+    v("line_relative_contrast", line_relative_contrast);
+    v("min_two_sided_share", min_two_sided_share);
+    v("min_arm_m", min_arm_m);
+    v("min_stem_m", min_stem_m);
+    v("max_clutter", max_clutter);
+    v("max_lines_nearby", max_lines_nearby);
+    v("nearby_radius_m", nearby_radius_m);
+    v("long_line_m", long_line_m);
+    v("max_width_deviation", max_width_deviation);
+    v("mask_margin_m", mask_margin_m);
+    v("max_merge_gap_m", max_merge_gap_m);
+    v("end_tolerance_px", end_tolerance_px);
+    v("min_junction_angle_rad", min_junction_angle_rad);
+    v("require_entrance_facing_vehicle", require_entrance_facing_vehicle);
+  }
 };
 
 // A painted line's centreline found in the image, from end to end.

@@ -55,6 +55,19 @@ struct SlotIdReaderOptions {
   double min_paint_ratio = 0.55;
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("pixels_per_m", pixels_per_m);
+    v("id_setback_m", id_setback_m);
+    v("id_height_m", id_height_m);
+    v("max_digits", max_digits);
+    v("min_hypothesis_probability", min_hypothesis_probability);
+    v("min_digit_probability", min_digit_probability);
+    v("max_offset_m", max_offset_m);
+    v("min_paint_ratio", min_paint_ratio);
+  }
 };
 
 // The geometry of one slot's entrance in the top view.

@@ -42,6 +42,21 @@ struct SlotPairingOptions {
   bool require_entrance_facing_vehicle = true;
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("pixels_per_m", pixels_per_m);
+    v("min_entrance_m", min_entrance_m);
+    v("max_entrance_m", max_entrance_m);
+    v("parallel_min_entrance_m", parallel_min_entrance_m);
+    v("standard_depth_m", standard_depth_m);
+    v("parallel_depth_m", parallel_depth_m);
+    v("max_direction_difference_rad", max_direction_difference_rad);
+    v("on_line_tolerance_m", on_line_tolerance_m);
+    v("min_junction_angle_rad", min_junction_angle_rad);
+    v("require_entrance_facing_vehicle", require_entrance_facing_vehicle);
+  }
 };
 
 // Slots from `points` in an image of `image_size` (whose centre is the

@@ -29,6 +29,17 @@ struct TagDetectorOptions {
   double max_angle_disagreement_rad = 0.05;
 
   bool IsValid(std::string* error) const;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("tag_size_m", tag_size_m);
+    v("quad_decimate", quad_decimate);
+    v("refine_edges", refine_edges);
+    v("max_hamming", max_hamming);
+    v("max_range_m", max_range_m);
+    v("max_angle_disagreement_rad", max_angle_disagreement_rad);
+  }
 };
 
 struct DetectedTag {

@@ -73,6 +73,30 @@ struct PerceptionOptions {
   double tag_bearing_sigma_rad = 0.005;
   double tag_yaw_sigma_rad = 0.05;
   double tag_yaw_sigma_per_m = 0.01;
+
+  // The field list, walked by the options file reader (io/options_yaml.h).
+  // Not listed: fisheye_cameras, detector (choices set on the command line).
+  template <typename V>
+  void VisitFields(V& v) {
+    v("tag_camera", tag_camera);
+    v("top_view", top_view);
+    v("slots", slots);
+    v("ids", ids);
+    v("learned_slots", learned_slots);
+    v("learned_ids", learned_ids);
+    v("tags", tags);
+    v("read_ids", read_ids);
+    v("tag_min_height_m", tag_min_height_m);
+    v("tag_max_height_m", tag_max_height_m);
+    v("tag_min_range_m", tag_min_range_m);
+    v("corner_sigma_m", corner_sigma_m);
+    v("corner_sigma_per_m", corner_sigma_per_m);
+    v("tag_range_sigma_m", tag_range_sigma_m);
+    v("tag_range_sigma_per_m", tag_range_sigma_per_m);
+    v("tag_bearing_sigma_rad", tag_bearing_sigma_rad);
+    v("tag_yaw_sigma_rad", tag_yaw_sigma_rad);
+    v("tag_yaw_sigma_per_m", tag_yaw_sigma_per_m);
+  }
 };
 
 // Wall time of each stage of one frame, milliseconds.

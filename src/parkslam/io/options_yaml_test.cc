@@ -1,0 +1,70 @@
+#include "parkslam/io/options_yaml.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "parkslam/io/io_error.h"
+
+namespace parkslam::io {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string ErrorOf(const std::string& yaml) {
+  try {
+    OptionsFromYaml(yaml, pipeline::AlgorithmOptions{}, "o.yaml");
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(OptionsYamlTest, TheShippedExampleLoadsAndChangesWhatItSays) {
+  const pipeline::AlgorithmOptions o =
+      LoadOptionsFile(std::filesystem::path(PARKSLAM_CONFIG_DIR) / "options.yaml");
+  EXPECT_EQ(o.front_end.corner_sigma_m, 0.05);
+  EXPECT_EQ(o.mapper.min_observations, 4);
+  EXPECT_EQ(o.localizer.lost_position_sigma_m, 1.0);
+  EXPECT_EQ(o.follower.max_decel_mps2, 0.6);
+  // Everything else keeps its default.
+  const pipeline::AlgorithmOptions defaults;
+  EXPECT_EQ(o.mapper.null_weight, defaults.mapper.null_weight);
+  EXPECT_EQ(o.front_end.slots.min_contrast_grey, defaults.front_end.slots.min_contrast_grey);
+}
+
+TEST(OptionsYamlTest, DumpedDefaultsReadBackExactly) {
+  pipeline::AlgorithmOptions changed;
+  changed.mapper.null_chi2 = 31.25;
+  changed.front_end.top_view.camera_priority_rad = {0.1, -0.2, 0.3, 0.4};
+  changed.front_end.tags.quad_decimate = 1.5f;
+  changed.localizer.reloc_min_inliers = 9;
+  const std::string text = OptionsToYaml(changed);
+  const pipeline::AlgorithmOptions back =
+      OptionsFromYaml(text, pipeline::AlgorithmOptions{}, "dump.yaml");
+  EXPECT_EQ(OptionsToYaml(back), text);
+  EXPECT_EQ(back.mapper.null_chi2, 31.25);
+  EXPECT_EQ(back.front_end.top_view.camera_priority_rad.size(), 4u);
+  EXPECT_EQ(back.front_end.tags.quad_decimate, 1.5f);
+  EXPECT_EQ(back.localizer.reloc_min_inliers, 9);
+  EXPECT_THAT(text, HasSubstr("\nmapper:\n  keyframe_distance_m: 0.1\n"));
+}
+
+TEST(OptionsYamlTest, UnknownKeysAndBadValuesNameTheFileLineAndKey) {
+  EXPECT_EQ(ErrorOf("mapper:\n  null_wieght: 0.1\n"),
+            "o.yaml:2: mapper.null_wieght: unknown key (did you mean 'null_weight'?)");
+  EXPECT_EQ(ErrorOf("mappr:\n  null_weight: 0.1\n"),
+            "o.yaml:1: mappr: unknown key (did you mean 'mapper'?)");
+  EXPECT_EQ(ErrorOf("front_end:\n  slots:\n    min_contrast_grey: abc\n"),
+            "o.yaml:3: front_end.slots.min_contrast_grey: expected a number, got 'abc'");
+  EXPECT_THAT(ErrorOf("mapper:\n  null_weight: -1\n"), HasSubstr("o.yaml: mapper: "));
+  EXPECT_THAT(ErrorOf("follower:\n  max_decel_mps2: 0\n"), HasSubstr("o.yaml: follower: "));
+  EXPECT_THAT(ErrorOf("front_end:\n  tag_max_height_m: 0.5\n"),
+              HasSubstr("front_end.tag_min_height_m, tag_max_height_m"));
+  EXPECT_EQ(ErrorOf(""), "");
+}
+
+}  // namespace
+}  // namespace parkslam::io
