@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/top_view.h"
 #include "parkslam/common/random.h"
 
@@ -13,7 +14,7 @@ namespace {
 
 void BM_FuseTopView(benchmark::State& state) {
   const camera::CameraRig rig = camera::DefaultRig();
-  const std::vector<std::string> names{"front", "rear", "left", "right"};
+  const std::vector<std::string>& names = camera::FisheyeCameraNames();
   const camera::TopViewFusion fusion(rig, names);
   std::vector<cv::Mat> images;
   for (int c = 0; c < 4; ++c) {

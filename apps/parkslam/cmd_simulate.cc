@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "parkslam/camera/camera_names.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/io/scenario_yaml.h"
@@ -26,7 +27,7 @@ namespace {
 // (t_ns,camera,file) and the rig they were rendered with (images/rig.yaml).
 void WriteImages(const std::filesystem::path& dir, const io::Dataset& dataset, double rate_hz) {
   const camera::CameraRig rig = camera::DefaultRig();
-  const std::vector<std::string> names{"front", "rear", "left", "right", "front_mono"};
+  const std::vector<std::string>& names = camera::AllCameraNames();
   const sim::World world = sim::BuildWorld(
       dataset.scenario->world, static_cast<std::uint64_t>(dataset.scenario->world.seed));
   const render::Renderer renderer(world, rig, render::RenderOptions{}, dataset.seed);

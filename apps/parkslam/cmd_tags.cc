@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "image_files.h"
+#include "parkslam/common/lot_constants.h"
 #include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/rig_yaml.h"
 #include "parkslam/perception/tag_detector.h"
@@ -15,7 +16,7 @@ namespace parkslam::app {
 void AddTagsCommand(CLI::App& app) {
   struct Options {
     std::string image, camera = "default", camera_name;
-    double tag_size_m = 0.488;
+    double tag_size_m = kDefaultTagSize_m;
     bool json = false;
   };
   auto options = std::make_shared<Options>();

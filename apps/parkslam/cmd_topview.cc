@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "image_files.h"
+#include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/homography_top_view.h"
 #include "parkslam/camera/top_view.h"
 #include "parkslam/io/atomic_file.h"
@@ -59,7 +60,7 @@ void AddTopviewCommand(CLI::App& app) {
       camera::TopViewOptions view;
       view.size_px = options->size_px;
       view.extent_m = options->extent_m;
-      const camera::TopViewFusion fusion(rig, {"front", "rear", "left", "right"}, view);
+      const camera::TopViewFusion fusion(rig, camera::FisheyeCameraNames(), view);
       std::vector<cv::Mat> images;
       for (const std::string* path :
            {&options->front, &options->rear, &options->left, &options->right}) {

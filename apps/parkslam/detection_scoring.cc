@@ -1,5 +1,6 @@
 #include "detection_scoring.h"
 
+#include "parkslam/camera/camera_names.h"
 #include "parkslam/pipeline/rendering_source.h"
 
 #include <algorithm>
@@ -163,7 +164,7 @@ DriveScorer::DriveScorer(const sim::ScenarioConfig& scenario, std::uint64_t seed
       truth_(sim::GroundTruthTrajectory(simulation_)) {}
 
 DriveScorer::Frame DriveScorer::ScoreAt(TimeNs t_ns, Scores* scores) const {
-  static const std::vector<std::string> kCameras{"front", "rear", "left", "right", "front_mono"};
+  const std::vector<std::string>& kCameras = camera::AllCameraNames();
   const SE2 pose = *PoseAt(truth_, t_ns);
   Frame frame;
   frame.out = front_end_.Process(pipeline::RenderCameraFrame(renderer_, pose, t_ns, kCameras));

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include "commands.h"
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/camera/camera_names.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/common/seed_mix.h"
 #include "parkslam/io/image_folder.h"
@@ -83,9 +84,8 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
     io::ReadImageIndex(recorded_images_dir);  // names what is missing before the rig does
     const camera::CameraRig rig = io::LoadRig(recorded_images_dir / "images" / "rig.yaml");
     live_ = std::make_unique<Live>();
-    live_->source = std::make_unique<io::ImageFolderSource>(
-        log_, recorded_images_dir, rig,
-        std::vector<std::string>{"front", "rear", "left", "right", "front_mono"});
+    live_->source = std::make_unique<io::ImageFolderSource>(log_, recorded_images_dir, rig,
+                                                            camera::AllCameraNames());
     live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(rig, perception);
     live_->perception = std::make_unique<pipeline::PerceptionSource>(with_faults(*live_->source),
                                                                      *live_->front_end);
@@ -109,8 +109,7 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
   live_->renderer = std::make_unique<render::Renderer>(live_->world, camera::DefaultRig(),
                                                        render::RenderOptions{}, dataset.seed);
   live_->source = std::make_unique<pipeline::RenderingSource>(
-      log_, *live_->renderer, dataset.groundtruth_trajectory,
-      std::vector<std::string>{"front", "rear", "left", "right", "front_mono"}, rate_hz);
+      log_, *live_->renderer, dataset.groundtruth_trajectory, camera::AllCameraNames(), rate_hz);
   // On pixels: the frames replace the dataset's observation-level slots
   // and tags.
   live_->front_end =

@@ -6,15 +6,12 @@
 #include <stdexcept>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/cross.h"
 
 namespace parkslam::control {
 namespace {
 
 // z of the 3D cross product: positive when b points to the left of a.
-double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 double HeadingOf(const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); }
 
 std::vector<Eigen::Vector2d> PositionsOf(const Trajectory& trajectory) {

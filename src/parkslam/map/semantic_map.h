@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "parkslam/common/lot_constants.h"
 #include "parkslam/sensor/sensor_data.h"
 
 namespace parkslam {
@@ -55,7 +56,7 @@ struct MapTag {
   Eigen::Vector2d p_map = Eigen::Vector2d::Zero();
   // Direction of the tag's outward normal in the map frame.
   double yaw_map_rad = 0.0;
-  double size_m = 0.488;
+  double size_m = kDefaultTagSize_m;
   // Index into SemanticMap::obstacles of the pillar or wall it hangs on, or
   // -1 when unknown.
   int obstacle_index = -1;

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "parkslam/common/lot_constants.h"
+
 namespace parkslam::mapping {
 
 enum class RobustMode { kMaxMixture, kNone };
@@ -98,7 +100,7 @@ struct MapperOptions {
   // default 1e4 in about half the time.
   double initial_trust_region_radius = 1e8;
 
-  double tag_size_m = 0.488;
+  double tag_size_m = kDefaultTagSize_m;
 
   bool IsValid(std::string* error) const;
 

@@ -11,15 +11,12 @@
 #include <utility>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/cross.h"
 
 namespace parkslam::perception {
 namespace {
 
 // z-component of the cross product of two image vectors.
-double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 // A painted line: its centreline through `point` along unit `dir`, painted
 // from point + t0 dir to point + t1 dir (t0 < t1), width_px wide.
 struct PaintLine {

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "parkslam/common/lot_constants.h"
+
 namespace parkslam::perception {
 
 enum class MarkingShape { kT, kL };
@@ -55,7 +57,7 @@ struct SlotDetectorOptions {
   double max_entrance_m = 7.5;
   // Entrances longer than this belong to parallel slots.
   double parallel_min_entrance_m = 4.0;
-  double standard_depth_m = 5.3;
+  double standard_depth_m = kStandardSlotDepth_m;
   double parallel_depth_m = 2.5;
   // The two marking points of one slot point the same way within this.
   double max_direction_difference_rad = 0.35;

@@ -3,13 +3,10 @@
 #include <cmath>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/cross.h"
 
 namespace parkslam::perception {
 namespace {
-
-double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
 
 // Distance from p to the segment a-b, and where along it (0 at a, 1 at b)
 // its foot lies.

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "parkslam/common/lot_constants.h"
 #include "parkslam/perception/slot_detector.h"
 
 namespace parkslam::perception {
@@ -29,7 +30,7 @@ struct SlotPairingOptions {
   double min_entrance_m = 2.0;
   double max_entrance_m = 7.5;
   double parallel_min_entrance_m = 4.0;
-  double standard_depth_m = 5.3;
+  double standard_depth_m = kStandardSlotDepth_m;
   double parallel_depth_m = 2.5;
   // The separating lines of a slot's two points agree within this.
   double max_direction_difference_rad = 0.35;

@@ -16,12 +16,13 @@
 #include <vector>
 
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/common/lot_constants.h"
 
 namespace parkslam::perception {
 
 struct TagDetectorOptions {
-  double tag_size_m = 0.488;   // edge of the black square
-  float quad_decimate = 2.0f;  // libapriltag: detect on a decimated image
+  double tag_size_m = kDefaultTagSize_m;  // edge of the black square
+  float quad_decimate = 2.0f;             // libapriltag: detect on a decimated image
   bool refine_edges = true;
   int max_hamming = 1;        // bit errors accepted
   double max_range_m = 20.0;  // the paper discards tags at 20 m or more

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/top_view.h"
 #include "parkslam/perception/camera_health.h"
 #include "parkslam/perception/learned_slot_detector.h"
@@ -38,8 +39,8 @@ std::string DefaultModelDir();
 struct PerceptionOptions {
   // The rig's cameras: four fisheyes fused into the top view (in this
   // order: front, rear, left, right) and the front camera for tags.
-  std::vector<std::string> fisheye_cameras{"front", "rear", "left", "right"};
-  std::string tag_camera = "front_mono";
+  std::vector<std::string> fisheye_cameras = camera::FisheyeCameraNames();
+  std::string tag_camera = camera::kTagCameraName;
   camera::TopViewOptions top_view;
   DetectorKind detector = DetectorKind::kClassical;
   perception::SlotDetectorOptions slots;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/camera/camera_names.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
 #include "parkslam/control/safety_supervisor.h"
@@ -110,7 +111,7 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
   std::unique_ptr<sim::World> world;
   std::unique_ptr<render::Renderer> renderer;
   std::unique_ptr<PerceptionFrontEnd> front_end;
-  const std::vector<std::string> cameras{"front", "rear", "left", "right", "front_mono"};
+  const std::vector<std::string>& cameras = camera::AllCameraNames();
   if (options.live_image_rate_hz > 0.0) {
     world = std::make_unique<sim::World>(
         sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed)));

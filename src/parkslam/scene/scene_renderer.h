@@ -24,6 +24,7 @@
 #include <opencv2/core.hpp>
 
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/top_view.h"
 #include "parkslam/scene/font_book.h"
 #include "parkslam/scene/scene.h"
@@ -31,7 +32,7 @@
 namespace parkslam::scene {
 
 struct SceneRendererOptions {
-  std::vector<std::string> fisheye_names = {"front", "rear", "left", "right"};
+  std::vector<std::string> fisheye_names = camera::FisheyeCameraNames();
   std::string front_camera = "front_mono";  // empty: none
   // Hard seams between the cameras, as ps2.0's surround views show them
   // (and a marking point in a seam shows once, not as two ghosts).

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "parkslam/common/lot_constants.h"
 #include "parkslam/sensor/odometry_spec.h"
 #include "parkslam/sensor/vehicle.h"
 
@@ -30,7 +31,7 @@ struct SlotRowConfig {
   bool far_side_left = true;
   int count = 10;
   double width_m = 2.5;
-  double depth_m = 5.3;
+  double depth_m = kStandardSlotDepth_m;
   double angle_deg = 90.0;
   int group_size = 3;        // slots between two gaps; 0: no gaps
   double group_gap_m = 0.8;  // gap between groups, along the row
@@ -92,7 +93,7 @@ struct WorldConfig {
   // AprilTags (tag36h11) on walls and pillar faces inside tag_regions, at most
   // tag_count of them, spread evenly over the candidate places.
   int tag_count = 60;
-  double tag_size_m = 0.488;
+  double tag_size_m = kDefaultTagSize_m;
   double tag_spacing_m = 3.0;  // between candidate places along a wall
   std::vector<RegionConfig> tag_regions;
   // Share of slots with no painted ID, and with an ID worn beyond reading.
@@ -168,9 +169,9 @@ struct SlotSensorConfig {
   double corner_sigma_m = 0.03;       // at the view centre
   double corner_sigma_per_m = 0.005;  // growth with distance from it
   double miss_rate = 0.05;
-  double false_per_frame = 0.02;          // mean false detections per frame
-  double far_corner_observed_rate = 0.2;  // when the far corners are in view
-  double standard_depth_m = 5.3;          // used to guess unseen far corners
+  double false_per_frame = 0.02;                   // mean false detections per frame
+  double far_corner_observed_rate = 0.2;           // when the far corners are in view
+  double standard_depth_m = kStandardSlotDepth_m;  // used to guess unseen far corners
   // An entrance longer than this is taken for a parallel slot, whose unseen
   // far corners are guessed at parallel_depth_m.
   double parallel_min_entrance_m = 4.0;

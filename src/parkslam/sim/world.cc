@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/cross.h"
 #include "parkslam/common/random.h"
 
 namespace parkslam::sim {
@@ -160,10 +161,6 @@ void AddTags(const WorldConfig& c, World* world) {
     world->tags.push_back({static_cast<int>(i), place.p_map, place.normal_yaw_rad, c.tag_size_m,
                            place.on_pillar, place.mount_index});
   }
-}
-
-double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
 }
 
 bool SegmentsIntersect(const Eigen::Vector2d& p, const Eigen::Vector2d& p2,

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "parkslam/common/lot_constants.h"
 #include "parkslam/map/semantic_map.h"
 #include "parkslam/sim/scenario_config.h"
 
@@ -35,7 +36,7 @@ struct WorldTag {
   int tag_id = 0;
   Eigen::Vector2d p_map;        // centre of the tag
   double normal_yaw_rad = 0.0;  // outward normal, map frame
-  double size_m = 0.488;
+  double size_m = kDefaultTagSize_m;
   bool on_pillar = false;
   int mount_index = 0;  // index into pillars or walls
 };
