@@ -12,6 +12,7 @@
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/numeric_csv.h"
 #include "parkslam/io/tum.h"
+#include "parkslam/localization/localization_run.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/pipeline/odometry_consistency.h"
 #include "parkslam/pipeline/trace_following.h"
@@ -218,20 +219,13 @@ void AddDemoCommand(CLI::App& app) {
     localization::Localizer localizer(
         map, config.localizer,
         odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle));
-    Trajectory localized;
-    std::vector<localization::LocalizationEstimate> estimates;
+    localization::LocalizationRun run;
     {
       DatasetStream stream(second, image_rate_hz, {}, perception);
-      SensorSource& source = stream.source();
-      while (const auto event = source.Next()) {
-        const auto estimate = localizer.Process(*event);
-        if (!estimate) continue;
-        estimates.push_back(*estimate);
-        if (estimate->state == localization::LocalizerState::kTracking) {
-          AppendOrReplaceLast(&localized, {estimate->t_ns, T_world_map * estimate->T_map_vehicle});
-        }
-      }
+      run = localization::RunLocalization(stream.source(), &localizer);
     }
+    const std::vector<localization::LocalizationEstimate>& estimates = run.estimates;
+    const Trajectory localized = Transformed(T_world_map, run.tracked);
     io::WriteTum(out / "second_drive_localized.tum", localized);
     io::WriteNumericCsv(out / "localization.csv",
                         LocalizationLog(estimates, T_world_map, second.groundtruth_trajectory));

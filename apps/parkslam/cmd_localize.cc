@@ -9,6 +9,7 @@
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
+#include "parkslam/localization/localization_run.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/pipeline/kidnap.h"
@@ -68,12 +69,6 @@ void AddLocalizeCommand(CLI::App& app) {
         (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map)) {
       throw std::runtime_error(options->dataset + ": --log needs the dataset's ground truth");
     }
-    std::vector<localization::LocalizationEstimate> estimates;
-    Trajectory trajectory;
-    int frames = 0, tracking = 0, lost_events = 0, relocalizations = 0;
-    TimeNs last_frame_ns = 0;
-    std::vector<double> update_ms;
-    localization::LocalizerState previous = localizer.state();
     const std::filesystem::path recorded =
         options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
     DatasetStream stream(dataset, options->pixels.live_images_hz, recorded,
@@ -81,29 +76,10 @@ void AddLocalizeCommand(CLI::App& app) {
     SensorSource& source = stream.source();
     const DriveSpan span = SpanOf(dataset.log);
     Progress progress("  localizing", span.TotalTenths());
-    while (const auto event = source.Next()) {
-      progress.Update(span.Tenths(EventTime(*event)));
-      const auto start = std::chrono::steady_clock::now();
-      const auto estimate = localizer.Process(*event);
-      if (!estimate) continue;
-      if (!options->log.empty()) estimates.push_back(*estimate);
-      update_ms.push_back(
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-              .count());
-      // Slots and tags of one camera frame (on pixels) count as one frame.
-      if (frames == 0 || estimate->t_ns != last_frame_ns) ++frames;
-      last_frame_ns = estimate->t_ns;
-      relocalizations += estimate->relocalized;
-      if (estimate->state == localization::LocalizerState::kLost &&
-          previous != localization::LocalizerState::kLost) {
-        ++lost_events;
-      }
-      previous = estimate->state;
-      if (estimate->state == localization::LocalizerState::kTracking) {
-        tracking += AppendOrReplaceLast(&trajectory, {estimate->t_ns, estimate->T_map_vehicle});
-      }
-    }
+    const localization::LocalizationRun run = localization::RunLocalization(
+        source, &localizer, [&](TimeNs t_ns) { progress.Update(span.Tenths(t_ns)); });
     progress.Finish();
+    const Trajectory& trajectory = run.tracked;
     if (trajectory.empty()) {
       throw std::runtime_error(options->dataset + ": the car was never localized on " +
                                options->map);
@@ -112,17 +88,19 @@ void AddLocalizeCommand(CLI::App& app) {
     if (!options->log.empty()) {
       // The map may live in its own frame: the log is in the truth's.
       const SE2 T_world_map = eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map;
-      io::WriteNumericCsv(options->log,
-                          LocalizationLog(estimates, T_world_map, dataset.groundtruth_trajectory));
+      io::WriteNumericCsv(options->log, LocalizationLog(run.estimates, T_world_map,
+                                                        dataset.groundtruth_trajectory));
     }
+    std::vector<double> update_ms = run.update_ms;
     std::sort(update_ms.begin(), update_ms.end());
+    const int frames = run.frames, tracking = static_cast<int>(trajectory.size());
     const double duration_s = ToSeconds(trajectory.back().t_ns - trajectory.front().t_ns);
     std::printf(
         "%d camera frames, %d tracked (%.1f %%), %.1f Hz; lost %d times, "
         "(re)localized %d times; update median %.3f ms, max %.3f ms\n",
         frames, tracking, 100.0 * tracking / std::max(frames, 1),
-        duration_s > 0 ? (trajectory.size() - 1) / duration_s : 0.0, lost_events, relocalizations,
-        update_ms[update_ms.size() / 2], update_ms.back());
+        duration_s > 0 ? (trajectory.size() - 1) / duration_s : 0.0, run.lost_events,
+        run.relocalizations, update_ms[update_ms.size() / 2], update_ms.back());
     const std::string stream_faults = stream.DescribeFaults();
     if (!stream_faults.empty()) std::printf("%s\n", stream_faults.c_str());
     const std::string odometry_faults = DescribeOdometryFaults(localizer.odometry_stats());

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/localization/localization_run.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/sim/simulator.h"
 
@@ -42,6 +43,31 @@ double PositionError(const Fixture& f, const LocalizationEstimate& e) {
 
 Eigen::Matrix3d Covariance(double sigma_m, double sigma_rad) {
   return Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
+}
+
+// The loop every command shares: from a global start, one tracked pose per
+// camera frame once localized, the counts of what happened.
+TEST(LocalizationRunTest, GlobalStartTracksTheWholeDrive) {
+  const Fixture& f = Default();
+  Localizer localizer = MakeLocalizer(f);
+  SensorLogSource source(f.simulation.log);
+  int events = 0;
+  const LocalizationRun run = RunLocalization(source, &localizer, [&](TimeNs) { ++events; });
+  EXPECT_EQ(events, static_cast<int>(f.simulation.log.wheel_speeds.size() +
+                                     f.simulation.log.steering_angles.size() +
+                                     f.simulation.log.imu_samples.size() +
+                                     f.simulation.log.slot_frames.size() +
+                                     f.simulation.log.tag_frames.size()));
+  EXPECT_GE(run.relocalizations, 1);
+  EXPECT_EQ(run.lost_events, 0);
+  EXPECT_EQ(run.update_ms.size(), run.estimates.size());
+  ASSERT_GT(run.tracked.size(), 0.9 * run.frames);
+  EXPECT_LE(static_cast<int>(run.tracked.size()), run.frames);
+  double sum2 = 0.0;
+  for (const TimedPose& p : run.tracked) {
+    sum2 += (PoseAt(f.truth, p.t_ns)->translation() - p.T_map_vehicle.translation()).squaredNorm();
+  }
+  EXPECT_LT(std::sqrt(sum2 / static_cast<double>(run.tracked.size())), 0.05);
 }
 
 TEST(LocalizerTest, ConvergesFromPerturbedInitialPose) {
