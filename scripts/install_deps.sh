@@ -5,6 +5,8 @@
 # needs (scripts/test.sh asks for it; the demo does not); --with-fuzzer
 # installs Clang and its libFuzzer runtime (scripts/fuzz.sh); --with-format
 # installs clang-format (the format_check test, scripts/check_format.sh).
+# librosbag-storage-dev (ROS 1 bags, for import-rosbag) brings Boost and a
+# few ROS libraries with it.
 set -euo pipefail
 
 packages=(
@@ -14,6 +16,7 @@ packages=(
   fonts-dejavu-core fonts-dejavu-extra fonts-liberation fonts-freefont-ttf fonts-urw-base35
   fonts-noto-core fonts-open-sans fonts-cantarell fonts-roboto-unhinted
   libgtest-dev libgmock-dev libbenchmark-dev
+  librosbag-storage-dev
 )
 for option in "$@"; do
   case "$option" in

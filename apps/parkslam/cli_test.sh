@@ -188,6 +188,24 @@ expect 0 "ATE rmse / mean / max 0\.0[0-4]" -- "$PARKSLAM" eval-traj \
   --truth "$tmp/real/groundtruth/trajectory.tum" --estimate "$tmp/real_loc.tum"
 expect nonzero "no scenario" -- "$PARKSLAM" map "$tmp/real" --live-images 1 --out "$tmp/x.json"
 
+# ROS 1 bags: the recording written as a car's recorder would, read back, and
+# mapped to the very same map.
+if "$PARKSLAM" import-rosbag --help > /dev/null 2>&1; then
+  expect 0 "wrote .*real.bag" -- "$PARKSLAM" export-rosbag "$tmp/real" --out "$tmp/real.bag"
+  expect 0 "frame sets of images \(0 images in no complete set" -- \
+    "$PARKSLAM" import-rosbag "$tmp/real.bag" --topics "$tmp/real_topics.yaml" --out "$tmp/from_bag"
+  expect 0 "from_bag: ok" -- "$PARKSLAM" check-dataset "$tmp/from_bag"
+  expect 0 "map written" -- "$PARKSLAM" map "$tmp/from_bag" --images --out "$tmp/bag_map.json"
+  cmp -s "$tmp/bag_map.json" "$tmp/real_map.json" && pass || fail "the map from the bag differs"
+  expect nonzero "not empty" -- "$PARKSLAM" import-rosbag "$tmp/real.bag" \
+    --topics "$tmp/real_topics.yaml" --out "$tmp/from_bag"
+  sed -i 's#/imu/data#/imu/nope#' "$tmp/real_topics.yaml"
+  expect nonzero "real.bag: imu: topic /imu/nope is not in the bag" -- "$PARKSLAM" import-rosbag \
+    "$tmp/real.bag" --topics "$tmp/real_topics.yaml" --out "$tmp/from_bag2"
+else
+  echo "cli_test: built without rosbag_storage, import-rosbag not tested"
+fi
+
 # --config and --dump-config: the algorithm options from one file.
 expect 0 "^mapper:" -- "$PARKSLAM" map --dump-config
 expect 0 "^follower:" -- "$PARKSLAM" follow --dump-config

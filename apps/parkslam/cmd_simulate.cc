@@ -96,23 +96,7 @@ void AddSimulateCommand(CLI::App& app) {
     const std::string world =
         options->scenario.world == "default" ? std::string() : options->scenario.world;
     io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{world, "--world"}});
-    std::error_code ec;
-    if (std::filesystem::exists(options->out, ec) &&
-        !std::filesystem::is_directory(options->out, ec)) {
-      throw std::runtime_error("--out " + options->out + ": a file, not a folder");
-    }
-    if (std::filesystem::is_directory(options->out, ec) &&
-        !std::filesystem::is_empty(options->out, ec)) {
-      if (!options->force) {
-        throw std::runtime_error(
-            "--out " + options->out +
-            ": the folder is not empty (another drive's data or images would mix "
-            "with this one's); choose another or add --force to clear it");
-      }
-      for (const auto& entry : std::filesystem::directory_iterator(options->out)) {
-        std::filesystem::remove_all(entry.path());
-      }
-    }
+    PrepareDatasetFolder(options->out, options->force);
     const auto start = std::chrono::steady_clock::now();
     const io::Dataset dataset = SimulateDataset(scenario, options->seed);
     const auto simulated = std::chrono::steady_clock::now();

@@ -37,6 +37,10 @@ void AddReportCommand(CLI::App& app);
 void AddCheckDatasetCommand(CLI::App& app);
 void AddSolveGraphCommand(CLI::App& app);
 void AddMakeGraphCommand(CLI::App& app);
+#ifdef PARKSLAM_HAVE_ROSBAG
+void AddImportRosbagCommand(CLI::App& app);
+void AddExportRosbagCommand(CLI::App& app);
+#endif
 
 // The command line as the user typed it (main() records it), for the
 // records a run leaves (metrics.json, report.html).
@@ -92,6 +96,11 @@ struct PixelOptions {
 // --detector: which slot detector and ID reader a command on pixels runs.
 void AddDetectorOption(CLI::App* command, std::string* detector);
 void AddPixelOptions(CLI::App* command, PixelOptions* options);
+
+// A dataset's --out folder: refused when it is a file, or a folder that is
+// not empty unless `force`, which clears it (another drive's data or images
+// would mix with the new one's).
+void PrepareDatasetFolder(const std::string& out, bool force);
 
 // Parses "x,y,yaw" (metres, metres, radians).
 SE2 ParsePose(const std::string& text, const std::string& option_name);

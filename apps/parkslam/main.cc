@@ -32,6 +32,10 @@ int main(int argc, char** argv) {
   parkslam::app::AddCheckDatasetCommand(app);
   parkslam::app::AddSolveGraphCommand(app);
   parkslam::app::AddMakeGraphCommand(app);
+#ifdef PARKSLAM_HAVE_ROSBAG
+  parkslam::app::AddImportRosbagCommand(app);
+  parkslam::app::AddExportRosbagCommand(app);
+#endif
   parkslam::app::SetCommandLine(argc, argv);
   try {
     app.parse(argc, argv);

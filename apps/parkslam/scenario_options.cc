@@ -166,4 +166,20 @@ void AddConfigOptions(CLI::App* command, ConfigOptions* options) {
       "Print every algorithm option with its default as YAML and exit");
 }
 
+void PrepareDatasetFolder(const std::string& out, bool force) {
+  std::error_code ec;
+  if (std::filesystem::exists(out, ec) && !std::filesystem::is_directory(out, ec)) {
+    throw std::runtime_error("--out " + out + ": a file, not a folder");
+  }
+  if (!std::filesystem::is_directory(out, ec) || std::filesystem::is_empty(out, ec)) return;
+  if (!force) {
+    throw std::runtime_error("--out " + out +
+                             ": the folder is not empty (another drive's data or images would "
+                             "mix with this one's); choose another or add --force to clear it");
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(out)) {
+    std::filesystem::remove_all(entry.path());
+  }
+}
+
 }  // namespace parkslam::app
