@@ -7,8 +7,9 @@
 // scenario files: an unknown key or a bad value is an error naming the file,
 // the line and the key ("my.yaml:7: mapper.null_wieght: unknown key (did you
 // mean 'null_weight'?)"). `--dump-config` prints every option with its
-// default (OptionsToYaml). Defined in scenario_yaml.cc, with the field
-// walker the scenario files use.
+// default (OptionsToYaml). Read with the scenario files' field walker
+// (visit_yaml.h); its own target, parkslam_options_yaml, so that the file
+// formats do not link the experiment harness.
 
 #include <filesystem>
 #include <string>
