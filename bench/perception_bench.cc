@@ -9,7 +9,7 @@
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/image_plane.h"
-#include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/perception/front_end.h"
 #include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/scenario_config.h"
@@ -20,8 +20,8 @@ namespace {
 
 struct Fixture {
   camera::CameraRig rig = camera::DefaultRig();
-  pipeline::PerceptionFrontEnd front_end{rig};
-  pipeline::PerceptionFrontEnd learned_front_end{rig, LearnedOptions()};
+  perception::PerceptionFrontEnd front_end{rig};
+  perception::PerceptionFrontEnd learned_front_end{rig, LearnedOptions()};
   perception::LearnedSlotDetector learned_detector{learned_front_end.options().learned_slots};
   perception::LearnedSlotIdReader learned_reader{learned_front_end.options().learned_ids};
   perception::SlotDetector detector{front_end.options().slots};
@@ -32,9 +32,9 @@ struct Fixture {
   cv::Mat front_mono, top_view;
   perception::SlotDetection detection;
 
-  static pipeline::PerceptionOptions LearnedOptions() {
-    pipeline::PerceptionOptions o;
-    o.detector = pipeline::DetectorKind::kLearned;
+  static perception::PerceptionOptions LearnedOptions() {
+    perception::PerceptionOptions o;
+    o.detector = perception::DetectorKind::kLearned;
     return o;
   }
 
@@ -138,7 +138,7 @@ void BM_PerceptionFrame(benchmark::State& state) {
   const Fixture& f = Get();
   double tags_ms = 0.0;
   for (auto _ : state) {
-    const pipeline::PerceptionOutput out = f.front_end.Process(f.frame);
+    const perception::PerceptionOutput out = f.front_end.Process(f.frame);
     tags_ms = out.timing.tags_ms;
     benchmark::DoNotOptimize(out.slots.slots.size());
   }
@@ -150,7 +150,7 @@ void BM_PerceptionFrameLearned(benchmark::State& state) {
   const Fixture& f = Get();
   double tags_ms = 0.0, slots_ms = 0.0;
   for (auto _ : state) {
-    const pipeline::PerceptionOutput out = f.learned_front_end.Process(f.frame);
+    const perception::PerceptionOutput out = f.learned_front_end.Process(f.frame);
     tags_ms = out.timing.tags_ms;
     slots_ms = out.timing.slots_ms;
     benchmark::DoNotOptimize(out.slots.slots.size());

@@ -31,7 +31,7 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 // scored against the truth: the perception part of the report
 // (perception/*.jpg and metrics "perception").
 nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint64_t seed,
-                                 const pipeline::PerceptionOptions& perception, int frames,
+                                 const perception::PerceptionOptions& perception, int frames,
                                  const std::filesystem::path& dir) {
   const DriveScorer drive(scenario, seed, perception);
   const Trajectory& truth = drive.truth();
@@ -150,8 +150,8 @@ void AddDemoCommand(CLI::App& app) {
     const std::filesystem::path out = options->out;
     const double image_rate_hz = options->observations ? 0.0 : options->live_images_hz;
     const pipeline::AlgorithmOptions config = options->config.Load();
-    pipeline::PerceptionOptions perception = config.front_end;
-    perception.detector = pipeline::ParseDetectorKind(options->detector);
+    perception::PerceptionOptions perception = config.front_end;
+    perception.detector = perception::ParseDetectorKind(options->detector);
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     nlohmann::json metrics;
     const int steps = 7 + (options->consistency_runs > 0) + (options->follow_runs > 0) +
@@ -210,7 +210,7 @@ void AddDemoCommand(CLI::App& app) {
     metrics["dataset"] = dataset.name;
     metrics["command"] = CommandLine();
     metrics["version"] = kVersion;
-    metrics["detector"] = pipeline::ToString(perception.detector);
+    metrics["detector"] = perception::ToString(perception.detector);
 
     header("localizing a second drive on the map (global start)");
     const io::Dataset second = SimulateDataset(scenario, options->seed + 500);

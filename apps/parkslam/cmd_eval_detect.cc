@@ -14,10 +14,10 @@
 #include "parkslam/eval/detection_metrics.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/io/ps2_labels.h"
+#include "parkslam/perception/front_end.h"
 #include "parkslam/perception/learned_slot_detector.h"
 #include "parkslam/perception/slot_detector.h"
 #include "parkslam/pipeline/perception_eval.h"
-#include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/sim/simulator.h"
 #include "progress.h"
 
@@ -97,8 +97,8 @@ void AddEvalDetectCommand(CLI::App& app) {
                                 {{options->ps2, "--ps2"}, {options->models, "--models"}});
     Scores scores;
     if (!options->out_dir.empty()) std::filesystem::create_directories(options->out_dir);
-    pipeline::PerceptionOptions perception_options = options->config.Load().front_end;
-    perception_options.detector = pipeline::ParseDetectorKind(options->detector);
+    perception::PerceptionOptions perception_options = options->config.Load().front_end;
+    perception_options.detector = perception::ParseDetectorKind(options->detector);
     if (!options->models.empty()) {
       perception_options.learned_slots.model_path = options->models + "/marking_points.onnx";
       perception_options.learned_ids.model_path = options->models + "/slot_ids.onnx";
@@ -118,10 +118,10 @@ void AddEvalDetectCommand(CLI::App& app) {
       // ps2.0 views: 600 px for 10 m, no footprint mask, no IDs to score.
       std::unique_ptr<perception::SlotDetector> classical;
       std::unique_ptr<perception::LearnedSlotDetector> learned;
-      if (perception_options.detector == pipeline::DetectorKind::kLearned) {
+      if (perception_options.detector == perception::DetectorKind::kLearned) {
         perception::LearnedSlotDetectorOptions o = perception_options.learned_slots;
         if (o.model_path.empty())
-          o.model_path = pipeline::DefaultModelDir() + "/marking_points.onnx";
+          o.model_path = perception::DefaultModelDir() + "/marking_points.onnx";
         learned = std::make_unique<perception::LearnedSlotDetector>(o);
       } else {
         classical = std::make_unique<perception::SlotDetector>(perception_options.slots);
@@ -167,7 +167,7 @@ void AddEvalDetectCommand(CLI::App& app) {
       Progress bar("  scoring", total);
       for (int k = 0; k < total; ++k) {
         const DriveScorer::Frame frame = drive.ScoreAt(truth.front().t_ns + period * k, &scores);
-        const pipeline::PerceptionOutput& out = frame.out;
+        const perception::PerceptionOutput& out = frame.out;
         scores.fusion_ms.push_back(out.timing.fusion_ms);
         scores.slots_ms.push_back(out.timing.slots_ms);
         scores.ids_ms.push_back(out.timing.ids_ms);

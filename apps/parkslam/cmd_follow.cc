@@ -179,7 +179,7 @@ void AddFollowCommand(CLI::App& app) {
     follow.seed = options->seed;
     follow.odometry_only = options->odometry_only;
     follow.live_image_rate_hz = options->live_images_hz;
-    follow.perception.detector = pipeline::ParseDetectorKind(options->detector);
+    follow.perception.detector = perception::ParseDetectorKind(options->detector);
     if (options->vehicle == "realistic") follow.vehicle_dynamics = sim::RealisticDynamics();
     Progress progress("  runs", options->runs);
     const pipeline::TraceFollowingResult result =

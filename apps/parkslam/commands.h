@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "parkslam/common/se2.h"
+#include "parkslam/perception/front_end.h"
 #include "parkslam/pipeline/algorithm_options.h"
 #include "parkslam/pipeline/fault_injection.h"
-#include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/sim/scenario_config.h"
 
 namespace parkslam::app {
@@ -89,7 +89,7 @@ struct PixelOptions {
   std::vector<std::string> faults;  // --fault, as written
   // The front end's options (from --config, else the defaults) with the
   // chosen detector.
-  pipeline::PerceptionOptions Perception(const pipeline::PerceptionOptions& base = {}) const;
+  perception::PerceptionOptions Perception(const perception::PerceptionOptions& base = {}) const;
   // The parsed --fault options; throws std::runtime_error naming the bad one.
   std::vector<pipeline::SensorFault> Faults() const;
 };

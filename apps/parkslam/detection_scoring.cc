@@ -156,7 +156,7 @@ ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detec
 }
 
 DriveScorer::DriveScorer(const sim::ScenarioConfig& scenario, std::uint64_t seed,
-                         const pipeline::PerceptionOptions& perception)
+                         const perception::PerceptionOptions& perception)
     : simulation_(sim::Simulate(scenario, seed)),
       rig_(camera::DefaultRig()),
       renderer_(simulation_.world, rig_, render::RenderOptions{}, seed),

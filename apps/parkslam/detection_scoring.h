@@ -12,9 +12,9 @@
 
 #include "parkslam/common/trajectory.h"
 #include "parkslam/eval/detection_metrics.h"
+#include "parkslam/perception/front_end.h"
 #include "parkslam/perception/slot_detector.h"
 #include "parkslam/pipeline/perception_eval.h"
-#include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/simulator.h"
 
@@ -70,12 +70,12 @@ ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detec
 class DriveScorer {
  public:
   DriveScorer(const sim::ScenarioConfig& scenario, std::uint64_t seed,
-              const pipeline::PerceptionOptions& perception);
+              const perception::PerceptionOptions& perception);
   DriveScorer(const DriveScorer&) = delete;
   DriveScorer& operator=(const DriveScorer&) = delete;
 
   struct Frame {
-    pipeline::PerceptionOutput out;
+    perception::PerceptionOutput out;
     std::vector<eval::LabelledMarkingPoint> truth_points;  // for Overlay()
     ImageScore score;
   };
@@ -88,7 +88,7 @@ class DriveScorer {
   sim::Simulation simulation_;
   camera::CameraRig rig_;
   render::Renderer renderer_;
-  pipeline::PerceptionFrontEnd front_end_;
+  perception::PerceptionFrontEnd front_end_;
   Trajectory truth_;
 };
 

@@ -140,10 +140,10 @@ void AddDetectorOption(CLI::App* command, std::string* detector) {
       ->capture_default_str();
 }
 
-pipeline::PerceptionOptions PixelOptions::Perception(
-    const pipeline::PerceptionOptions& base) const {
-  pipeline::PerceptionOptions o = base;
-  o.detector = pipeline::ParseDetectorKind(detector);
+perception::PerceptionOptions PixelOptions::Perception(
+    const perception::PerceptionOptions& base) const {
+  perception::PerceptionOptions o = base;
+  o.detector = perception::ParseDetectorKind(detector);
   return o;
 }
 

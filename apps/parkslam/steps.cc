@@ -10,7 +10,7 @@
 #include "parkslam/common/seed_mix.h"
 #include "parkslam/io/image_folder.h"
 #include "parkslam/io/rig_yaml.h"
-#include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/perception/front_end.h"
 #include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/simulator.h"
@@ -63,13 +63,13 @@ struct DatasetStream::Live {
   sim::World world;
   std::unique_ptr<render::Renderer> renderer;
   std::unique_ptr<SensorSource> source;  // rendered or recorded frames
-  std::unique_ptr<pipeline::PerceptionFrontEnd> front_end;
-  std::unique_ptr<pipeline::PerceptionSource> perception;
+  std::unique_ptr<perception::PerceptionFrontEnd> front_end;
+  std::unique_ptr<perception::PerceptionSource> perception;
 };
 
 DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
                              const std::filesystem::path& recorded_images_dir,
-                             const pipeline::PerceptionOptions& perception,
+                             const perception::PerceptionOptions& perception,
                              const std::vector<pipeline::SensorFault>& faults)
     : log_(dataset.log) {
   // The faults act on what the sensors give: the log, or the log with the
@@ -86,9 +86,9 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
     live_ = std::make_unique<Live>();
     live_->source = std::make_unique<io::ImageFolderSource>(log_, recorded_images_dir, rig,
                                                             camera::AllCameraNames());
-    live_->front_end = std::make_unique<pipeline::PerceptionFrontEnd>(rig, perception);
-    live_->perception = std::make_unique<pipeline::PerceptionSource>(with_faults(*live_->source),
-                                                                     *live_->front_end);
+    live_->front_end = std::make_unique<perception::PerceptionFrontEnd>(rig, perception);
+    live_->perception = std::make_unique<perception::PerceptionSource>(with_faults(*live_->source),
+                                                                       *live_->front_end);
     return;
   }
   if (rate_hz <= 0.0) {
@@ -113,9 +113,9 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
   // On pixels: the frames replace the dataset's observation-level slots
   // and tags.
   live_->front_end =
-      std::make_unique<pipeline::PerceptionFrontEnd>(camera::DefaultRig(), perception);
-  live_->perception =
-      std::make_unique<pipeline::PerceptionSource>(with_faults(*live_->source), *live_->front_end);
+      std::make_unique<perception::PerceptionFrontEnd>(camera::DefaultRig(), perception);
+  live_->perception = std::make_unique<perception::PerceptionSource>(with_faults(*live_->source),
+                                                                     *live_->front_end);
 }
 
 DatasetStream::~DatasetStream() = default;
@@ -210,7 +210,7 @@ DriveSpan SpanOf(const SensorLog& log) {
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
                          std::optional<SE2> initial_pose, bool progress, double live_image_rate_hz,
                          const std::filesystem::path& recorded_images_dir,
-                         const pipeline::PerceptionOptions& perception,
+                         const perception::PerceptionOptions& perception,
                          const std::vector<pipeline::SensorFault>& faults,
                          std::string* faults_seen) {
   mapping::Mapper mapper(

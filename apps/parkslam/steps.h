@@ -16,9 +16,9 @@
 #include "parkslam/io/numeric_csv.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper.h"
+#include "parkslam/perception/front_end.h"
 #include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/pipeline/fault_injection.h"
-#include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/trace_following.h"
 
 namespace parkslam::app {
@@ -54,7 +54,7 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
                          std::optional<SE2> initial_pose, bool progress,
                          double live_image_rate_hz = 0.0,
                          const std::filesystem::path& recorded_images_dir = {},
-                         const pipeline::PerceptionOptions& perception = {},
+                         const perception::PerceptionOptions& perception = {},
                          const std::vector<pipeline::SensorFault>& faults = {},
                          std::string* faults_seen = nullptr);
 
@@ -68,7 +68,7 @@ class DatasetStream {
  public:
   DatasetStream(const io::Dataset& dataset, double live_image_rate_hz,
                 const std::filesystem::path& recorded_images_dir = {},
-                const pipeline::PerceptionOptions& perception = {},
+                const perception::PerceptionOptions& perception = {},
                 const std::vector<pipeline::SensorFault>& faults = {});
   ~DatasetStream();
   SensorSource& source();

@@ -15,7 +15,7 @@ bool Check(const T& part, const char* path, std::string* error) {
 }
 
 // The front end's own fields (its parts have their checks).
-bool CheckFrontEnd(const PerceptionOptions& o, std::string* error) {
+bool CheckFrontEnd(const perception::PerceptionOptions& o, std::string* error) {
   auto fail = [error](const std::string& message) {
     if (error != nullptr) *error = "front_end." + message;
     return false;
@@ -41,7 +41,7 @@ bool CheckFrontEnd(const PerceptionOptions& o, std::string* error) {
 }  // namespace
 
 bool AlgorithmOptions::IsValid(std::string* error) const {
-  // An empty model path means the committed network (PerceptionOptions).
+  // An empty model path means the committed network (perception::PerceptionOptions).
   perception::LearnedSlotDetectorOptions learned_slots = front_end.learned_slots;
   perception::LearnedSlotIdReaderOptions learned_ids = front_end.learned_ids;
   if (learned_slots.model_path.empty()) learned_slots.model_path = "default";

@@ -11,12 +11,12 @@
 #include "parkslam/control/path_follower.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper_options.h"
-#include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/perception/front_end.h"
 
 namespace parkslam::pipeline {
 
 struct AlgorithmOptions {
-  PerceptionOptions front_end;
+  perception::PerceptionOptions front_end;
   mapping::MapperOptions mapper;
   localization::LocalizerOptions localizer;
   control::PathFollowerOptions follower;

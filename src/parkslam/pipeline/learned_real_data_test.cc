@@ -19,10 +19,10 @@
 
 #include "parkslam/eval/detection_metrics.h"
 #include "parkslam/io/ps2_labels.h"
+#include "parkslam/perception/front_end.h"
 #include "parkslam/perception/learned_slot_detector.h"
 #include "parkslam/perception/learned_slot_id_reader.h"
 #include "parkslam/pipeline/perception_eval.h"
-#include "parkslam/pipeline/perception_front_end.h"
 
 namespace parkslam::pipeline {
 namespace {
@@ -46,7 +46,7 @@ std::filesystem::path SampleDir() {
 TEST(LearnedRealDataTest, MarkingPointsAndSlotsOnThePs2Sample) {
   SKIP_WITHOUT_REAL_DATA();
   perception::LearnedSlotDetectorOptions options;
-  options.model_path = DefaultModelDir() + "/marking_points.onnx";
+  options.model_path = perception::DefaultModelDir() + "/marking_points.onnx";
   const perception::LearnedSlotDetector detector(options);
   eval::DetectionCounts points, slots;
   for (const std::string& name : io::ListPs2Images(SampleDir())) {
@@ -79,7 +79,7 @@ TEST(LearnedRealDataTest, ReadsTheRealPaintedIds) {
   ASSERT_TRUE(in.good());
   const nlohmann::json labels = nlohmann::json::parse(in);
   perception::LearnedSlotIdReaderOptions options;
-  options.model_path = DefaultModelDir() + "/slot_ids.onnx";
+  options.model_path = perception::DefaultModelDir() + "/slot_ids.onnx";
   const perception::LearnedSlotIdReader reader(options);
   int right = 0, total = 0;
   for (const nlohmann::json& id : labels["ids"]) {

@@ -11,8 +11,8 @@
 #include "parkslam/control/safety_supervisor.h"
 #include "parkslam/control/trace.h"
 #include "parkslam/odometry/odometry_ekf.h"
+#include "parkslam/perception/front_end.h"
 #include "parkslam/pipeline/dead_reckoning.h"
-#include "parkslam/pipeline/perception_front_end.h"
 #include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/live_simulator.h"
@@ -110,14 +110,15 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
   // The live cameras, built once: the lot is the same for every run.
   std::unique_ptr<sim::World> world;
   std::unique_ptr<render::Renderer> renderer;
-  std::unique_ptr<PerceptionFrontEnd> front_end;
+  std::unique_ptr<perception::PerceptionFrontEnd> front_end;
   const std::vector<std::string>& cameras = camera::AllCameraNames();
   if (options.live_image_rate_hz > 0.0) {
     world = std::make_unique<sim::World>(
         sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed)));
     renderer = std::make_unique<render::Renderer>(*world, camera::DefaultRig(),
                                                   render::RenderOptions{}, options.seed);
-    front_end = std::make_unique<PerceptionFrontEnd>(camera::DefaultRig(), options.perception);
+    front_end =
+        std::make_unique<perception::PerceptionFrontEnd>(camera::DefaultRig(), options.perception);
   }
 
   TraceFollowingResult result;
@@ -181,7 +182,7 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
         });
       }
       if (renderer && !blackout && state.t_ns >= next_image_ns) {
-        PerceptionOutput seen = front_end->Process(
+        perception::PerceptionOutput seen = front_end->Process(
             RenderCameraFrame(*renderer, state.T_map_vehicle, state.t_ns, cameras));
         events.push_back(std::move(seen.slots));
         events.push_back(std::move(seen.tags));

@@ -18,7 +18,7 @@
 #include "parkslam/eval/trace_metrics.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/map/semantic_map.h"
-#include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/perception/front_end.h"
 #include "parkslam/sim/live_simulator.h"
 #include "parkslam/sim/scenario_config.h"
 
@@ -41,7 +41,7 @@ struct TraceFollowingOptions {
   // > 0: the cameras render frame sets at this rate from the true pose and
   // feed them to the pose source, live (nothing is written).
   double live_image_rate_hz = 0.0;
-  PerceptionOptions perception;  // the front end on those frames
+  perception::PerceptionOptions perception;  // the front end on those frames
   control::PathFollowerOptions follower;
   localization::LocalizerOptions localizer;
   // The car brakes to a stop when localization is lost, too uncertain or

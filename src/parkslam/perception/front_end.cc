@@ -1,4 +1,4 @@
-#include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/perception/front_end.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,7 +10,7 @@
 #include "parkslam/camera/image_plane.h"
 #include "parkslam/common/angles.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::perception {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -96,15 +96,15 @@ PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
     if (options_.learned_ids.model_path.empty()) {
       options_.learned_ids.model_path = DefaultModelDir() + "/slot_ids.onnx";
     }
-    learned_detector_ = std::make_unique<perception::LearnedSlotDetector>(options_.learned_slots);
+    learned_detector_ = std::make_unique<LearnedSlotDetector>(options_.learned_slots);
     if (options_.read_ids) {
-      learned_reader_ = std::make_unique<perception::LearnedSlotIdReader>(options_.learned_ids);
+      learned_reader_ = std::make_unique<LearnedSlotIdReader>(options_.learned_ids);
     }
   } else {
-    slot_detector_ = std::make_unique<perception::SlotDetector>(options_.slots);
-    if (options_.read_ids) id_reader_ = std::make_unique<perception::SlotIdReader>(options_.ids);
+    slot_detector_ = std::make_unique<SlotDetector>(options_.slots);
+    if (options_.read_ids) id_reader_ = std::make_unique<SlotIdReader>(options_.ids);
   }
-  tag_detector_ = std::make_unique<perception::TagDetector>(options_.tags);
+  tag_detector_ = std::make_unique<TagDetector>(options_.tags);
 
   // The car's own footprint carries no ground: the detector ignores it.
   const camera::TopViewOptions& tv = options_.top_view;
@@ -185,16 +185,15 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame,
     start = Clock::now();
     out.ids.resize(out.detection.slots.size());
     for (size_t k = 0; k < out.detection.slots.size(); ++k) {
-      const perception::DetectedSlot& slot = out.detection.slots[k];
-      const perception::EntranceInImage entrance{slot.corners_px[0], slot.corners_px[1],
-                                                 slot.depth_dir_px};
+      const DetectedSlot& slot = out.detection.slots[k];
+      const EntranceInImage entrance{slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px};
       if (id_reader_ != nullptr) out.ids[k] = id_reader_->Read(out.top_view, entrance);
       if (learned_reader_ != nullptr) out.ids[k] = learned_reader_->Read(out.top_view, entrance);
     }
     out.timing.ids_ms = MsSince(start);
     const Eigen::Vector2d view_centre_vehicle(options_.top_view.center_x_m, 0.0);
     for (size_t k = 0; k < out.detection.slots.size(); ++k) {
-      const perception::DetectedSlot& slot = out.detection.slots[k];
+      const DetectedSlot& slot = out.detection.slots[k];
       SlotObservation obs;
       double far_m = 0.0;
       for (int c = 0; c < kSlotCorners; ++c) {
@@ -225,7 +224,7 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame,
                                   ", the camera " + std::to_string(tag_camera_.intrinsics.width) +
                                   "x" + std::to_string(tag_camera_.intrinsics.height));
     }
-    const std::vector<perception::DetectedTag> tags = tag_detector_->Detect(
+    const std::vector<DetectedTag> tags = tag_detector_->Detect(
         image.rowRange(tag_first_row_, tag_first_row_ + tag_rows_), &tag_band_intrinsics_);
     out.timing.tags_ms = MsSince(start);
     const Eigen::Matrix3d R_vehicle_camera = tag_camera_.T_vehicle_camera.rotation();
@@ -234,7 +233,7 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame,
     const Eigen::Vector3d z_axis = R_vehicle_camera.col(2), x_axis = R_vehicle_camera.col(0);
     const Eigen::Vector2d forward = Eigen::Vector2d(z_axis.x(), z_axis.y()).normalized();
     const Eigen::Vector2d right = Eigen::Vector2d(x_axis.x(), x_axis.y()).normalized();
-    for (const perception::DetectedTag& t : tags) {
+    for (const DetectedTag& t : tags) {
       if (!t.has_pose) continue;
       TagObservation obs;
       obs.tag_id = t.tag_id;
@@ -281,10 +280,10 @@ std::optional<SensorEvent> PerceptionSource::Next() {
     }
     if (const auto* frame = std::get_if<CameraFrame>(&*event)) {
       // Black or frozen cameras are left out while they are so.
-      const std::vector<perception::CameraHealth> health = health_.Check(*frame);
+      const std::vector<CameraHealth> health = health_.Check(*frame);
       std::vector<std::string> excluded;
       for (std::size_t k = 0; k < health.size(); ++k) {
-        if (health[k] != perception::CameraHealth::kOk) excluded.push_back(frame->cameras[k]);
+        if (health[k] != CameraHealth::kOk) excluded.push_back(frame->cameras[k]);
       }
       PerceptionOutput out = front_end_.Process(*frame, excluded);
       ++frames_processed_;
@@ -301,4 +300,4 @@ std::optional<SensorEvent> PerceptionSource::Next() {
   return std::nullopt;
 }
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::perception

@@ -1,4 +1,4 @@
-#include "parkslam/pipeline/perception_front_end.h"
+#include "parkslam/perception/front_end.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,11 @@
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/simulator.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::perception {
 namespace {
+
+using pipeline::RenderCameraFrame;
+using pipeline::RenderingSource;
 
 const std::vector<std::string> kCameras{"front", "rear", "left", "right", "front_mono"};
 
@@ -165,4 +168,4 @@ TEST(PerceptionFrontEndTest, MissingCamerasAreNamed) {
 }
 
 }  // namespace
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::perception

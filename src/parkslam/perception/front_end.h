@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_PIPELINE_PERCEPTION_FRONT_END_H_
-#define PARKSLAM_PIPELINE_PERCEPTION_FRONT_END_H_
+#ifndef PARKSLAM_PERCEPTION_FRONT_END_H_
+#define PARKSLAM_PERCEPTION_FRONT_END_H_
 
 // The paper's front end on pixels (section III-A and III-B): a camera frame
 // set becomes the observations the mapper and the localizer consume. The
@@ -23,7 +23,7 @@
 #include "parkslam/perception/tag_detector.h"
 #include "parkslam/sensor/sensor_log.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::perception {
 
 // Which slot detector and ID reader the front end runs: the classical ones
 // (lines and corners, seven-segment digits) or the learned networks
@@ -43,19 +43,19 @@ struct PerceptionOptions {
   std::string tag_camera = camera::kTagCameraName;
   camera::TopViewOptions top_view;
   DetectorKind detector = DetectorKind::kClassical;
-  perception::SlotDetectorOptions slots;
-  perception::SlotIdReaderOptions ids;
+  SlotDetectorOptions slots;
+  SlotIdReaderOptions ids;
   // The learned detector and reader; an empty model_path takes the
   // committed network from DefaultModelDir(). The network's marking points
   // take the classical detector's position where it found them too (2 cm
   // more accurate on rendered drives: docs/learned_perception.md).
-  perception::LearnedSlotDetectorOptions learned_slots = [] {
-    perception::LearnedSlotDetectorOptions o;
-    o.classical = perception::ClassicalCheck::kRefine;
+  LearnedSlotDetectorOptions learned_slots = [] {
+    LearnedSlotDetectorOptions o;
+    o.classical = ClassicalCheck::kRefine;
     return o;
   }();
-  perception::LearnedSlotIdReaderOptions learned_ids;
-  perception::TagDetectorOptions tags;
+  LearnedSlotIdReaderOptions learned_ids;
+  TagDetectorOptions tags;
   bool read_ids = true;
   // Tags hang between these heights above the floor and are looked for
   // from this range on: the front image is searched only in the band of
@@ -111,7 +111,7 @@ struct PerceptionOutput {
   TagObservationFrame tags;
   // What the stages saw and found, for evaluation and pictures.
   cv::Mat top_view;
-  perception::SlotDetection detection;
+  SlotDetection detection;
   std::vector<SlotIdReading> ids;  // one per detected slot
   PerceptionTiming timing;
 };
@@ -143,11 +143,11 @@ class PerceptionFrontEnd {
   int tag_first_row_ = 0, tag_rows_ = 0;  // the searched band of the front image
   camera::CameraIntrinsics tag_band_intrinsics_;
   std::unique_ptr<camera::TopViewFusion> fusion_;
-  std::unique_ptr<perception::SlotDetector> slot_detector_;
-  std::unique_ptr<perception::SlotIdReader> id_reader_;
-  std::unique_ptr<perception::LearnedSlotDetector> learned_detector_;
-  std::unique_ptr<perception::LearnedSlotIdReader> learned_reader_;
-  std::unique_ptr<perception::TagDetector> tag_detector_;
+  std::unique_ptr<SlotDetector> slot_detector_;
+  std::unique_ptr<SlotIdReader> id_reader_;
+  std::unique_ptr<LearnedSlotDetector> learned_detector_;
+  std::unique_ptr<LearnedSlotIdReader> learned_reader_;
+  std::unique_ptr<TagDetector> tag_detector_;
   cv::Mat footprint_mask_;
   std::vector<cv::Mat> camera_regions_;  // per fisheye, 255 where it counts
 };
@@ -167,11 +167,11 @@ class PerceptionSource final : public SensorSource {
   const PerceptionTiming& total_timing() const { return total_timing_; }
   double max_frame_ms() const { return max_frame_ms_; }
   // The cameras judged black or frozen, and how often (left out then).
-  const perception::CameraHealthMonitor& camera_health() const { return health_; }
+  const CameraHealthMonitor& camera_health() const { return health_; }
 
  private:
   SensorSource& inner_;
-  perception::CameraHealthMonitor health_;
+  CameraHealthMonitor health_;
   const PerceptionFrontEnd& front_end_;
   std::optional<SensorEvent> pending_tags_;
   int frames_processed_ = 0;
@@ -179,6 +179,6 @@ class PerceptionSource final : public SensorSource {
   double max_frame_ms_ = 0.0;
 };
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::perception
 
-#endif  // PARKSLAM_PIPELINE_PERCEPTION_FRONT_END_H_
+#endif  // PARKSLAM_PERCEPTION_FRONT_END_H_
