@@ -3,8 +3,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/localization/localizer.h"
-#include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/sim/simulator.h"
 
 namespace parkslam {

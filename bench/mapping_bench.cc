@@ -6,8 +6,8 @@
 
 #include <algorithm>
 
+#include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/mapping/mapper.h"
-#include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/sim/simulator.h"
 
 namespace parkslam {

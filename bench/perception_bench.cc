@@ -9,8 +9,8 @@
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/image_plane.h"
+#include "parkslam/harness/rendering_source.h"
 #include "parkslam/perception/front_end.h"
-#include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/scenario_config.h"
 #include "parkslam/sim/world.h"
@@ -44,7 +44,7 @@ struct Fixture {
         sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
     const render::Renderer renderer(world, rig, {}, 1);
     // Aisle 1, near the tags of the hall's west part.
-    frame = pipeline::RenderCameraFrame(renderer, SE2(12.0, 9.1, 0.0), 0, camera::AllCameraNames());
+    frame = harness::RenderCameraFrame(renderer, SE2(12.0, 9.1, 0.0), 0, camera::AllCameraNames());
     for (size_t k = 0; k < 5; ++k) {
       const cv::Mat m = camera::AsMat(frame.images[k]);
       if (k < 4) {

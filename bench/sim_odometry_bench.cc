@@ -3,7 +3,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "parkslam/pipeline/dead_reckoning.h"
+#include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/sim/simulator.h"
 
 namespace parkslam {
@@ -34,7 +34,7 @@ void BM_DeadReckoningTenMinuteDrive(benchmark::State& state) {
   const auto options = odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
   for (auto _ : state) {
     SensorLogSource source(sim.log);
-    const auto result = pipeline::RunDeadReckoning(source, options, {});
+    const auto result = harness::RunDeadReckoning(source, options, {});
     benchmark::DoNotOptimize(result.poses.data());
   }
   state.counters["events"] = static_cast<double>(

@@ -29,10 +29,10 @@
 #include <vector>
 
 #include "parkslam/eval/map_metrics.h"
+#include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper.h"
-#include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/sim/scenario_config.h"
 #include "parkslam/sim/simulator.h"
 #include "parkslam/viz/svg.h"

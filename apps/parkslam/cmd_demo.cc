@@ -7,6 +7,8 @@
 #include "commands.h"
 #include "detection_scoring.h"
 #include "parkslam/eval/map_metrics.h"
+#include "parkslam/harness/odometry_consistency.h"
+#include "parkslam/harness/trace_following.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
@@ -14,8 +16,6 @@
 #include "parkslam/io/tum.h"
 #include "parkslam/localization/localization_run.h"
 #include "parkslam/localization/localizer.h"
-#include "parkslam/pipeline/odometry_consistency.h"
-#include "parkslam/pipeline/trace_following.h"
 #include "parkslam/viz/map_svg.h"
 #include "progress.h"
 #include "steps.h"
@@ -149,7 +149,7 @@ void AddDemoCommand(CLI::App& app) {
   cmd->callback([options] {
     const std::filesystem::path out = options->out;
     const double image_rate_hz = options->observations ? 0.0 : options->live_images_hz;
-    const pipeline::AlgorithmOptions config = options->config.Load();
+    const AlgorithmOptions config = options->config.Load();
     perception::PerceptionOptions perception = config.front_end;
     perception.detector = perception::ParseDetectorKind(options->detector);
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
@@ -170,12 +170,12 @@ void AddDemoCommand(CLI::App& app) {
 
     header("dead reckoning (EKF: wheel speed, steering, IMU)");
     t0 = std::chrono::steady_clock::now();
-    pipeline::DeadReckoningOptions dr;
+    harness::DeadReckoningOptions dr;
     // The car starts at the lot's entrance, a known pose.
     dr.initial_pose = dataset.groundtruth_trajectory.front().T_map_vehicle;
-    const pipeline::DeadReckoningResult odometry = RunOdometry(dataset, dr);
+    const harness::DeadReckoningResult odometry = RunOdometry(dataset, dr);
     metrics["odometry_s"] = SecondsSince(t0);
-    const Trajectory odometry_trajectory = pipeline::ToTrajectory(odometry.poses);
+    const Trajectory odometry_trajectory = harness::ToTrajectory(odometry.poses);
     io::WriteTum(out / "odometry.tum", odometry_trajectory);
 
     header(image_rate_hz > 0.0
@@ -240,10 +240,10 @@ void AddDemoCommand(CLI::App& app) {
         "%.2f deg (in the lot's frame)\n",
         localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI);
 
-    pipeline::TraceFollowingResult follow;
+    harness::TraceFollowingResult follow;
     if (options->follow_runs > 0) {
       header("following the recorded drive autonomously");
-      pipeline::TraceFollowingOptions follow_options;
+      harness::TraceFollowingOptions follow_options;
       follow_options.runs = options->follow_runs;
       follow_options.speed_kmh = options->follow_speed_kmh;
       follow_options.seed = options->seed + 2000;
@@ -252,9 +252,9 @@ void AddDemoCommand(CLI::App& app) {
       follow_options.localizer = config.localizer;
       follow_options.follower = config.follower;
       Progress progress("  runs", options->follow_runs);
-      follow = pipeline::FollowTrace(scenario, map, T_world_map.inverse(),
-                                     dataset.groundtruth_trajectory, follow_options,
-                                     [&progress](int done, int) { progress.Update(done); });
+      follow = harness::FollowTrace(scenario, map, T_world_map.inverse(),
+                                    dataset.groundtruth_trajectory, follow_options,
+                                    [&progress](int done, int) { progress.Update(done); });
       progress.Finish();
       metrics["trace_following"] = TraceFollowingToJson(follow, follow_options);
       // The runs and their lateral offsets along the trace, for the report.
@@ -271,7 +271,7 @@ void AddDemoCommand(CLI::App& app) {
     if (options->consistency_runs > 0) {
       header("EKF consistency (NEES over repeated drives)");
       Progress progress("  drives", options->consistency_runs);
-      const pipeline::OdometryConsistency c = pipeline::EvaluateOdometryConsistency(
+      const harness::OdometryConsistency c = harness::EvaluateOdometryConsistency(
           scenario, options->consistency_runs, options->seed + 1000, 1.0,
           [&progress](int done, int) { progress.Update(done); });
       progress.Finish();

@@ -12,12 +12,12 @@
 #include "detection_scoring.h"
 #include "image_files.h"
 #include "parkslam/eval/detection_metrics.h"
+#include "parkslam/harness/perception_eval.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/io/ps2_labels.h"
 #include "parkslam/perception/front_end.h"
 #include "parkslam/perception/learned_slot_detector.h"
 #include "parkslam/perception/slot_detector.h"
-#include "parkslam/pipeline/perception_eval.h"
 #include "parkslam/sim/simulator.h"
 #include "progress.h"
 

@@ -5,12 +5,12 @@
 
 #include "commands.h"
 #include "parkslam/eval/map_metrics.h"
+#include "parkslam/harness/trace_following.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/numeric_csv.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
-#include "parkslam/pipeline/trace_following.h"
 #include "parkslam/sim/route.h"
 #include "parkslam/sim/simulator.h"
 #include "parkslam/viz/map_svg.h"
@@ -28,8 +28,8 @@ std::string Index(int i) {
 
 }  // namespace
 
-nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& r,
-                                    const pipeline::TraceFollowingOptions& o) {
+nlohmann::json TraceFollowingToJson(const harness::TraceFollowingResult& r,
+                                    const harness::TraceFollowingOptions& o) {
   const eval::TraceFollowingMetrics& m = r.metrics;
   auto number = [](double x) {
     return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
@@ -68,7 +68,7 @@ nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& r,
 }
 
 void WriteFollowRuns(const std::filesystem::path& dir, const Trajectory& trace_world,
-                     const pipeline::TraceFollowingResult& result) {
+                     const harness::TraceFollowingResult& result) {
   io::WriteTum(dir / "trace.tum", trace_world);
   io::NumericTable lateral;
   lateral.columns = {"s_m"};
@@ -169,8 +169,8 @@ void AddFollowCommand(CLI::App& app) {
       trace_world = Transformed(T_world_map, io::ReadTum(options->trace));
     }
 
-    const pipeline::AlgorithmOptions config = options->config.Load();
-    pipeline::TraceFollowingOptions follow;
+    const AlgorithmOptions config = options->config.Load();
+    harness::TraceFollowingOptions follow;
     follow.perception = config.front_end;
     follow.localizer = config.localizer;
     follow.follower = config.follower;
@@ -182,9 +182,9 @@ void AddFollowCommand(CLI::App& app) {
     follow.perception.detector = perception::ParseDetectorKind(options->detector);
     if (options->vehicle == "realistic") follow.vehicle_dynamics = sim::RealisticDynamics();
     Progress progress("  runs", options->runs);
-    const pipeline::TraceFollowingResult result =
-        pipeline::FollowTrace(scenario, map, T_map_world, trace_world, follow,
-                              [&progress](int done, int) { progress.Update(done); });
+    const harness::TraceFollowingResult result =
+        harness::FollowTrace(scenario, map, T_map_world, trace_world, follow,
+                             [&progress](int done, int) { progress.Update(done); });
     progress.Finish();
 
     WriteFollowRuns(out, trace_world, result);

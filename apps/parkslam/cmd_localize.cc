@@ -5,14 +5,14 @@
 
 #include "commands.h"
 #include "parkslam/eval/map_metrics.h"
+#include "parkslam/harness/dead_reckoning.h"
+#include "parkslam/harness/kidnap.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
 #include "parkslam/localization/localization_run.h"
 #include "parkslam/localization/localizer.h"
-#include "parkslam/pipeline/dead_reckoning.h"
-#include "parkslam/pipeline/kidnap.h"
 #include "progress.h"
 #include "steps.h"
 
@@ -55,7 +55,7 @@ void AddLocalizeCommand(CLI::App& app) {
   cmd->callback([options] {
     io::CheckOutputsSpareInputs({{options->out, "--out"}, {options->log, "--log"}},
                                 {{options->dataset, "DIR"}, {options->map, "--map"}});
-    const pipeline::AlgorithmOptions config = options->config.Load();
+    const AlgorithmOptions config = options->config.Load();
     const SemanticMap map = io::ReadMap(options->map);
     const io::Dataset dataset = io::ReadDataset(options->dataset);
     localization::Localizer localizer(
@@ -115,10 +115,10 @@ void AddLocalizeCommand(CLI::App& app) {
       const SE2 T_map_world =
           eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map.inverse();
       const Trajectory truth_map = Transformed(T_map_world, dataset.groundtruth_trajectory);
-      pipeline::KidnapOptions kidnap;
+      harness::KidnapOptions kidnap;
       kidnap.trials = options->kidnap_trials;
       Progress trials("  kidnap trials", kidnap.trials);
-      const pipeline::KidnapResult k = pipeline::RunKidnapTrials(
+      const harness::KidnapResult k = harness::RunKidnapTrials(
           map, dataset.log, truth_map, config.localizer,
           odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), kidnap,
           [&trials](int done, int) { trials.Update(done); });

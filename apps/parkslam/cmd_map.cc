@@ -4,11 +4,11 @@
 #include <filesystem>
 
 #include "commands.h"
+#include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/io/tum.h"
-#include "parkslam/pipeline/dead_reckoning.h"
 #include "progress.h"
 #include "steps.h"
 
@@ -66,7 +66,7 @@ void AddMapCommand(CLI::App& app) {
     io::CheckOutputsSpareInputs(
         {{options->out, "--out"}, {options->trajectory_out, "--trajectory-out"}},
         {{options->dataset, "DIR"}});
-    const pipeline::AlgorithmOptions config = options->config.Load();
+    const AlgorithmOptions config = options->config.Load();
     const io::Dataset dataset = io::ReadDataset(options->dataset);
     mapping::MapperOptions mapper_options = config.mapper;
     mapper_options.robust =

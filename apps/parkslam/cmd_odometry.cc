@@ -32,16 +32,16 @@ void AddOdometryCommand(CLI::App& app) {
   cmd->callback([options] {
     io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{options->dataset, "DIR"}});
     const io::Dataset dataset = io::ReadDataset(options->dataset);
-    pipeline::DeadReckoningOptions dr;
+    harness::DeadReckoningOptions dr;
     dr.output_rate_hz = options->rate_hz;
     if (!options->init.empty()) dr.initial_pose = ParsePose(options->init, "--init");
-    const pipeline::DeadReckoningResult result = RunOdometry(dataset, dr);
+    const harness::DeadReckoningResult result = RunOdometry(dataset, dr);
     if (result.poses.empty()) {
       throw std::runtime_error(options->dataset +
                                ": no IMU heading to start from (sensors/imu.csv is empty); "
                                "give --init x,y,yaw");
     }
-    io::WriteTum(options->out, pipeline::ToTrajectory(result.poses));
+    io::WriteTum(options->out, harness::ToTrajectory(result.poses));
     std::printf("%zu poses written to %s\n", result.poses.size(), options->out.c_str());
   });
 }

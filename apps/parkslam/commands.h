@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "parkslam/common/se2.h"
+#include "parkslam/harness/fault_injection.h"
+#include "parkslam/options/algorithm_options.h"
 #include "parkslam/perception/front_end.h"
-#include "parkslam/pipeline/algorithm_options.h"
-#include "parkslam/pipeline/fault_injection.h"
 #include "parkslam/sim/scenario_config.h"
 
 namespace parkslam::app {
@@ -78,7 +78,7 @@ struct ConfigOptions {
   std::string file;
   // The defaults overlaid with --config; throws IoError naming the file and
   // the key.
-  pipeline::AlgorithmOptions Load() const;
+  AlgorithmOptions Load() const;
 };
 void AddConfigOptions(CLI::App* command, ConfigOptions* options);
 
@@ -91,7 +91,7 @@ struct PixelOptions {
   // chosen detector.
   perception::PerceptionOptions Perception(const perception::PerceptionOptions& base = {}) const;
   // The parsed --fault options; throws std::runtime_error naming the bad one.
-  std::vector<pipeline::SensorFault> Faults() const;
+  std::vector<harness::SensorFault> Faults() const;
 };
 // --detector: which slot detector and ID reader a command on pixels runs.
 void AddDetectorOption(CLI::App* command, std::string* detector);

@@ -1,7 +1,7 @@
 #include "detection_scoring.h"
 
 #include "parkslam/camera/camera_names.h"
-#include "parkslam/pipeline/rendering_source.h"
+#include "parkslam/harness/rendering_source.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -129,12 +129,12 @@ std::vector<T> Pick(const std::vector<T>& items, const std::vector<int>& indices
 ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detection,
                  const std::vector<SlotIdReading>& ids, double pixels_per_m, Scores* scores) {
   const std::vector<eval::LabelledMarkingPoint> all_points =
-      pipeline::AsLabelled(detection.marking_points);
+      harness::AsLabelled(detection.marking_points);
   const std::vector<eval::LabelledMarkingPoint> points =
-      Pick(all_points, pipeline::ScoredPoints(all_points, truth.points, truth.ignored_points));
-  const std::vector<eval::EntranceLine> all_entrances = pipeline::EntrancesOf(detection.slots);
+      Pick(all_points, harness::ScoredPoints(all_points, truth.points, truth.ignored_points));
+  const std::vector<eval::EntranceLine> all_entrances = harness::EntrancesOf(detection.slots);
   const std::vector<int> kept =
-      pipeline::ScoredSlots(all_entrances, truth.entrances, truth.ignored_entrances);
+      harness::ScoredSlots(all_entrances, truth.entrances, truth.ignored_entrances);
   const eval::DetectionMatch mp = eval::MatchMarkingPoints(points, truth.points);
   const eval::DetectionMatch sm = eval::MatchSlots(Pick(all_entrances, kept), truth.entrances);
   scores->marking_points.Add(mp);
@@ -144,7 +144,7 @@ ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detec
   own.slots.Add(sm);
   ++scores->images;
   if (truth.corners != nullptr) {
-    eval::AddSlotCornerErrors(sm, Pick(pipeline::CornersOf(detection.slots), kept), *truth.corners,
+    eval::AddSlotCornerErrors(sm, Pick(harness::CornersOf(detection.slots), kept), *truth.corners,
                               pixels_per_m, &scores->corners);
   }
   if (truth.ids != nullptr) {
@@ -167,8 +167,8 @@ DriveScorer::Frame DriveScorer::ScoreAt(TimeNs t_ns, Scores* scores) const {
   const std::vector<std::string>& kCameras = camera::AllCameraNames();
   const SE2 pose = *PoseAt(truth_, t_ns);
   Frame frame;
-  frame.out = front_end_.Process(pipeline::RenderCameraFrame(renderer_, pose, t_ns, kCameras));
-  const pipeline::TopViewTruth tv = pipeline::TruthInTopView(
+  frame.out = front_end_.Process(harness::RenderCameraFrame(renderer_, pose, t_ns, kCameras));
+  const harness::TopViewTruth tv = harness::TruthInTopView(
       simulation_.world, pose, front_end_.fusion(), front_end_.FootprintMask());
   const ImageTruth image_truth{tv.marking_points, tv.entrances,      &tv.corners,
                                &tv.ids,           tv.ignored_points, tv.ignored_entrances};

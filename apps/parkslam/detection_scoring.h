@@ -12,9 +12,9 @@
 
 #include "parkslam/common/trajectory.h"
 #include "parkslam/eval/detection_metrics.h"
+#include "parkslam/harness/perception_eval.h"
 #include "parkslam/perception/front_end.h"
 #include "parkslam/perception/slot_detector.h"
-#include "parkslam/pipeline/perception_eval.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/simulator.h"
 

@@ -118,11 +118,11 @@ void AddPixelOptions(CLI::App* command, PixelOptions* options) {
       "wheel-dropout or clock-jitter (e.g. camera-black@60+20,camera=left)");
 }
 
-std::vector<pipeline::SensorFault> PixelOptions::Faults() const {
-  std::vector<pipeline::SensorFault> parsed;
+std::vector<harness::SensorFault> PixelOptions::Faults() const {
+  std::vector<harness::SensorFault> parsed;
   for (const std::string& text : faults) {
     try {
-      parsed.push_back(pipeline::ParseSensorFault(text));
+      parsed.push_back(harness::ParseSensorFault(text));
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(std::string("--fault: ") + e.what());
     }
@@ -147,8 +147,8 @@ perception::PerceptionOptions PixelOptions::Perception(
   return o;
 }
 
-pipeline::AlgorithmOptions ConfigOptions::Load() const {
-  return file.empty() ? pipeline::AlgorithmOptions{} : io::LoadOptionsFile(file);
+AlgorithmOptions ConfigOptions::Load() const {
+  return file.empty() ? AlgorithmOptions{} : io::LoadOptionsFile(file);
 }
 
 void AddConfigOptions(CLI::App* command, ConfigOptions* options) {
@@ -160,7 +160,7 @@ void AddConfigOptions(CLI::App* command, ConfigOptions* options) {
   command->add_flag_callback(
       "--dump-config",
       [] {
-        std::cout << io::OptionsToYaml(pipeline::AlgorithmOptions{});
+        std::cout << io::OptionsToYaml(AlgorithmOptions{});
         throw CLI::Success();
       },
       "Print every algorithm option with its default as YAML and exit");

@@ -8,10 +8,10 @@
 #include "parkslam/camera/camera_names.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/common/seed_mix.h"
+#include "parkslam/harness/rendering_source.h"
 #include "parkslam/io/image_folder.h"
 #include "parkslam/io/rig_yaml.h"
 #include "parkslam/perception/front_end.h"
-#include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/simulator.h"
 #include "progress.h"
@@ -33,10 +33,10 @@ io::Dataset SimulateDataset(const sim::ScenarioConfig& scenario, std::uint64_t s
   return dataset;
 }
 
-pipeline::DeadReckoningResult RunOdometry(const io::Dataset& dataset,
-                                          const pipeline::DeadReckoningOptions& options) {
+harness::DeadReckoningResult RunOdometry(const io::Dataset& dataset,
+                                         const harness::DeadReckoningOptions& options) {
   SensorLogSource source(dataset.log);
-  return pipeline::RunDeadReckoning(
+  return harness::RunDeadReckoning(
       source, odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), options);
 }
 
@@ -70,14 +70,14 @@ struct DatasetStream::Live {
 DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
                              const std::filesystem::path& recorded_images_dir,
                              const perception::PerceptionOptions& perception,
-                             const std::vector<pipeline::SensorFault>& faults)
+                             const std::vector<harness::SensorFault>& faults)
     : log_(dataset.log) {
   // The faults act on what the sensors give: the log, or the log with the
   // camera frames, before the front end.
   const auto with_faults = [&](SensorSource& inner) -> SensorSource& {
     if (faults.empty()) return inner;
-    faults_ = std::make_unique<pipeline::FaultInjectingSource>(inner, faults,
-                                                               MixSeed(dataset.seed, 0xFA17));
+    faults_ = std::make_unique<harness::FaultInjectingSource>(inner, faults,
+                                                              MixSeed(dataset.seed, 0xFA17));
     return *faults_;
   };
   if (!recorded_images_dir.empty()) {
@@ -108,7 +108,7 @@ DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
                                  static_cast<std::uint64_t>(dataset.scenario->world.seed));
   live_->renderer = std::make_unique<render::Renderer>(live_->world, camera::DefaultRig(),
                                                        render::RenderOptions{}, dataset.seed);
-  live_->source = std::make_unique<pipeline::RenderingSource>(
+  live_->source = std::make_unique<harness::RenderingSource>(
       log_, *live_->renderer, dataset.groundtruth_trajectory, camera::AllCameraNames(), rate_hz);
   // On pixels: the frames replace the dataset's observation-level slots
   // and tags.
@@ -129,7 +129,7 @@ SensorSource& DatasetStream::source() {
 std::string DatasetStream::DescribeFaults() const {
   std::string out;
   if (faults_) {
-    const pipeline::InjectedFaults& f = faults_->injected();
+    const harness::InjectedFaults& f = faults_->injected();
     char line[512];
     std::snprintf(line, sizeof(line),
                   "faults injected: %d frames dropped, %d images black, %d frozen, %d frames "
@@ -211,7 +211,7 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
                          std::optional<SE2> initial_pose, bool progress, double live_image_rate_hz,
                          const std::filesystem::path& recorded_images_dir,
                          const perception::PerceptionOptions& perception,
-                         const std::vector<pipeline::SensorFault>& faults,
+                         const std::vector<harness::SensorFault>& faults,
                          std::string* faults_seen) {
   mapping::Mapper mapper(
       options, odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), initial_pose);

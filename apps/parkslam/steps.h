@@ -12,14 +12,14 @@
 
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/eval/trajectory_metrics.h"
+#include "parkslam/harness/dead_reckoning.h"
+#include "parkslam/harness/fault_injection.h"
+#include "parkslam/harness/trace_following.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/numeric_csv.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper.h"
 #include "parkslam/perception/front_end.h"
-#include "parkslam/pipeline/dead_reckoning.h"
-#include "parkslam/pipeline/fault_injection.h"
-#include "parkslam/pipeline/trace_following.h"
 
 namespace parkslam::app {
 
@@ -27,8 +27,8 @@ namespace parkslam::app {
 io::Dataset SimulateDataset(const sim::ScenarioConfig& scenario, std::uint64_t seed);
 
 // Dead reckoning over a dataset with the EKF tuned from its sensor spec.
-pipeline::DeadReckoningResult RunOdometry(const io::Dataset& dataset,
-                                          const pipeline::DeadReckoningOptions& options);
+harness::DeadReckoningResult RunOdometry(const io::Dataset& dataset,
+                                         const harness::DeadReckoningOptions& options);
 
 nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& metrics);
 
@@ -55,21 +55,21 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
                          double live_image_rate_hz = 0.0,
                          const std::filesystem::path& recorded_images_dir = {},
                          const perception::PerceptionOptions& perception = {},
-                         const std::vector<pipeline::SensorFault>& faults = {},
+                         const std::vector<harness::SensorFault>& faults = {},
                          std::string* faults_seen = nullptr);
 
 // The stream of a dataset: on pixels with live camera frames when
 // live_image_rate_hz > 0, or with the dataset's recorded images when
 // recorded_images_dir is given (its folder, holding images/); the slots and
 // tags the perception front end finds then replace the dataset's.
-// With `faults` the stream carries them (pipeline/fault_injection.h),
+// With `faults` the stream carries them (harness/fault_injection.h),
 // before the front end on pixels.
 class DatasetStream {
  public:
   DatasetStream(const io::Dataset& dataset, double live_image_rate_hz,
                 const std::filesystem::path& recorded_images_dir = {},
                 const perception::PerceptionOptions& perception = {},
-                const std::vector<pipeline::SensorFault>& faults = {});
+                const std::vector<harness::SensorFault>& faults = {});
   ~DatasetStream();
   SensorSource& source();
   // What was injected and which cameras the front end found black or
@@ -80,7 +80,7 @@ class DatasetStream {
   struct Live;
   SensorLogSource log_;
   std::unique_ptr<Live> live_;
-  std::unique_ptr<pipeline::FaultInjectingSource> faults_;
+  std::unique_ptr<harness::FaultInjectingSource> faults_;
 };
 
 // What the dead reckoning saw of its inputs' faults, one line; "" when
@@ -94,8 +94,8 @@ std::vector<bool> PassedSlots(const io::Dataset& dataset, size_t truth_slots, in
 nlohmann::json MapMetricsToJson(const eval::MapMetrics& metrics);
 std::string DescribeMapMetrics(const eval::MapMetrics& metrics);
 
-nlohmann::json TraceFollowingToJson(const pipeline::TraceFollowingResult& result,
-                                    const pipeline::TraceFollowingOptions& options);
+nlohmann::json TraceFollowingToJson(const harness::TraceFollowingResult& result,
+                                    const harness::TraceFollowingOptions& options);
 
 // The localizer's estimate at each camera frame in the lot's frame
 // (T_world_map), beside the truth, as localization.csv holds it
@@ -114,7 +114,7 @@ inline constexpr std::array<const char*, 10> kRunColours = {
 // (estimate_NN.tum), and the runs' signed lateral offsets along the trace
 // (lateral.csv: s_m, run_NN_m ...; docs/report.md), into `dir`.
 void WriteFollowRuns(const std::filesystem::path& dir, const Trajectory& trace_world,
-                     const pipeline::TraceFollowingResult& result);
+                     const harness::TraceFollowingResult& result);
 
 // A short human-readable summary of a dataset.
 std::string DescribeDataset(const io::Dataset& dataset);

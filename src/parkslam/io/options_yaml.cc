@@ -11,28 +11,27 @@ using visit_yaml::ReadValue;
 using visit_yaml::WriteFields;
 using yaml_util::YamlReader;
 
-std::string OptionsToYaml(const pipeline::AlgorithmOptions& options) {
+std::string OptionsToYaml(const AlgorithmOptions& options) {
   std::string out =
       "# parkslam algorithm options (--config FILE.yaml): front end, mapper, localizer,\n"
       "# follower. Give only the keys you change; units are in the key names.\n";
-  pipeline::AlgorithmOptions copy = options;  // VisitFields() is not const
+  AlgorithmOptions copy = options;  // VisitFields() is not const
   WriteFields(copy, 0, &out);
   return out;
 }
 
-pipeline::AlgorithmOptions OptionsFromYaml(const std::string& yaml_text,
-                                           const pipeline::AlgorithmOptions& base,
-                                           const std::string& source_name) {
+AlgorithmOptions OptionsFromYaml(const std::string& yaml_text, const AlgorithmOptions& base,
+                                 const std::string& source_name) {
   const YAML::Node root = yaml_util::LoadYaml(yaml_text, source_name);
-  pipeline::AlgorithmOptions options = base;
+  AlgorithmOptions options = base;
   if (!root.IsNull()) ReadValue(YamlReader(source_name, true), root, "", &options);
   std::string error;
   if (!options.IsValid(&error)) ThrowIoError(source_name, 0, "", error);
   return options;
 }
 
-pipeline::AlgorithmOptions LoadOptionsFile(const std::filesystem::path& path) {
-  return OptionsFromYaml(ReadTextFile(path), pipeline::AlgorithmOptions{}, path.string());
+AlgorithmOptions LoadOptionsFile(const std::filesystem::path& path) {
+  return OptionsFromYaml(ReadTextFile(path), AlgorithmOptions{}, path.string());
 }
 
 }  // namespace parkslam::io

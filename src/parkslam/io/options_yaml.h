@@ -2,7 +2,7 @@
 #define PARKSLAM_IO_OPTIONS_YAML_H_
 
 // The algorithm options file of `--config FILE.yaml`
-// (pipeline/algorithm_options.h): sections front_end, mapper, localizer and
+// (options/algorithm_options.h): sections front_end, mapper, localizer and
 // follower, each a partial overlay on the defaults, read as strictly as the
 // scenario files: an unknown key or a bad value is an error naming the file,
 // the line and the key ("my.yaml:7: mapper.null_wieght: unknown key (did you
@@ -14,21 +14,20 @@
 #include <filesystem>
 #include <string>
 
-#include "parkslam/pipeline/algorithm_options.h"
+#include "parkslam/options/algorithm_options.h"
 
 namespace parkslam::io {
 
-std::string OptionsToYaml(const pipeline::AlgorithmOptions& options);
+std::string OptionsToYaml(const AlgorithmOptions& options);
 
 // Overlays `yaml_text` onto `base`; an empty text changes nothing. Throws
 // IoError naming source_name, the line and the key, also when the result
 // fails AlgorithmOptions::IsValid.
-pipeline::AlgorithmOptions OptionsFromYaml(const std::string& yaml_text,
-                                           const pipeline::AlgorithmOptions& base,
-                                           const std::string& source_name);
+AlgorithmOptions OptionsFromYaml(const std::string& yaml_text, const AlgorithmOptions& base,
+                                 const std::string& source_name);
 
 // The defaults overlaid with the file.
-pipeline::AlgorithmOptions LoadOptionsFile(const std::filesystem::path& path);
+AlgorithmOptions LoadOptionsFile(const std::filesystem::path& path);
 
 }  // namespace parkslam::io
 

@@ -15,7 +15,7 @@ using ::testing::HasSubstr;
 
 std::string ErrorOf(const std::string& yaml) {
   try {
-    OptionsFromYaml(yaml, pipeline::AlgorithmOptions{}, "o.yaml");
+    OptionsFromYaml(yaml, AlgorithmOptions{}, "o.yaml");
   } catch (const IoError& e) {
     return e.what();
   }
@@ -23,27 +23,26 @@ std::string ErrorOf(const std::string& yaml) {
 }
 
 TEST(OptionsYamlTest, TheShippedExampleLoadsAndChangesWhatItSays) {
-  const pipeline::AlgorithmOptions o =
+  const AlgorithmOptions o =
       LoadOptionsFile(std::filesystem::path(PARKSLAM_CONFIG_DIR) / "options.yaml");
   EXPECT_EQ(o.front_end.corner_sigma_m, 0.05);
   EXPECT_EQ(o.mapper.min_observations, 4);
   EXPECT_EQ(o.localizer.lost_position_sigma_m, 1.0);
   EXPECT_EQ(o.follower.max_decel_mps2, 0.6);
   // Everything else keeps its default.
-  const pipeline::AlgorithmOptions defaults;
+  const AlgorithmOptions defaults;
   EXPECT_EQ(o.mapper.null_weight, defaults.mapper.null_weight);
   EXPECT_EQ(o.front_end.slots.min_contrast_grey, defaults.front_end.slots.min_contrast_grey);
 }
 
 TEST(OptionsYamlTest, DumpedDefaultsReadBackExactly) {
-  pipeline::AlgorithmOptions changed;
+  AlgorithmOptions changed;
   changed.mapper.null_chi2 = 31.25;
   changed.front_end.top_view.camera_priority_rad = {0.1, -0.2, 0.3, 0.4};
   changed.front_end.tags.quad_decimate = 1.5f;
   changed.localizer.reloc_min_inliers = 9;
   const std::string text = OptionsToYaml(changed);
-  const pipeline::AlgorithmOptions back =
-      OptionsFromYaml(text, pipeline::AlgorithmOptions{}, "dump.yaml");
+  const AlgorithmOptions back = OptionsFromYaml(text, AlgorithmOptions{}, "dump.yaml");
   EXPECT_EQ(OptionsToYaml(back), text);
   EXPECT_EQ(back.mapper.null_chi2, 31.25);
   EXPECT_EQ(back.front_end.top_view.camera_priority_rad.size(), 4u);

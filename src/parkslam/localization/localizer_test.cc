@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/localization/localization_run.h"
-#include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/sim/simulator.h"
 
 namespace parkslam::localization {

@@ -6,15 +6,15 @@
 #include <cmath>
 
 #include "parkslam/common/angles.h"
-#include "parkslam/pipeline/rendering_source.h"
+#include "parkslam/harness/rendering_source.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/simulator.h"
 
 namespace parkslam::perception {
 namespace {
 
-using pipeline::RenderCameraFrame;
-using pipeline::RenderingSource;
+using harness::RenderCameraFrame;
+using harness::RenderingSource;
 
 const std::vector<std::string> kCameras{"front", "rear", "left", "right", "front_mono"};
 

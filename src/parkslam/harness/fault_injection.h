@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_PIPELINE_FAULT_INJECTION_H_
-#define PARKSLAM_PIPELINE_FAULT_INJECTION_H_
+#ifndef PARKSLAM_HARNESS_FAULT_INJECTION_H_
+#define PARKSLAM_HARNESS_FAULT_INJECTION_H_
 
 // Sensor faults injected into a stream (docs/robustness.md, "Sensor
 // faults"): the same faults for a simulated drive and for a recorded one,
@@ -30,7 +30,7 @@
 #include "parkslam/common/time.h"
 #include "parkslam/sensor/sensor_log.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 enum class FaultKind {
   kCameraGap,
@@ -107,6 +107,6 @@ class FaultInjectingSource final : public SensorSource {
   InjectedFaults injected_;
 };
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness
 
-#endif  // PARKSLAM_PIPELINE_FAULT_INJECTION_H_
+#endif  // PARKSLAM_HARNESS_FAULT_INJECTION_H_

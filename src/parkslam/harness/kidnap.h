@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_PIPELINE_KIDNAP_H_
-#define PARKSLAM_PIPELINE_KIDNAP_H_
+#ifndef PARKSLAM_HARNESS_KIDNAP_H_
+#define PARKSLAM_HARNESS_KIDNAP_H_
 
 #include <cstdint>
 #include <functional>
@@ -11,7 +11,7 @@
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/sensor/sensor_log.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 // Kidnapped-robot trials on a recorded drive: the localizer tracks the drive
 // until, at a random time, its belief is replaced by a confident wrong pose
@@ -41,6 +41,6 @@ KidnapResult RunKidnapTrials(const SemanticMap& map, const SensorLog& log, const
                              const KidnapOptions& options,
                              const std::function<void(int done, int total)>& on_trial_done = {});
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness
 
-#endif  // PARKSLAM_PIPELINE_KIDNAP_H_
+#endif  // PARKSLAM_HARNESS_KIDNAP_H_

@@ -7,12 +7,12 @@
 #include <cstdio>
 
 #include "parkslam/eval/map_metrics.h"
+#include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/mapping/mapper.h"
-#include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/sim/scenario_config.h"
 #include "parkslam/sim/simulator.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 struct Result {
@@ -96,4 +96,4 @@ TEST(SoakTest, RetiredRecordsBoundTheStorageAndKeepTheMap) {
 }
 
 }  // namespace
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

@@ -18,13 +18,13 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "parkslam/eval/detection_metrics.h"
+#include "parkslam/harness/perception_eval.h"
 #include "parkslam/io/ps2_labels.h"
 #include "parkslam/perception/front_end.h"
 #include "parkslam/perception/learned_slot_detector.h"
 #include "parkslam/perception/learned_slot_id_reader.h"
-#include "parkslam/pipeline/perception_eval.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 // Measured with the committed networks, less a margin of one detection.
@@ -104,4 +104,4 @@ TEST(LearnedRealDataTest, ReadsTheRealPaintedIds) {
 }
 
 }  // namespace
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

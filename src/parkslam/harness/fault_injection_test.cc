@@ -1,4 +1,4 @@
-#include "parkslam/pipeline/fault_injection.h"
+#include "parkslam/harness/fault_injection.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 using ::testing::HasSubstr;
@@ -188,4 +188,4 @@ TEST(FaultInjectionTest, ImuSpikesHeadingJumpAndJitterAreSeededAndBounded) {
 }
 
 }  // namespace
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

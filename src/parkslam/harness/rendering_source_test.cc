@@ -1,13 +1,13 @@
-#include "parkslam/pipeline/rendering_source.h"
+#include "parkslam/harness/rendering_source.h"
 
 #include <gtest/gtest.h>
 
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/mapping/mapper.h"
-#include "parkslam/pipeline/dead_reckoning.h"
 #include "parkslam/sim/simulator.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 struct ShortDrive {
@@ -89,4 +89,4 @@ TEST(RenderingSourceTest, InvalidRateThrows) {
 }
 
 }  // namespace
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

@@ -1,4 +1,4 @@
-#include "parkslam/pipeline/fault_injection.h"
+#include "parkslam/harness/fault_injection.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "parkslam/common/angles.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 struct KindName {
@@ -260,4 +260,4 @@ std::optional<SensorEvent> FaultInjectingSource::Next() {
   return event;
 }
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

@@ -1,10 +1,10 @@
-#include "parkslam/pipeline/perception_eval.h"
+#include "parkslam/harness/perception_eval.h"
 
 #include <cmath>
 
 #include "parkslam/render/ground_raster.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 bool InView(const Eigen::Vector2d& px, const cv::Mat& mask, double margin_px, double gap_px) {
@@ -147,4 +147,4 @@ std::vector<int> ScoredSlots(const std::vector<eval::EntranceLine>& detected,
                 [](const auto& d, const auto& t) { return eval::EntranceLinesMatch(d, t); });
 }
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

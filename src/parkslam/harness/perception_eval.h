@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_PIPELINE_PERCEPTION_EVAL_H_
-#define PARKSLAM_PIPELINE_PERCEPTION_EVAL_H_
+#ifndef PARKSLAM_HARNESS_PERCEPTION_EVAL_H_
+#define PARKSLAM_HARNESS_PERCEPTION_EVAL_H_
 
 // The simulator's truth in one top view, for scoring the slot detector and
 // the ID reader on rendered images with the DMPR-PS rule (eval/
@@ -14,7 +14,7 @@
 #include "parkslam/sensor/sensor_data.h"
 #include "parkslam/sim/world.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 struct TopViewTruth {
   // Entrance corners (marking points) of the slots in view, one per
@@ -55,6 +55,6 @@ std::vector<int> ScoredSlots(const std::vector<eval::EntranceLine>& detected,
                              const std::vector<eval::EntranceLine>& truth,
                              const std::vector<eval::EntranceLine>& ignored);
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness
 
-#endif  // PARKSLAM_PIPELINE_PERCEPTION_EVAL_H_
+#endif  // PARKSLAM_HARNESS_PERCEPTION_EVAL_H_

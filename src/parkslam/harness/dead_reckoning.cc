@@ -1,8 +1,8 @@
-#include "parkslam/pipeline/dead_reckoning.h"
+#include "parkslam/harness/dead_reckoning.h"
 
 #include <stdexcept>
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 DeadReckoningResult RunDeadReckoning(SensorSource& source,
                                      const odometry::OdometryEkfOptions& ekf_options,
@@ -56,4 +56,4 @@ Trajectory ToTrajectory(const std::vector<TimedPoseWithCovariance>& poses) {
   return trajectory;
 }
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_PIPELINE_ALGORITHM_OPTIONS_H_
-#define PARKSLAM_PIPELINE_ALGORITHM_OPTIONS_H_
+#ifndef PARKSLAM_OPTIONS_ALGORITHM_OPTIONS_H_
+#define PARKSLAM_OPTIONS_ALGORITHM_OPTIONS_H_
 
 // Every algorithm option a command may take from one file (`--config
 // FILE.yaml`, io/options_yaml.h): the perception front end, the mapper, the
@@ -13,7 +13,7 @@
 #include "parkslam/mapping/mapper_options.h"
 #include "parkslam/perception/front_end.h"
 
-namespace parkslam::pipeline {
+namespace parkslam {
 
 struct AlgorithmOptions {
   perception::PerceptionOptions front_end;
@@ -34,6 +34,6 @@ struct AlgorithmOptions {
   }
 };
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam
 
-#endif  // PARKSLAM_PIPELINE_ALGORITHM_OPTIONS_H_
+#endif  // PARKSLAM_OPTIONS_ALGORITHM_OPTIONS_H_

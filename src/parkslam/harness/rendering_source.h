@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_PIPELINE_RENDERING_SOURCE_H_
-#define PARKSLAM_PIPELINE_RENDERING_SOURCE_H_
+#ifndef PARKSLAM_HARNESS_RENDERING_SOURCE_H_
+#define PARKSLAM_HARNESS_RENDERING_SOURCE_H_
 
 // The simulator's cameras, live: passes a sensor stream through and adds,
 // every 1 / rate_hz, the frame set the rig's cameras see at the true pose,
@@ -13,7 +13,7 @@
 #include "parkslam/render/renderer.h"
 #include "parkslam/sensor/sensor_log.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 // Renders a frame set into a CameraFrame (grey planes).
 CameraFrame RenderCameraFrame(const render::Renderer& renderer, const SE2& T_map_vehicle,
@@ -41,6 +41,6 @@ class RenderingSource final : public SensorSource {
   int frames_rendered_ = 0;
 };
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness
 
-#endif  // PARKSLAM_PIPELINE_RENDERING_SOURCE_H_
+#endif  // PARKSLAM_HARNESS_RENDERING_SOURCE_H_

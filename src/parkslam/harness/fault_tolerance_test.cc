@@ -14,14 +14,14 @@
 #include <vector>
 
 #include "parkslam/eval/map_metrics.h"
+#include "parkslam/harness/dead_reckoning.h"
+#include "parkslam/harness/fault_injection.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper.h"
-#include "parkslam/pipeline/dead_reckoning.h"
-#include "parkslam/pipeline/fault_injection.h"
 #include "parkslam/sim/scenario_config.h"
 #include "parkslam/sim/simulator.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 constexpr double kFaultStart_s = 100.0;
@@ -185,4 +185,4 @@ TEST(FaultToleranceTest, ClockJitter) {
 }
 
 }  // namespace
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

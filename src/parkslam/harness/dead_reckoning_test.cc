@@ -1,14 +1,14 @@
-#include "parkslam/pipeline/dead_reckoning.h"
+#include "parkslam/harness/dead_reckoning.h"
 
 #include <gtest/gtest.h>
 
 #include <iostream>
 
 #include "parkslam/eval/trajectory_metrics.h"
-#include "parkslam/pipeline/odometry_consistency.h"
+#include "parkslam/harness/odometry_consistency.h"
 #include "parkslam/sim/simulator.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 TEST(DeadReckoningTest, DefaultDriveDriftsLessThanOnePercent) {
@@ -73,4 +73,4 @@ TEST(OdometryConsistencyTest, NeesInsideChiSquareBandOnDefaultDrive) {
 }
 
 }  // namespace
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

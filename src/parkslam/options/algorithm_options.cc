@@ -1,8 +1,8 @@
-#include "parkslam/pipeline/algorithm_options.h"
+#include "parkslam/options/algorithm_options.h"
 
 #include <cmath>
 
-namespace parkslam::pipeline {
+namespace parkslam {
 namespace {
 
 // Runs one part's check and prefixes its message with the part's path.
@@ -56,4 +56,4 @@ bool AlgorithmOptions::IsValid(std::string* error) const {
          Check(localizer, "localizer", error) && Check(follower, "follower", error);
 }
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam

@@ -1,10 +1,10 @@
-#include "parkslam/pipeline/rendering_source.h"
+#include "parkslam/harness/rendering_source.h"
 
 #include <stdexcept>
 
 #include "parkslam/camera/image_plane.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 CameraFrame RenderCameraFrame(const render::Renderer& renderer, const SE2& T_map_vehicle,
                               TimeNs t_ns, const std::vector<std::string>& cameras) {
@@ -45,4 +45,4 @@ std::optional<SensorEvent> RenderingSource::Next() {
   return event;
 }
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

@@ -1,14 +1,14 @@
-#include "parkslam/pipeline/odometry_consistency.h"
+#include "parkslam/harness/odometry_consistency.h"
 
 #include <algorithm>
 #include <stdexcept>
 
 #include "parkslam/common/angles.h"
 #include "parkslam/eval/consistency.h"
-#include "parkslam/pipeline/dead_reckoning.h"
+#include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/sim/simulator.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 OdometryConsistency EvaluateOdometryConsistency(const sim::ScenarioConfig& scenario, int runs,
                                                 std::uint64_t first_seed, double sample_period_s,
@@ -68,4 +68,4 @@ OdometryConsistency EvaluateOdometryConsistency(const sim::ScenarioConfig& scena
   return result;
 }
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

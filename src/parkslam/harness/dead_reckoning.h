@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_PIPELINE_DEAD_RECKONING_H_
-#define PARKSLAM_PIPELINE_DEAD_RECKONING_H_
+#ifndef PARKSLAM_HARNESS_DEAD_RECKONING_H_
+#define PARKSLAM_HARNESS_DEAD_RECKONING_H_
 
 // Glue between the sensor stream and the odometry EKF, shared by the CLI,
 // the demo and the consistency tests. No I/O.
@@ -11,7 +11,7 @@
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/sensor/sensor_log.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 struct DeadReckoningOptions {
   double output_rate_hz = 50.0;
@@ -35,6 +35,6 @@ DeadReckoningResult RunDeadReckoning(SensorSource& source,
 // The poses without covariance.
 Trajectory ToTrajectory(const std::vector<TimedPoseWithCovariance>& poses);
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness
 
-#endif  // PARKSLAM_PIPELINE_DEAD_RECKONING_H_
+#endif  // PARKSLAM_HARNESS_DEAD_RECKONING_H_

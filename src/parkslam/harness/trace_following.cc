@@ -1,4 +1,4 @@
-#include "parkslam/pipeline/trace_following.h"
+#include "parkslam/harness/trace_following.h"
 
 #include <cmath>
 #include <memory>
@@ -10,14 +10,14 @@
 #include "parkslam/common/random.h"
 #include "parkslam/control/safety_supervisor.h"
 #include "parkslam/control/trace.h"
+#include "parkslam/harness/dead_reckoning.h"
+#include "parkslam/harness/rendering_source.h"
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/perception/front_end.h"
-#include "parkslam/pipeline/dead_reckoning.h"
-#include "parkslam/pipeline/rendering_source.h"
 #include "parkslam/render/renderer.h"
 #include "parkslam/sim/live_simulator.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 constexpr std::uint64_t kStartTag = 0x57a7;
@@ -230,4 +230,4 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
   return result;
 }
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

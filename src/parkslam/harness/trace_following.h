@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_PIPELINE_TRACE_FOLLOWING_H_
-#define PARKSLAM_PIPELINE_TRACE_FOLLOWING_H_
+#ifndef PARKSLAM_HARNESS_TRACE_FOLLOWING_H_
+#define PARKSLAM_HARNESS_TRACE_FOLLOWING_H_
 
 // The paper's online experiment (IV-B) in the simulator: a recorded trace is
 // followed autonomously, again and again. The simulator senses from the
@@ -22,7 +22,7 @@
 #include "parkslam/sim/live_simulator.h"
 #include "parkslam/sim/scenario_config.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 struct TraceFollowingOptions {
   int runs = 10;
@@ -88,6 +88,6 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
                                  const TraceFollowingOptions& options,
                                  const std::function<void(int run, int runs)>& on_run_done = {});
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness
 
-#endif  // PARKSLAM_PIPELINE_TRACE_FOLLOWING_H_
+#endif  // PARKSLAM_HARNESS_TRACE_FOLLOWING_H_

@@ -1,11 +1,11 @@
-#include "parkslam/pipeline/kidnap.h"
+#include "parkslam/harness/kidnap.h"
 
 #include <stdexcept>
 
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 constexpr std::uint64_t kKidnapTag = 0x6b1d;
@@ -79,4 +79,4 @@ KidnapResult RunKidnapTrials(const SemanticMap& map, const SensorLog& log, const
   return result;
 }
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

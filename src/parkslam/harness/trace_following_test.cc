@@ -1,4 +1,4 @@
-#include "parkslam/pipeline/trace_following.h"
+#include "parkslam/harness/trace_following.h"
 
 #include <gtest/gtest.h>
 
@@ -8,12 +8,12 @@
 #include "parkslam/common/random.h"
 #include "parkslam/sim/world.h"
 
-#include "parkslam/pipeline/dead_reckoning.h"
-#include "parkslam/pipeline/kidnap.h"
+#include "parkslam/harness/dead_reckoning.h"
+#include "parkslam/harness/kidnap.h"
 #include "parkslam/sim/route.h"
 #include "parkslam/sim/simulator.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 namespace {
 
 // The default lot with a short drive: the corridor, aisle 1, up the east
@@ -306,4 +306,4 @@ TEST(KidnapTest, RelocalizesInAlmostAllTrials) {
 }
 
 }  // namespace
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness

@@ -1,5 +1,5 @@
-#ifndef PARKSLAM_PIPELINE_ODOMETRY_CONSISTENCY_H_
-#define PARKSLAM_PIPELINE_ODOMETRY_CONSISTENCY_H_
+#ifndef PARKSLAM_HARNESS_ODOMETRY_CONSISTENCY_H_
+#define PARKSLAM_HARNESS_ODOMETRY_CONSISTENCY_H_
 
 #include <cstdint>
 #include <functional>
@@ -7,7 +7,7 @@
 
 #include "parkslam/sim/scenario_config.h"
 
-namespace parkslam::pipeline {
+namespace parkslam::harness {
 
 // Monte-Carlo consistency of the dead-reckoning EKF on a scenario: `runs`
 // simulations with seeds first_seed, first_seed + 1, ...; at every sample
@@ -28,6 +28,6 @@ OdometryConsistency EvaluateOdometryConsistency(
     const sim::ScenarioConfig& scenario, int runs, std::uint64_t first_seed,
     double sample_period_s = 1.0, const std::function<void(int done, int total)>& on_run_done = {});
 
-}  // namespace parkslam::pipeline
+}  // namespace parkslam::harness
 
-#endif  // PARKSLAM_PIPELINE_ODOMETRY_CONSISTENCY_H_
+#endif  // PARKSLAM_HARNESS_ODOMETRY_CONSISTENCY_H_
