@@ -551,7 +551,7 @@ sim::SlotObservationLabels MatchLabels(const std::vector<LabelFrame>& frames,
       const int label = frames[f].slots[i];
       if (label >= 0 && static_cast<std::size_t>(label) >= map_slots) {
         ThrowIoError(source, line, "slots[" + std::to_string(i) + "]",
-                     "label " + std::to_string(label) + " out of range (the map has " +
+                     "label " + std::to_string(label) + " out of range (" + kMapFile + " has " +
                          std::to_string(map_slots) + " slots)");
       }
     }

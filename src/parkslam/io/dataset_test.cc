@@ -560,7 +560,8 @@ TEST(DatasetTest, LabelBeyondTheMapIsReported) {
   WriteDataset(dir / "d", SampleDataset());
   EditFile(dir / "d/groundtruth/slot_labels.jsonl", "\"slots\":[2]", "\"slots\":[3]");
   EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }),
-              HasSubstr("slot_labels.jsonl:2: slots[0]: label 3 out of range"));
+              HasSubstr("slot_labels.jsonl:2: slots[0]: label 3 out of range "
+                        "(groundtruth/map.json has 3 slots)"));
 }
 
 TEST(DatasetTest, MissingSensorFileIsReported) {
