@@ -65,11 +65,6 @@ void AddSolveGraphCommand(CLI::App& app) {
     if (!options->truth.empty()) truth = io::ReadG2o(options->truth);
     options->solve.robust =
         options->robust == "maxmix" ? graph::RobustKernel::kMaxMixture : graph::RobustKernel::kNone;
-    try {
-      graph::CheckPoseGraph(g);
-    } catch (const std::invalid_argument& e) {
-      throw std::runtime_error(options->in + ": " + e.what());
-    }
     const graph::SolveSummary s = graph::SolvePoseGraph(options->solve, &g);
     io::WriteG2o(options->out, g);
     nlohmann::json j = {{"chi2", s.chi2},          {"iterations", s.iterations},

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "parkslam/common/angles.h"
+#include "parkslam/graph/pose_edge_factor.h"
 
 namespace parkslam::graph {
 namespace {
@@ -26,10 +26,13 @@ std::string EdgeName(const char* kind, size_t index, int a, int b) {
 }  // namespace
 
 Eigen::Vector3d PoseEdgeError(const PoseEdge& edge, const SE2& T_world_a, const SE2& T_world_b) {
-  const SE2 T_a_b = T_world_a.inverse() * T_world_b;
-  const Eigen::Vector2d dt =
-      edge.T_from_to.rotation().transpose() * (T_a_b.translation() - edge.T_from_to.translation());
-  return {dt.x(), dt.y(), AngleDiff(T_a_b.yaw(), edge.T_from_to.yaw())};
+  // The factors' own error (pose_edge_factor.h), so that the chi2 reported
+  // is the one the solver minimised.
+  const double a[3] = {T_world_a.x(), T_world_a.y(), T_world_a.yaw()};
+  const double b[3] = {T_world_b.x(), T_world_b.y(), T_world_b.yaw()};
+  Eigen::Vector3d error;
+  RelativePoseError(edge.T_from_to)(a, b, error.data());
+  return error;
 }
 
 double PoseEdgeChi2(const PoseGraph& graph, const PoseEdge& edge) {

@@ -48,8 +48,8 @@ inline bool IsOdometry(const PoseEdge& edge) {
 }
 
 // The residual of a pose edge at poses T_world_a (from) and T_world_b (to):
-//   e = [ R(yaw_a)^T (t_b - t_a) - t_ab ; wrap(yaw_b - yaw_a - yaw_ab) ]
-// (the g2o convention up to the order of rotation and translation error).
+//   e = [ R(yaw_z)^T (R(yaw_a)^T (t_b - t_a) - t_z) ; wrap(yaw_b - yaw_a - yaw_z) ]
+// (g2o's Z^-1 (A^-1 B); computed by pose_edge_factor.h's RelativePoseError).
 Eigen::Vector3d PoseEdgeError(const PoseEdge& edge, const SE2& T_world_a, const SE2& T_world_b);
 
 // e^T Omega e of a pose edge at the graph's current estimates.
