@@ -7,13 +7,10 @@
 #include <benchmark/benchmark.h>
 
 #include "parkslam/camera/camera_model.h"
-#include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/image_plane.h"
-#include "parkslam/harness/rendering_source.h"
+#include "parkslam/harness/live_cameras.h"
 #include "parkslam/perception/front_end.h"
-#include "parkslam/render/renderer.h"
 #include "parkslam/sim/scenario_config.h"
-#include "parkslam/sim/world.h"
 
 namespace parkslam {
 namespace {
@@ -39,12 +36,10 @@ struct Fixture {
   }
 
   Fixture() {
-    const sim::ScenarioConfig scenario = sim::DefaultScenario();
-    const sim::World world =
-        sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
-    const render::Renderer renderer(world, rig, {}, 1);
+    const harness::LiveCameras cameras(harness::LiveCameras::WorldOf(sim::DefaultScenario().world),
+                                       1);
     // Aisle 1, near the tags of the hall's west part.
-    frame = harness::RenderCameraFrame(renderer, SE2(12.0, 9.1, 0.0), 0, camera::AllCameraNames());
+    frame = cameras.Render(SE2(12.0, 9.1, 0.0), 0);
     for (size_t k = 0; k < 5; ++k) {
       const cv::Mat m = camera::AsMat(frame.images[k]);
       if (k < 4) {

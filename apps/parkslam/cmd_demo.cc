@@ -148,7 +148,10 @@ void AddDemoCommand(CLI::App& app) {
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
     const std::filesystem::path out = options->out;
-    const double image_rate_hz = options->observations ? 0.0 : options->live_images_hz;
+    const bool on_pixels = !options->observations && options->live_images_hz > 0.0;
+    const harness::FrameSource frames =
+        on_pixels ? harness::FrameSource(harness::FromLiveRendering{options->live_images_hz})
+                  : harness::FrameSource(harness::FromObservations{});
     const AlgorithmOptions config = options->config.Load();
     perception::PerceptionOptions perception = config.front_end;
     perception.detector = perception::ParseDetectorKind(options->detector);
@@ -178,12 +181,12 @@ void AddDemoCommand(CLI::App& app) {
     const Trajectory odometry_trajectory = harness::ToTrajectory(odometry.poses);
     io::WriteTum(out / "odometry.tum", odometry_trajectory);
 
-    header(image_rate_hz > 0.0
+    header(on_pixels
                ? "semantic mapping on pixels (top view, slots, IDs, tags; Max-Mixture back-end)"
                : "semantic mapping (slots, IDs, tags; Max-Mixture back-end)");
     t0 = std::chrono::steady_clock::now();
     const mapping::Mapper mapper =
-        BuildMap(dataset, config.mapper, dr.initial_pose, true, image_rate_hz, {}, perception);
+        BuildMap(dataset, config.mapper, dr.initial_pose, true, {frames, perception, {}});
     metrics["mapping_s"] = SecondsSince(t0);
     const Trajectory mapped_trajectory = mapper.KeyframeTrajectory();
     io::WriteMap(out / "map.json", mapper.Map());
@@ -221,7 +224,7 @@ void AddDemoCommand(CLI::App& app) {
         odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle));
     localization::LocalizationRun run;
     {
-      DatasetStream stream(second, image_rate_hz, {}, perception);
+      harness::SensorStream stream(second, {frames, perception, {}});
       run = localization::RunLocalization(stream.source(), &localizer);
     }
     const std::vector<localization::LocalizationEstimate>& estimates = run.estimates;
@@ -247,7 +250,7 @@ void AddDemoCommand(CLI::App& app) {
       follow_options.runs = options->follow_runs;
       follow_options.speed_kmh = options->follow_speed_kmh;
       follow_options.seed = options->seed + 2000;
-      follow_options.live_image_rate_hz = image_rate_hz;
+      follow_options.frames = frames;
       follow_options.perception = perception;
       follow_options.localizer = config.localizer;
       follow_options.follower = config.follower;

@@ -178,7 +178,9 @@ void AddFollowCommand(CLI::App& app) {
     follow.speed_kmh = options->speed_kmh;
     follow.seed = options->seed;
     follow.odometry_only = options->odometry_only;
-    follow.live_image_rate_hz = options->live_images_hz;
+    if (options->live_images_hz > 0.0) {
+      follow.frames = harness::FromLiveRendering{options->live_images_hz};
+    }
     follow.perception.detector = perception::ParseDetectorKind(options->detector);
     if (options->vehicle == "realistic") follow.vehicle_dynamics = sim::RealisticDynamics();
     Progress progress("  runs", options->runs);

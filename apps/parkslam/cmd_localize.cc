@@ -69,10 +69,8 @@ void AddLocalizeCommand(CLI::App& app) {
         (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map)) {
       throw std::runtime_error(options->dataset + ": --log needs the dataset's ground truth");
     }
-    const std::filesystem::path recorded =
-        options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
-    DatasetStream stream(dataset, options->pixels.live_images_hz, recorded,
-                         options->pixels.Perception(config.front_end), options->pixels.Faults());
+    harness::SensorStream stream(dataset,
+                                 options->pixels.Stream(options->dataset, config.front_end));
     SensorSource& source = stream.source();
     const DriveSpan span = SpanOf(dataset.log);
     Progress progress("  localizing", span.TotalTenths());

@@ -82,12 +82,10 @@ void AddMapCommand(CLI::App& app) {
     std::optional<SE2> init;
     if (!options->init.empty()) init = ParsePose(options->init, "--init");
     const auto start = std::chrono::steady_clock::now();
-    const std::filesystem::path recorded =
-        options->pixels.images ? std::filesystem::path(options->dataset) : std::filesystem::path();
     std::string faults_seen;
-    mapping::Mapper mapper = BuildMap(
-        dataset, mapper_options, init, true, options->pixels.live_images_hz, recorded,
-        options->pixels.Perception(config.front_end), options->pixels.Faults(), &faults_seen);
+    mapping::Mapper mapper =
+        BuildMap(dataset, mapper_options, init, true,
+                 options->pixels.Stream(options->dataset, config.front_end), &faults_seen);
     const double total_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     io::WriteMap(options->out, mapper.Map());

@@ -9,6 +9,7 @@
 
 #include "parkslam/common/se2.h"
 #include "parkslam/harness/fault_injection.h"
+#include "parkslam/harness/sensor_stream.h"
 #include "parkslam/options/algorithm_options.h"
 #include "parkslam/perception/front_end.h"
 #include "parkslam/sim/scenario_config.h"
@@ -92,6 +93,12 @@ struct PixelOptions {
   perception::PerceptionOptions Perception(const perception::PerceptionOptions& base = {}) const;
   // The parsed --fault options; throws std::runtime_error naming the bad one.
   std::vector<harness::SensorFault> Faults() const;
+  // Where the stream's slots and tags come from: --images (dataset_dir's
+  // own), --live-images, or the dataset's observations.
+  harness::FrameSource Frames(const std::filesystem::path& dataset_dir) const;
+  // The stream these options ask for over the dataset in dataset_dir.
+  harness::StreamOptions Stream(const std::filesystem::path& dataset_dir,
+                                const perception::PerceptionOptions& base = {}) const;
 };
 // --detector: which slot detector and ID reader a command on pixels runs.
 void AddDetectorOption(CLI::App* command, std::string* detector);

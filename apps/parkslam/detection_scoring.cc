@@ -1,8 +1,5 @@
 #include "detection_scoring.h"
 
-#include "parkslam/camera/camera_names.h"
-#include "parkslam/harness/rendering_source.h"
-
 #include <algorithm>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
@@ -158,22 +155,20 @@ ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detec
 DriveScorer::DriveScorer(const sim::ScenarioConfig& scenario, std::uint64_t seed,
                          const perception::PerceptionOptions& perception)
     : simulation_(sim::Simulate(scenario, seed)),
-      rig_(camera::DefaultRig()),
-      renderer_(simulation_.world, rig_, render::RenderOptions{}, seed),
-      front_end_(rig_, perception),
+      cameras_(simulation_.world, seed, perception),
       truth_(sim::GroundTruthTrajectory(simulation_)) {}
 
 DriveScorer::Frame DriveScorer::ScoreAt(TimeNs t_ns, Scores* scores) const {
-  const std::vector<std::string>& kCameras = camera::AllCameraNames();
   const SE2 pose = *PoseAt(truth_, t_ns);
+  const perception::PerceptionFrontEnd& front_end = cameras_.front_end();
   Frame frame;
-  frame.out = front_end_.Process(harness::RenderCameraFrame(renderer_, pose, t_ns, kCameras));
+  frame.out = cameras_.Perceive(pose, t_ns);
   const harness::TopViewTruth tv = harness::TruthInTopView(
-      simulation_.world, pose, front_end_.fusion(), front_end_.FootprintMask());
+      simulation_.world, pose, front_end.fusion(), front_end.FootprintMask());
   const ImageTruth image_truth{tv.marking_points, tv.entrances,      &tv.corners,
                                &tv.ids,           tv.ignored_points, tv.ignored_entrances};
   frame.score = Score(image_truth, frame.out.detection, frame.out.ids,
-                      front_end_.options().slots.pixels_per_m, scores);
+                      front_end.options().slots.pixels_per_m, scores);
   frame.truth_points = tv.marking_points;
   return frame;
 }

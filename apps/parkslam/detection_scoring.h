@@ -12,10 +12,10 @@
 
 #include "parkslam/common/trajectory.h"
 #include "parkslam/eval/detection_metrics.h"
+#include "parkslam/harness/live_cameras.h"
 #include "parkslam/harness/perception_eval.h"
 #include "parkslam/perception/front_end.h"
 #include "parkslam/perception/slot_detector.h"
-#include "parkslam/render/renderer.h"
 #include "parkslam/sim/simulator.h"
 
 namespace parkslam::app {
@@ -86,9 +86,7 @@ class DriveScorer {
 
  private:
   sim::Simulation simulation_;
-  camera::CameraRig rig_;
-  render::Renderer renderer_;
-  perception::PerceptionFrontEnd front_end_;
+  harness::LiveCameras cameras_;
   Trajectory truth_;
 };
 

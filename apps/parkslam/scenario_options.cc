@@ -130,6 +130,17 @@ std::vector<harness::SensorFault> PixelOptions::Faults() const {
   return parsed;
 }
 
+harness::FrameSource PixelOptions::Frames(const std::filesystem::path& dataset_dir) const {
+  if (images) return harness::FromRecordedImages{dataset_dir};
+  if (live_images_hz > 0.0) return harness::FromLiveRendering{live_images_hz};
+  return harness::FromObservations{};
+}
+
+harness::StreamOptions PixelOptions::Stream(const std::filesystem::path& dataset_dir,
+                                            const perception::PerceptionOptions& base) const {
+  return {Frames(dataset_dir), Perception(base), Faults()};
+}
+
 void AddDetectorOption(CLI::App* command, std::string* detector) {
   command
       ->add_option("--detector", *detector,

@@ -8,11 +8,7 @@
 #include "parkslam/camera/camera_names.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/common/seed_mix.h"
-#include "parkslam/harness/rendering_source.h"
-#include "parkslam/io/image_folder.h"
-#include "parkslam/io/rig_yaml.h"
 #include "parkslam/perception/front_end.h"
-#include "parkslam/render/renderer.h"
 #include "parkslam/sim/simulator.h"
 #include "progress.h"
 
@@ -57,105 +53,6 @@ nlohmann::json MetricsToJson(const eval::TrajectoryMetrics& m) {
   j["drift_percent"] =
       std::isfinite(m.drift_percent) ? nlohmann::json(m.drift_percent) : nlohmann::json(nullptr);
   return j;
-}
-
-struct DatasetStream::Live {
-  sim::World world;
-  std::unique_ptr<render::Renderer> renderer;
-  std::unique_ptr<SensorSource> source;  // rendered or recorded frames
-  std::unique_ptr<perception::PerceptionFrontEnd> front_end;
-  std::unique_ptr<perception::PerceptionSource> perception;
-};
-
-DatasetStream::DatasetStream(const io::Dataset& dataset, double rate_hz,
-                             const std::filesystem::path& recorded_images_dir,
-                             const perception::PerceptionOptions& perception,
-                             const std::vector<harness::SensorFault>& faults)
-    : log_(dataset.log) {
-  // The faults act on what the sensors give: the log, or the log with the
-  // camera frames, before the front end.
-  const auto with_faults = [&](SensorSource& inner) -> SensorSource& {
-    if (faults.empty()) return inner;
-    faults_ = std::make_unique<harness::FaultInjectingSource>(inner, faults,
-                                                              MixSeed(dataset.seed, 0xFA17));
-    return *faults_;
-  };
-  if (!recorded_images_dir.empty()) {
-    io::ReadImageIndex(recorded_images_dir);  // names what is missing before the rig does
-    const camera::CameraRig rig = io::LoadRig(recorded_images_dir / "images" / "rig.yaml");
-    live_ = std::make_unique<Live>();
-    live_->source = std::make_unique<io::ImageFolderSource>(log_, recorded_images_dir, rig,
-                                                            camera::AllCameraNames());
-    live_->front_end = std::make_unique<perception::PerceptionFrontEnd>(rig, perception);
-    live_->perception = std::make_unique<perception::PerceptionSource>(with_faults(*live_->source),
-                                                                       *live_->front_end);
-    return;
-  }
-  if (rate_hz <= 0.0) {
-    with_faults(log_);
-    return;
-  }
-  if (dataset.groundtruth_trajectory.size() < 2) {
-    throw std::runtime_error(dataset.name + ": live images need the dataset's ground truth");
-  }
-  if (!dataset.scenario) {
-    throw std::runtime_error(dataset.name +
-                             ": live images render the simulated world, and this dataset has "
-                             "no scenario (a recording); use its recorded images (--images)");
-  }
-  live_ = std::make_unique<Live>();
-  live_->world = sim::BuildWorld(dataset.scenario->world,
-                                 static_cast<std::uint64_t>(dataset.scenario->world.seed));
-  live_->renderer = std::make_unique<render::Renderer>(live_->world, camera::DefaultRig(),
-                                                       render::RenderOptions{}, dataset.seed);
-  live_->source = std::make_unique<harness::RenderingSource>(
-      log_, *live_->renderer, dataset.groundtruth_trajectory, camera::AllCameraNames(), rate_hz);
-  // On pixels: the frames replace the dataset's observation-level slots
-  // and tags.
-  live_->front_end =
-      std::make_unique<perception::PerceptionFrontEnd>(camera::DefaultRig(), perception);
-  live_->perception = std::make_unique<perception::PerceptionSource>(with_faults(*live_->source),
-                                                                     *live_->front_end);
-}
-
-DatasetStream::~DatasetStream() = default;
-
-SensorSource& DatasetStream::source() {
-  if (live_) return *live_->perception;
-  if (faults_) return *faults_;
-  return log_;
-}
-
-std::string DatasetStream::DescribeFaults() const {
-  std::string out;
-  if (faults_) {
-    const harness::InjectedFaults& f = faults_->injected();
-    char line[512];
-    std::snprintf(line, sizeof(line),
-                  "faults injected: %d frames dropped, %d images black, %d frozen, %d frames "
-                  "late, %d IMU spikes, %d headings shifted, %d wheel samples dropped, %d "
-                  "events jittered",
-                  f.frames_dropped, f.images_blackened, f.images_frozen, f.frames_delayed,
-                  f.imu_spikes, f.heading_samples_shifted, f.wheel_samples_dropped,
-                  f.events_jittered);
-    out += line;
-  }
-  if (live_ && live_->perception) {
-    const perception::CameraHealthMonitor& health = live_->perception->camera_health();
-    std::string cameras;
-    for (const auto& [name, n] : health.black_images()) {
-      cameras +=
-          (cameras.empty() ? "" : ", ") + name + " black in " + std::to_string(n) + " frames";
-    }
-    for (const auto& [name, n] : health.frozen_images()) {
-      cameras +=
-          (cameras.empty() ? "" : ", ") + name + " frozen in " + std::to_string(n) + " frames";
-    }
-    if (!cameras.empty()) {
-      out += std::string(out.empty() ? "" : "\n") + "cameras left out: " + cameras;
-    }
-  }
-  return out;
 }
 
 std::string DescribeOdometryFaults(const odometry::OdometryEkfStats& stats) {
@@ -208,17 +105,14 @@ DriveSpan SpanOf(const SensorLog& log) {
 }
 
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
-                         std::optional<SE2> initial_pose, bool progress, double live_image_rate_hz,
-                         const std::filesystem::path& recorded_images_dir,
-                         const perception::PerceptionOptions& perception,
-                         const std::vector<harness::SensorFault>& faults,
-                         std::string* faults_seen) {
+                         std::optional<SE2> initial_pose, bool progress,
+                         const harness::StreamOptions& stream_options, std::string* faults_seen) {
   mapping::Mapper mapper(
       options, odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), initial_pose);
   const DriveSpan span = SpanOf(dataset.log);
   std::optional<Progress> bar;
   if (progress) bar.emplace("  mapping", span.TotalTenths());
-  DatasetStream stream(dataset, live_image_rate_hz, recorded_images_dir, perception, faults);
+  harness::SensorStream stream(dataset, stream_options);
   SensorSource& source = stream.source();
   while (const auto event = source.Next()) {
     mapper.Process(*event);

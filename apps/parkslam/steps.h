@@ -14,6 +14,7 @@
 #include "parkslam/eval/trajectory_metrics.h"
 #include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/harness/fault_injection.h"
+#include "parkslam/harness/sensor_stream.h"
 #include "parkslam/harness/trace_following.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/numeric_csv.h"
@@ -43,45 +44,14 @@ struct DriveSpan {
 };
 DriveSpan SpanOf(const SensorLog& log);
 
-// Runs the mapper over a dataset, tuned from its sensor spec; with a
-// progress bar on stderr when `progress`.
-// With live_image_rate_hz > 0 the simulator's cameras render frame sets on
-// the fly along the dataset's true trajectory into the stream (nothing is
-// written); the dataset must then hold its ground truth.
-// With recorded_images_dir (the dataset's folder) the dataset's own images
-// (DIR/images/) are read instead.
+// Runs the mapper over a dataset's stream (harness/sensor_stream.h), tuned
+// from its sensor spec; with a progress bar on stderr when `progress`.
+// *faults_seen (when given) gets what the stream injected and what the
+// dead reckoning saw of it.
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
                          std::optional<SE2> initial_pose, bool progress,
-                         double live_image_rate_hz = 0.0,
-                         const std::filesystem::path& recorded_images_dir = {},
-                         const perception::PerceptionOptions& perception = {},
-                         const std::vector<harness::SensorFault>& faults = {},
+                         const harness::StreamOptions& stream = {},
                          std::string* faults_seen = nullptr);
-
-// The stream of a dataset: on pixels with live camera frames when
-// live_image_rate_hz > 0, or with the dataset's recorded images when
-// recorded_images_dir is given (its folder, holding images/); the slots and
-// tags the perception front end finds then replace the dataset's.
-// With `faults` the stream carries them (harness/fault_injection.h),
-// before the front end on pixels.
-class DatasetStream {
- public:
-  DatasetStream(const io::Dataset& dataset, double live_image_rate_hz,
-                const std::filesystem::path& recorded_images_dir = {},
-                const perception::PerceptionOptions& perception = {},
-                const std::vector<harness::SensorFault>& faults = {});
-  ~DatasetStream();
-  SensorSource& source();
-  // What was injected and which cameras the front end found black or
-  // frozen; "" when nothing was.
-  std::string DescribeFaults() const;
-
- private:
-  struct Live;
-  SensorLogSource log_;
-  std::unique_ptr<Live> live_;
-  std::unique_ptr<harness::FaultInjectingSource> faults_;
-};
 
 // What the dead reckoning saw of its inputs' faults, one line; "" when
 // nothing (no late event, no gated sample, no sensor gap over 0.5 s).

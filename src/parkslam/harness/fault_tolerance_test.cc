@@ -16,6 +16,7 @@
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/harness/fault_injection.h"
+#include "parkslam/harness/sensor_stream.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper.h"
 #include "parkslam/sim/scenario_config.h"
@@ -50,8 +51,9 @@ struct MapRun {
 
 MapRun MapWith(const std::vector<SensorFault>& faults) {
   const Drives& d = TheDrives();
-  SensorLogSource log(d.mapping_drive.log);
-  FaultInjectingSource source(log, faults, 11);
+  SensorStream stream({"mapping drive", 11, &d.mapping_drive.log},
+                      {FromObservations{}, {}, faults});
+  SensorSource& source = stream.source();
   mapping::Mapper mapper(mapping::MapperOptions{}, d.ekf);
   while (const auto event = source.Next()) mapper.Process(*event);
   mapper.Finish();
@@ -59,7 +61,7 @@ MapRun MapWith(const std::vector<SensorFault>& faults) {
   run.map = mapper.Map();
   run.metrics = eval::EvaluateMap(run.map, d.truth);
   run.odometry = mapper.odometry_stats();
-  run.injected = source.injected();
+  if (stream.injected() != nullptr) run.injected = *stream.injected();
   return run;
 }
 
@@ -78,8 +80,8 @@ LocalizationRun LocalizeWith(const std::vector<SensorFault>& faults) {
   const Drives& d = TheDrives();
   const MapRun& base = FaultFreeMap();
   const Trajectory truth = sim::GroundTruthTrajectory(d.second_drive);
-  SensorLogSource log(d.second_drive.log);
-  FaultInjectingSource source(log, faults, 12);
+  SensorStream stream({"second drive", 12, &d.second_drive.log}, {FromObservations{}, {}, faults});
+  SensorSource& source = stream.source();
   localization::Localizer localizer(base.map, localization::LocalizerOptions{}, d.ekf);
   const double end_s = kFaultStart_s + kFaultDuration_s;
   LocalizationRun run;

@@ -11,10 +11,9 @@
 #include "parkslam/control/safety_supervisor.h"
 #include "parkslam/control/trace.h"
 #include "parkslam/harness/dead_reckoning.h"
-#include "parkslam/harness/rendering_source.h"
+#include "parkslam/harness/live_cameras.h"
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/perception/front_end.h"
-#include "parkslam/render/renderer.h"
 #include "parkslam/sim/live_simulator.h"
 
 namespace parkslam::harness {
@@ -108,17 +107,18 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
       Square(2 * options.start_position_sigma_m), Square(2 * options.start_yaw_sigma_rad);
 
   // The live cameras, built once: the lot is the same for every run.
-  std::unique_ptr<sim::World> world;
-  std::unique_ptr<render::Renderer> renderer;
-  std::unique_ptr<perception::PerceptionFrontEnd> front_end;
-  const std::vector<std::string>& cameras = camera::AllCameraNames();
-  if (options.live_image_rate_hz > 0.0) {
-    world = std::make_unique<sim::World>(
-        sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed)));
-    renderer = std::make_unique<render::Renderer>(*world, camera::DefaultRig(),
-                                                  render::RenderOptions{}, options.seed);
-    front_end =
-        std::make_unique<perception::PerceptionFrontEnd>(camera::DefaultRig(), options.perception);
+  if (std::holds_alternative<FromRecordedImages>(options.frames)) {
+    throw std::invalid_argument(
+        "trace following renders what the cameras see where the car drives; recorded images "
+        "cannot be its frames");
+  }
+  std::unique_ptr<LiveCameras> cameras;
+  TimeNs image_period_ns = 0;
+  if (const auto* live = std::get_if<FromLiveRendering>(&options.frames)) {
+    if (!(live->rate_hz > 0.0)) throw std::invalid_argument("live image rate must be > 0 Hz");
+    cameras = std::make_unique<LiveCameras>(LiveCameras::WorldOf(scenario.world), options.seed,
+                                            options.perception);
+    image_period_ns = FromSeconds(1.0 / live->rate_hz);
   }
 
   TraceFollowingResult result;
@@ -175,18 +175,17 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
       // the localizer. On pixels only what the cameras see reaches it.
       const bool blackout = options.blackout_from_s >= 0.0 && now_s >= options.blackout_from_s &&
                             now_s < options.blackout_to_s;
-      if (blackout || renderer) {
+      if (blackout || cameras) {
         std::erase_if(events, [](const SensorEvent& e) {
           return std::holds_alternative<SlotObservationFrame>(e) ||
                  std::holds_alternative<TagObservationFrame>(e);
         });
       }
-      if (renderer && !blackout && state.t_ns >= next_image_ns) {
-        perception::PerceptionOutput seen = front_end->Process(
-            RenderCameraFrame(*renderer, state.T_map_vehicle, state.t_ns, cameras));
+      if (cameras && !blackout && state.t_ns >= next_image_ns) {
+        perception::PerceptionOutput seen = cameras->Perceive(state.T_map_vehicle, state.t_ns);
         events.push_back(std::move(seen.slots));
         events.push_back(std::move(seen.tags));
-        next_image_ns = state.t_ns + FromSeconds(1.0 / options.live_image_rate_hz);
+        next_image_ns = state.t_ns + image_period_ns;
         ++run.camera_frames;
       }
       for (const SensorEvent& event : events) {

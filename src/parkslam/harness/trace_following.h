@@ -16,6 +16,7 @@
 #include "parkslam/control/path_follower.h"
 #include "parkslam/control/safety_supervisor.h"
 #include "parkslam/eval/trace_metrics.h"
+#include "parkslam/harness/sensor_stream.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/map/semantic_map.h"
 #include "parkslam/perception/front_end.h"
@@ -38,9 +39,11 @@ struct TraceFollowingOptions {
   // still converging from its offset start) and the very end.
   double skip_start_m = 5.0;
   double skip_end_m = 2.0;
-  // > 0: the cameras render frame sets at this rate from the true pose and
-  // feed them to the pose source, live (nothing is written).
-  double live_image_rate_hz = 0.0;
+  // The pose source's slot and tag frames: the live simulator's
+  // observation-level ones, or frame sets the cameras render at a rate from
+  // the true pose, through the front end (nothing is written). Recorded
+  // images cannot be: the car drives where its controller takes it.
+  FrameSource frames = FromObservations{};
   perception::PerceptionOptions perception;  // the front end on those frames
   control::PathFollowerOptions follower;
   localization::LocalizerOptions localizer;

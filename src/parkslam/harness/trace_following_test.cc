@@ -114,7 +114,7 @@ TEST(TraceFollowingTest, FollowsTheTraceOnPixels) {
   TraceFollowingOptions options;
   options.runs = 1;
   options.speed_kmh = 10.0;
-  options.live_image_rate_hz = 5.0;
+  options.frames = FromLiveRendering{5.0};
   const TraceFollowingResult live =
       FollowTrace(scenario, TrueMap(scenario), SE2(), HumanDrive(scenario), options);
   ASSERT_TRUE(live.runs[0].finished);

@@ -1,0 +1,56 @@
+#ifndef PARKSLAM_HARNESS_LIVE_CAMERAS_H_
+#define PARKSLAM_HARNESS_LIVE_CAMERAS_H_
+
+// The simulated car's cameras in a simulated lot: the world, the renderer
+// with the default rig, and a perception front end on that rig, built in
+// one place for everything that perceives rendered pixels (the sensor
+// stream's live mode, trace following, eval-detect, the perception
+// benchmark).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "parkslam/common/se2.h"
+#include "parkslam/common/time.h"
+#include "parkslam/perception/front_end.h"
+#include "parkslam/render/renderer.h"
+#include "parkslam/sensor/sensor_log.h"
+#include "parkslam/sim/world.h"
+
+namespace parkslam::harness {
+
+class LiveCameras {
+ public:
+  // Renders `world` with the default rig; render_seed draws the sensor
+  // noise of every frame (render::Renderer).
+  LiveCameras(sim::World world, std::uint64_t render_seed,
+              const perception::PerceptionOptions& perception = {});
+  // The world a scenario's world configuration builds (with its own seed).
+  static sim::World WorldOf(const sim::WorldConfig& config);
+
+  LiveCameras(const LiveCameras&) = delete;
+  LiveCameras& operator=(const LiveCameras&) = delete;
+
+  // The five cameras' images at the pose, as grey planes.
+  CameraFrame Render(const SE2& T_map_vehicle, TimeNs t_ns) const;
+  // Render, then the front end.
+  perception::PerceptionOutput Perceive(const SE2& T_map_vehicle, TimeNs t_ns) const;
+
+  const sim::World& world() const { return world_; }
+  const camera::CameraRig& rig() const { return rig_; }
+  const render::Renderer& renderer() const { return renderer_; }
+  const perception::PerceptionFrontEnd& front_end() const { return front_end_; }
+  const std::vector<std::string>& cameras() const { return cameras_; }
+
+ private:
+  sim::World world_;
+  camera::CameraRig rig_;
+  render::Renderer renderer_;
+  perception::PerceptionFrontEnd front_end_;
+  std::vector<std::string> cameras_;
+};
+
+}  // namespace parkslam::harness
+
+#endif  // PARKSLAM_HARNESS_LIVE_CAMERAS_H_

@@ -1,0 +1,121 @@
+#include "parkslam/harness/sensor_stream.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "parkslam/sim/simulator.h"
+
+namespace parkslam::harness {
+namespace {
+
+// 30 m along aisle 1 of the default lot.
+struct ShortDrive {
+  sim::ScenarioConfig scenario;
+  sim::Simulation simulation;
+  Trajectory truth;
+};
+
+const ShortDrive& Drive() {
+  static const ShortDrive d = [] {
+    ShortDrive x;
+    x.scenario = sim::DefaultScenario();
+    x.scenario.route.laps = 0;
+    x.scenario.route.finish_m = {{40.0, 9.1}};
+    x.simulation = sim::Simulate(x.scenario, 5);
+    x.truth = sim::GroundTruthTrajectory(x.simulation);
+    return x;
+  }();
+  return d;
+}
+
+StreamInputs Inputs() {
+  const ShortDrive& d = Drive();
+  return {"short drive", 5, &d.simulation.log, &d.scenario, &d.truth};
+}
+
+struct Counts {
+  int slot_frames = 0, tag_frames = 0, camera_frames = 0, others = 0;
+};
+
+Counts Drain(SensorSource& source) {
+  Counts c;
+  TimeNs last = -1;
+  while (const auto event = source.Next()) {
+    EXPECT_GE(EventTime(*event), last);
+    last = EventTime(*event);
+    if (std::holds_alternative<SlotObservationFrame>(*event)) {
+      ++c.slot_frames;
+    } else if (std::holds_alternative<TagObservationFrame>(*event)) {
+      ++c.tag_frames;
+    } else if (std::holds_alternative<CameraFrame>(*event)) {
+      ++c.camera_frames;
+    } else {
+      ++c.others;
+    }
+  }
+  return c;
+}
+
+TEST(SensorStreamTest, OnObservationsIsTheLogItself) {
+  const SensorLog& log = Drive().simulation.log;
+  SensorStream stream(Inputs(), {FromObservations{}, {}, {}});
+  const Counts c = Drain(stream.source());
+  EXPECT_EQ(c.slot_frames, static_cast<int>(log.slot_frames.size()));
+  EXPECT_EQ(c.tag_frames, static_cast<int>(log.tag_frames.size()));
+  EXPECT_EQ(c.camera_frames, 0);
+  EXPECT_GT(c.others, 1000);
+  EXPECT_EQ(stream.perception(), nullptr);
+  EXPECT_EQ(stream.injected(), nullptr);
+  EXPECT_EQ(stream.DescribeFaults(), "");
+}
+
+TEST(SensorStreamTest, LiveRenderingReplacesTheObservationsWithWhatTheCamerasSee) {
+  SensorStream stream(Inputs(), {FromLiveRendering{0.5}, {}, {}});
+  const Counts c = Drain(stream.source());
+  const double duration_s = ToSeconds(Drive().truth.back().t_ns - Drive().truth.front().t_ns);
+  const int frames = static_cast<int>(duration_s / 2.0) + 1;
+  // One slot frame and one tag frame per rendered frame set, nothing else
+  // of the log's observation level.
+  EXPECT_EQ(c.slot_frames, frames);
+  EXPECT_EQ(c.tag_frames, frames);
+  EXPECT_EQ(c.camera_frames, 0);
+  ASSERT_NE(stream.perception(), nullptr);
+  EXPECT_EQ(stream.perception()->frames_processed(), frames);
+}
+
+TEST(SensorStreamTest, FaultsAreInjectedAndReported) {
+  const std::vector<SensorFault> faults = {ParseSensorFault("wheel-dropout@5+3")};
+  SensorStream stream(Inputs(), {FromObservations{}, {}, faults});
+  Drain(stream.source());
+  ASSERT_NE(stream.injected(), nullptr);
+  EXPECT_GT(stream.injected()->wheel_samples_dropped, 100);
+  EXPECT_NE(stream.DescribeFaults().find("wheel samples dropped"), std::string::npos);
+}
+
+TEST(SensorStreamTest, RefusesChoicesItsInputsCannotServe) {
+  StreamInputs recording = Inputs();
+  recording.scenario = nullptr;
+  try {
+    SensorStream stream(recording, {FromLiveRendering{5.0}, {}, {}});
+    FAIL() << "live rendering of a recording";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("short drive: live images render"), std::string::npos)
+        << e.what();
+  }
+  StreamInputs no_truth = Inputs();
+  no_truth.truth = nullptr;
+  EXPECT_THROW(SensorStream(no_truth, {FromLiveRendering{5.0}, {}, {}}), std::runtime_error);
+  const std::filesystem::path missing = "/nonexistent/parkslam-dataset";
+  EXPECT_THROW(SensorStream(Inputs(), {FromRecordedImages{missing}, {}, {}}), std::exception);
+}
+
+TEST(SensorStreamTest, DescribesItsChoice) {
+  EXPECT_EQ(Describe(FromObservations{}), "observations");
+  EXPECT_EQ(Describe(FromLiveRendering{2.5}), "live rendering at 2.5 Hz");
+  EXPECT_EQ(Describe(FromRecordedImages{"/data/d1"}), "recorded images in /data/d1/images");
+}
+
+}  // namespace
+}  // namespace parkslam::harness
