@@ -3,10 +3,12 @@
 
 // The semantic mapper (paper III-C): keyframes from the Kalman dead
 // reckoning, slot and tag landmarks, per-frame association by ID and nearest
-// neighbour, a Ceres factor graph with the rectangular slot constraint and a
-// Max-Mixture over ambiguous associations, lazy slots with temporary IDs,
-// ID votes, duplicate merging. Online (a bounded windowed update per
-// keyframe) or batch (a full optimization at the end).
+// neighbour (association.h), a Ceres factor graph with the rectangular slot
+// constraint and a Max-Mixture over ambiguous associations (map_graph.h),
+// lazy slots with temporary IDs, ID votes, duplicate merging
+// (slot_management.h). Online (a bounded windowed update per keyframe) or
+// batch (a full optimization at the end). This class makes the keyframes,
+// bounds the memory of long drives and drives the parts.
 
 #include <array>
 #include <deque>
@@ -18,6 +20,7 @@
 
 #include "parkslam/common/trajectory.h"
 #include "parkslam/map/semantic_map.h"
+#include "parkslam/mapping/map_state.h"
 #include "parkslam/mapping/mapper_options.h"
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/sensor/sensor_data.h"
@@ -72,78 +75,26 @@ class Mapper {
   // spikes, sensor gaps).
   const odometry::OdometryEkfStats& odometry_stats() const { return ekf_->stats(); }
 
-  // Internals, public for tests.
-  struct Keyframe {
-    TimeNs t_ns = 0;
-    std::array<double, 3> pose{};  // x_m, y_m, yaw_rad in the map frame
-    SE2 T_previous_this;           // odometry since the previous keyframe
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
-  };
-  struct SlotLandmark {
-    std::array<std::array<double, 2>, kSlotCorners> corners{};
-    double angle_rad = 0.0, width_m = 0.0, depth_m = 0.0;
-    int temporary_number = 0;
-    bool alive = true;
-    // Derived from the observations that chose it.
-    std::map<std::string, double> votes;
-    int observations = 0;
-    std::array<int, kSlotCorners> corner_observations{};
-    std::string id;  // empty: temporary
-    // What retired records said of it (MapperOptions::
-    // max_records_per_landmark), kept when the evidence is recounted.
-    std::map<std::string, double> retired_votes;
-    int retired_observations = 0;
-    std::array<int, kSlotCorners> retired_corner_observations{};
-  };
-  struct TagLandmark {
-    int tag_id = 0;
-    std::array<double, 3> pose{};
-    int observations = 0;
-  };
-  struct SlotRecord {
-    int keyframe = 0;
-    SlotObservation observation;
-    std::vector<int> candidates;  // slot indices
-    std::vector<double> weights;
-    bool has_null = false;
-    int chosen = -1;  // slot index, -1: null
-  };
-  struct TagRecord {
-    int keyframe = 0;
-    TagObservation observation;
-    int tag = 0;  // index into tags
-  };
-
-  const std::deque<Keyframe>& keyframes() const { return keyframes_; }
-  const std::deque<SlotLandmark>& slots() const { return slots_; }
-  const std::vector<SlotRecord>& slot_records() const { return slot_records_; }
-  const std::vector<TagRecord>& tag_records() const { return tag_records_; }
+  // The state the parts work on (map_state.h), for tests.
+  const MapState& state() const { return state_; }
+  const std::deque<Keyframe>& keyframes() const { return state_.keyframes; }
+  const std::deque<SlotLandmark>& slots() const { return state_.slots; }
+  const std::vector<SlotRecord>& slot_records() const { return state_.slot_records; }
+  const std::vector<TagRecord>& tag_records() const { return state_.tag_records; }
 
  private:
   bool MaybeAddKeyframe(TimeNs t_ns, bool has_observations);
-  SE2 PoseOf(int keyframe) const;
-  void AssociateSlot(int keyframe, const SlotObservation& observation);
-  int CreateSlot(int keyframe, const SlotObservation& observation);
+  // Association (association.h), then slot management (a new slot, or the
+  // record and its evidence).
+  void AddSlotObservation(int keyframe, const SlotObservation& observation);
   void AddTag(int keyframe, const TagObservation& observation);
-  double IdSupport(const SlotLandmark& slot, const SlotObservation& observation) const;
-  void UpdateIdOwner(int slot);
+  // The graph (map_graph.h), then the records' new choices: their evidence
+  // moved one by one after a windowed solve, all recounted after the final.
   void Solve(int first_free_keyframe, int max_iterations, bool final);
-  void RecomputeSlotEvidence();
-  // Adds (sign +1) or removes (-1) what one record says of slot_index
-  // (observation count, corners seen, ID votes); nothing for slot -1.
-  void MoveEvidence(const SlotRecord& record, int slot_index, int sign);
-  // The same, to any tallies: a slot's own, or what its retired records said.
-  void AddEvidence(const SlotRecord& record, int sign, std::map<std::string, double>* votes,
-                   int* observations, std::array<int, kSlotCorners>* corner_observations) const;
-  // The owner of each ID from the alive slots' votes.
-  void RebuildIdOwners();
-  // Files the record about to be appended under each of its candidates.
-  void IndexSlotRecord(const SlotRecord& record);
   // Retires each landmark's records beyond MapperOptions::
-  // max_records_per_landmark (oldest first, never the window's) and
+  // max_records_per_landmark (every second one outside the window) and
   // compacts the storage; runs when the records have doubled since.
   void RetireOldRecords();
-  void RebuildRecordIndexes();
   // Drops the keyframes before the window that no record names any more,
   // folding their odometry into the next keyframe's (the relative poses
   // compounded, their covariances propagated): the same chain of
@@ -152,31 +103,15 @@ class Mapper {
   // MapperOptions::online_merge_every_keyframes and
   // prune_unconfirmed_after_keyframes.
   void MaybeMergeOnline();
-  // Drops the unconfirmed slots of long ago and their records; true if any.
-  bool PruneUnconfirmedSlots();
-  void MergeDuplicates();
-  void AssignIds();
   void AfterKeyframe();
 
   MapperOptions options_;
   std::unique_ptr<odometry::OdometryEkf> ekf_;
   std::optional<SE2> initial_pose_;
-  std::deque<Keyframe> keyframes_;
-  std::deque<SlotLandmark> slots_;
-  std::deque<TagLandmark> tags_;
-  std::map<int, int> tag_index_;  // tag ID -> index
-  std::vector<SlotRecord> slot_records_;
-  std::vector<TagRecord> tag_records_;
-  // Per slot (tag): the indices of the records that name it as a candidate
-  // (observe it), oldest first, for windowed solves that stay bounded. Not
-  // updated by the final merge, after which no windowed solve runs.
-  std::vector<std::vector<size_t>> slot_record_index_, tag_record_index_;
-  // The slot currently holding most votes for each ID, and those votes.
-  std::map<std::string, std::pair<int, double>> id_owner_;
+  MapState state_;
   size_t retire_check_at_ = 0;  // records stored when RetireOldRecords next looks
   bool long_drive_ = false;     // retire_check_min_records were stored once
   double distance_since_solve_m_ = 0.0;
-  int next_temporary_number_ = 1;
   MapperStats stats_;
 };
 
