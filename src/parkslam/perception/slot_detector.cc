@@ -530,6 +530,447 @@ SlotDetector::SlotDetector(const SlotDetectorOptions& options) : options_(option
   if (!options_.IsValid(&error)) throw std::invalid_argument("slot detector: " + error);
 }
 
+namespace {
+
+// Grey levels at or below this are what no camera saw (fused top views
+// paint the car's footprint pure black).
+constexpr int kUnseenGrey = 2;
+// Unseen regions are at least this wide (px): single black pixels are not.
+constexpr int kUnseenOpeningPx = 9;
+// The brightest paint in view: this quantile of the brightness above the
+// floor.
+constexpr double kBrightestPaintQuantile = 0.995;
+// The probabilistic Hough transform on the ridges: votes and the shortest
+// piece as shares of the shortest arm, the largest gap within a piece as a
+// share of the widest line.
+constexpr double kHoughVotesPerArm = 0.6;
+constexpr double kHoughMinPiecePerArm = 0.7;
+constexpr double kHoughMaxGapPerWidth = 0.5;
+// A refined line's width must lie in [this x the narrowest line,
+// this x the widest line].
+constexpr double kMinWidthShare = 0.5;
+constexpr double kMaxWidthShare = 1.5;
+// Two refined lines are one when this parallel (sine of the angle between
+// them) and their centrelines this close (px).
+constexpr double kSameLineSin = 0.05;
+constexpr double kSameLineOffsetPx = 3.0;
+// A marking point's score: the weaker line's contrast over this many times
+// the paint threshold, clamped to [0, 1].
+constexpr double kFullScoreContrasts = 3.0;
+// An entrance line's arm leaves a point within 45 degrees of its partner,
+// with paint along at least this share of an arm's length.
+constexpr double kCos45 = 0.7071;
+constexpr double kMinEntrancePaintShare = 0.5;
+// Two directions closer than this are the same arm.
+constexpr double kSameDirectionRad = 1e-9;
+
+// What every stage of one detection shares: the options, pixel scales of
+// them, and the images.
+struct Frame {
+  Frame(const SlotDetectorOptions& options)
+      : o(options),
+        s(options.pixels_per_m),
+        max_width_px(options.max_line_width_m * s),
+        min_arm_px(options.min_arm_m * s),
+        min_stem_px(options.min_stem_m * s),
+        min_sin(std::sin(options.min_junction_angle_rad)) {}
+
+  const SlotDetectorOptions& o;
+  const double s;  // pixels per metre
+  const double max_width_px, min_arm_px, min_stem_px, min_sin;
+  cv::Mat grey;   // masked pixels set to the mean of the rest
+  cv::Mat valid;  // empty: all; else non-zero where lines may be found
+  cv::Mat bright;
+  double threshold = 0.0;  // paint brightness above the floor
+  cv::Mat paint;
+};
+
+// 0. The grey image, and what may be searched: fused top views paint what
+//    no camera sees (the car's footprint) pure black; regions of it are
+//    masked like the given mask. Masked pixels take the mean of the rest,
+//    so that their border makes no edge; a margin of mask_margin_m is
+//    ignored around them.
+void PrepareImage(const cv::Mat& top_view, const cv::Mat& mask, Frame* f) {
+  if (top_view.channels() == 3) {
+    cv::cvtColor(top_view, f->grey, cv::COLOR_BGR2GRAY);
+  } else {
+    f->grey = top_view.clone();
+  }
+  cv::Mat seen;
+  cv::Mat unseen = f->grey <= kUnseenGrey;
+  cv::morphologyEx(
+      unseen, unseen, cv::MORPH_OPEN,
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kUnseenOpeningPx, kUnseenOpeningPx)));
+  if (cv::countNonZero(unseen) > 0) {
+    seen = unseen == 0;
+    if (!mask.empty()) seen &= mask;
+  } else {
+    seen = mask;
+  }
+  if (seen.empty()) return;
+  f->grey.setTo(cv::mean(f->grey, seen), seen == 0);
+  cv::erode(seen, f->valid, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)),
+            cv::Point(-1, -1), static_cast<int>(std::ceil(f->o.mask_margin_m * f->s)));
+}
+
+// 1. Paint: the brightness above the floor's median over twice the widest
+//    line. A pixel is paint when it stands local_contrast_factor times above
+//    the mean response around it (so that textured floor, grass or a car's
+//    body, whose response is high everywhere, is not) and above
+//    min_contrast_grey. Line refinement measures support against a
+//    threshold relative to the brightest paint in view, or to the line's
+//    own contrast for a faint line.
+void FindPaint(Frame* f) {
+  const SlotDetectorOptions& o = f->o;
+  const int kernel_px = 2 * static_cast<int>(std::ceil(f->max_width_px)) + 1;
+  f->bright = BrightAboveFloor(f->grey, kernel_px);
+  f->threshold = std::max(o.min_contrast_grey,
+                          o.relative_contrast * Percentile(f->bright, kBrightestPaintQuantile));
+  const int window_px = 2 * static_cast<int>(std::lround(o.local_window_m * f->s / 2)) + 1;
+  cv::Mat local_mean, response;
+  cv::boxFilter(f->bright, local_mean, CV_32F, cv::Size(window_px, window_px));
+  f->bright.convertTo(response, CV_32F);
+  f->paint = (response > local_mean * o.local_contrast_factor) & (f->bright > o.min_contrast_grey);
+  if (!f->valid.empty()) f->paint.setTo(0, f->valid == 0);
+}
+
+// Refinement may make two rough pieces one line: a line parallel to an
+// earlier one, on its centreline and overlapping it along it, extends that
+// one instead. True when it did.
+bool ExtendsAnEarlierLine(const PaintLine& line, std::vector<PaintLine>* lines) {
+  for (PaintLine& other : *lines) {
+    if (std::abs(Cross(other.dir, line.dir)) >= kSameLineSin ||
+        std::abs(other.Across(line.point + (line.t0 + line.t1) / 2 * line.dir)) >=
+            kSameLineOffsetPx) {
+      continue;
+    }
+    const double a0 = other.Along(line.point + line.t0 * line.dir);
+    const double a1 = other.Along(line.point + line.t1 * line.dir);
+    const double lo = std::min(a0, a1), hi = std::max(a0, a1);
+    if (lo < other.t1 && hi > other.t0) {
+      other.t0 = std::min(other.t0, lo);
+      other.t1 = std::max(other.t1, hi);
+      return true;
+    }
+  }
+  return false;
+}
+
+// 2. Centrelines: the ridges of the paint, their straight pieces by the
+//    probabilistic Hough transform, merged per painted line and refined on
+//    the brightness above the floor.
+std::vector<PaintLine> FindLines(const Frame& f) {
+  const SlotDetectorOptions& o = f.o;
+  const cv::Mat ridges = Ridges(f.bright, f.paint, f.max_width_px, f.threshold);
+  std::vector<cv::Vec4i> segments;
+  cv::HoughLinesP(ridges, segments, 1.0, kPi / 180.0,
+                  static_cast<int>(f.min_arm_px * kHoughVotesPerArm),
+                  f.min_arm_px * kHoughMinPiecePerArm, f.max_width_px * kHoughMaxGapPerWidth);
+  // Pieces merge across gaps narrower than the gap between painted digits.
+  std::vector<PaintLine> rough =
+      MergeSegments(segments, f.max_width_px / 2, o.max_merge_gap_m * f.s);
+  std::vector<PaintLine> lines;
+  for (PaintLine& line : rough) {
+    if (!RefineLine(f.grey, f.bright, f.threshold, o.min_contrast_grey, o.line_relative_contrast,
+                    f.max_width_px, f.min_arm_px, &line)) {
+      continue;
+    }
+    if (line.width_px < o.min_line_width_m * f.s * kMinWidthShare ||
+        line.width_px > f.max_width_px * kMaxWidthShare)
+      continue;
+    if (line.two_sided_share < o.min_two_sided_share) continue;
+    if (!ExtendsAnEarlierLine(line, &lines)) lines.push_back(line);
+  }
+  return lines;
+}
+
+// The lot's lines are painted alike: the median width of the long lines
+// (surely slot lines) is the width a junction's lines must have; 0 when
+// fewer than two long lines are in view.
+double TypicalLineWidth(const Frame& f, const std::vector<PaintLine>& lines) {
+  std::vector<double> long_widths;
+  for (const PaintLine& line : lines) {
+    if (line.length() >= f.o.long_line_m * f.s) long_widths.push_back(line.width_px);
+  }
+  return long_widths.size() >= 2 ? Median(long_widths) : 0.0;
+}
+
+// Where a line stands relative to the junction at t along it: -1 ends there
+// at its start, +1 ends there at its end, 0 passes through with arms on both
+// sides; false: no junction. A line overshooting the junction by less than
+// tol (its paint runs through the other line's width, more so at acute
+// angles) ends there too.
+bool ClassifyEnd(const PaintLine& l, double t, double tol, double min_arm_px, int* where) {
+  const double minus = t - l.t0, plus = l.t1 - t;
+  if (minus >= min_arm_px && plus >= min_arm_px) return *where = 0, true;
+  if (plus >= min_arm_px && minus >= -tol) return *where = -1, true;
+  if (minus >= min_arm_px && plus >= -tol) return *where = 1, true;
+  return false;
+}
+
+// The lines other than i and j whose paint passes within nearby_radius_m.
+int LinesNearby(const Frame& f, const std::vector<PaintLine>& lines, size_t i, size_t j,
+                const Eigen::Vector2d& px) {
+  int nearby = 0;
+  for (size_t k = 0; k < lines.size(); ++k) {
+    if (k == i || k == j) continue;
+    const Eigen::Vector2d ka = lines[k].point + lines[k].t0 * lines[k].dir;
+    const Eigen::Vector2d kb = lines[k].point + lines[k].t1 * lines[k].dir;
+    if (PointDistanceToSegment(px, ka, kb, nullptr) < f.o.nearby_radius_m * f.s) ++nearby;
+  }
+  return nearby;
+}
+
+// The marking point where lines i and j meet, if they make one.
+std::optional<Junction> JunctionOf(const Frame& f, const std::vector<PaintLine>& lines, size_t i,
+                                   size_t j, double typical_width_px) {
+  const SlotDetectorOptions& o = f.o;
+  const PaintLine& a = lines[i];
+  const PaintLine& b = lines[j];
+  const double sin_ab = Cross(a.dir, b.dir);
+  if (std::abs(sin_ab) < f.min_sin) return std::nullopt;
+  // Long lines are slot lines whatever their width (it grows with blur far
+  // from the car); short ones must look like them. A short line meeting a
+  // long one passes as well when their widths agree (the lot's line width
+  // varies with blur across a real view).
+  const auto width_ok = [&](const PaintLine& line) {
+    return typical_width_px <= 0.0 || line.length() >= o.long_line_m * f.s ||
+           std::abs(line.width_px - typical_width_px) <= o.max_width_deviation * typical_width_px;
+  };
+  const bool alike = std::max(a.width_px, b.width_px) <=
+                         (1.0 + o.max_width_deviation) * std::min(a.width_px, b.width_px) &&
+                     std::max(a.length(), b.length()) >= o.long_line_m * f.s;
+  if (!(width_ok(a) && width_ok(b)) && !alike) return std::nullopt;
+  // Intersection: a.point + ta a.dir = b.point + tb b.dir.
+  const Eigen::Vector2d d = b.point - a.point;
+  const double ta = Cross(d, b.dir) / sin_ab;
+  const double tb = Cross(d, a.dir) / sin_ab;
+  const Eigen::Vector2d x = a.point + ta * a.dir;
+  if (x.x() < 0 || x.y() < 0 || x.x() > f.grey.cols - 1 || x.y() > f.grey.rows - 1) {
+    return std::nullopt;
+  }
+  const double tol_a = 0.5 * b.width_px / std::abs(sin_ab) + o.end_tolerance_px;
+  const double tol_b = 0.5 * a.width_px / std::abs(sin_ab) + o.end_tolerance_px;
+  int wa = 0, wb = 0;
+  if (!ClassifyEnd(a, ta, tol_a, f.min_arm_px, &wa) ||
+      !ClassifyEnd(b, tb, tol_b, f.min_arm_px, &wb)) {
+    return std::nullopt;
+  }
+  if (wa == 0 && wb == 0) return std::nullopt;  // a crossing, not a junction
+  // Arm lengths from the junction; one arm (the separating line) must be
+  // long: painted digits make short strokes only.
+  const double arm_a = wa < 0 ? a.t1 - ta : (wa > 0 ? ta - a.t0 : 0.0);
+  const double arm_b = wb < 0 ? b.t1 - tb : (wb > 0 ? tb - b.t0 : 0.0);
+  if (std::max(arm_a, arm_b) < f.min_stem_px) return std::nullopt;
+  const Eigen::Vector2d dir_a = wa <= 0 ? a.dir : Eigen::Vector2d(-a.dir);
+  const Eigen::Vector2d dir_b = wb <= 0 ? b.dir : Eigen::Vector2d(-b.dir);
+  Junction junction;
+  junction.point.px = x;
+  junction.point.score =
+      std::clamp(std::min(a.contrast, b.contrast) / (kFullScoreContrasts * f.threshold), 0.0, 1.0);
+  if (wa != 0 && wb == 0) {
+    if (arm_a < f.min_stem_px) return std::nullopt;
+    junction.point.shape = MarkingShape::kT;
+    junction.point.direction_rad = std::atan2(dir_a.y(), dir_a.x());
+    junction.other_direction_rad = junction.point.direction_rad;
+  } else if (wa == 0 && wb != 0) {
+    if (arm_b < f.min_stem_px) return std::nullopt;
+    junction.point.shape = MarkingShape::kT;
+    junction.point.direction_rad = std::atan2(dir_b.y(), dir_b.x());
+    junction.other_direction_rad = junction.point.direction_rad;
+  } else {
+    junction.point.shape = MarkingShape::kL;
+    const Eigen::Vector2d& main = arm_a >= arm_b ? dir_a : dir_b;
+    const Eigen::Vector2d& other = arm_a >= arm_b ? dir_b : dir_a;
+    junction.point.direction_rad = std::atan2(main.y(), main.x());
+    junction.other_direction_rad = std::atan2(other.y(), other.x());
+    junction.other_arm_px = std::min(arm_a, arm_b);
+    // The stub's line, fitted over its whole length, can be pulled askew by
+    // paint beyond it (a digit); refit it next to the corner.
+    const PaintLine& long_line = arm_a >= arm_b ? a : b;
+    if (const std::optional<Eigen::Vector2d> refined = RefineCorner(
+            f.bright, f.threshold, x, long_line, other, long_line.width_px, f.min_arm_px)) {
+      junction.point.px = *refined;
+    }
+  }
+  if (!f.valid.empty()) {
+    const int cx = static_cast<int>(std::lround(x.x())), cy = static_cast<int>(std::lround(x.y()));
+    if (f.valid.at<std::uint8_t>(cy, cx) == 0) return std::nullopt;
+  }
+  std::vector<Eigen::Vector2d> arms{dir_a, dir_b};
+  if (wa == 0) arms.push_back(-dir_a);
+  if (wb == 0) arms.push_back(-dir_b);
+  const double clutter =
+      Clutter(f.paint, junction.point.px, arms, std::max(a.width_px, b.width_px), f.min_arm_px);
+  if (clutter > o.max_clutter) return std::nullopt;
+  // A slot's corner has few lines around it; a car's body, grass or a
+  // textured wall make many.
+  if (LinesNearby(f, lines, i, j, junction.point.px) > o.max_lines_nearby) return std::nullopt;
+  return junction;
+}
+
+// 3. Marking points (paper III-A, Fig. 3): where one line ends on another.
+//    A line ending in the middle of another makes a T, two lines ending
+//    together an L. The direction is the line leaving the junction (for an
+//    L the longer arm; the other one is kept for pairing).
+std::vector<Junction> FindJunctions(const Frame& f, const std::vector<PaintLine>& lines) {
+  const double typical_width_px = TypicalLineWidth(f, lines);
+  std::vector<Junction> junctions;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    for (size_t j = i + 1; j < lines.size(); ++j) {
+      if (std::optional<Junction> junction = JunctionOf(f, lines, i, j, typical_width_px)) {
+        junctions.push_back(*junction);
+      }
+    }
+  }
+  return junctions;
+}
+
+// Non-maximum suppression: one marking point per junction, T before L, the
+// higher score first; within min_arm_m of a kept one a point is dropped.
+std::vector<Junction> SuppressNonMaxima(const Frame& f, std::vector<Junction> junctions) {
+  std::sort(junctions.begin(), junctions.end(), [](const Junction& x, const Junction& y) {
+    if (x.point.shape != y.point.shape) return x.point.shape == MarkingShape::kT;
+    return x.point.score > y.point.score;
+  });
+  std::vector<Junction> kept;
+  const double nms_px = f.o.min_arm_m * f.s;
+  for (const Junction& junction : junctions) {
+    bool near = false;
+    for (const Junction& k : kept) {
+      if ((k.point.px - junction.point.px).norm() < nms_px) near = true;
+    }
+    if (!near) kept.push_back(junction);
+  }
+  return kept;
+}
+
+// 4. Entrance lines (paper III-A): pairs of marking points at a slot's
+//    width whose separating lines leave to the same side, in the same
+//    direction. Candidates with a third marking point on them, or of
+//    implausible length, are removed.
+class EntrancePairing {
+ public:
+  EntrancePairing(const Frame& f, const std::vector<PaintLine>& lines,
+                  const std::vector<Junction>& points)
+      : f_(f), lines_(lines), points_(points) {}
+
+  // The slot whose entrance runs from point i to point j, if any.
+  std::optional<DetectedSlot> SlotOf(size_t i, size_t j) const {
+    const SlotDetectorOptions& o = f_.o;
+    const MarkingPoint& pi = points_[i].point;
+    const MarkingPoint& pj = points_[j].point;
+    const Eigen::Vector2d e = pj.px - pi.px;
+    const double length_m = e.norm() / f_.s;
+    if (length_m < o.min_entrance_m || length_m > o.max_entrance_m) return std::nullopt;
+    Eigen::Vector2d dir_i, dir_j;
+    if (!SeparatingLines(i, j, e, &dir_i, &dir_j)) return std::nullopt;
+    const Eigen::Vector2d depth_dir = (dir_i + dir_j).normalized();
+    // The slot opens towards the car: its interior lies beyond the
+    // entrance as seen from the image centre.
+    const Eigen::Vector2d centre_px((f_.grey.cols - 1) / 2.0, (f_.grey.rows - 1) / 2.0);
+    if (o.require_entrance_facing_vehicle && depth_dir.dot((pi.px + pj.px) / 2 - centre_px) < 0.0) {
+      return std::nullopt;
+    }
+    if (ThirdPointOn(i, j)) return std::nullopt;
+    // A parallel slot's entrance is as long as two perpendicular slots'
+    // entrances: where the corner between two of those was missed, its
+    // separating line still ends on the candidate between the two points.
+    if (length_m >= o.parallel_min_entrance_m &&
+        LineEndsBetween(lines_, pi.px, pj.px, depth_dir, f_.min_stem_px, f_.min_sin,
+                        o.on_line_tolerance_m * f_.s)) {
+      return std::nullopt;
+    }
+    DetectedSlot slot;
+    // Corner order: walking from corner 0 to corner 1 the slot lies on the
+    // left in the vehicle frame, which the top view mirrors: on the right
+    // on screen, Cross(p1 - p0, depth) < 0.
+    const bool i_first = Cross(e, depth_dir) < 0.0;
+    const size_t first = i_first ? i : j, second = i_first ? j : i;
+    const double depth_m =
+        length_m >= o.parallel_min_entrance_m ? o.parallel_depth_m : o.standard_depth_m;
+    const Eigen::Vector2d& p_first = points_[first].point.px;
+    const Eigen::Vector2d& p_second = points_[second].point.px;
+    slot.corners_px[0] = p_first;
+    slot.corners_px[1] = p_second;
+    slot.corners_px[2] = p_second + depth_m * f_.s * depth_dir;
+    slot.corners_px[3] = p_first + depth_m * f_.s * depth_dir;
+    slot.depth_dir_px = depth_dir;
+    slot.marking_points = {static_cast<int>(first), static_cast<int>(second)};
+    slot.confidence = std::sqrt(pi.score * pj.score);
+    return slot;
+  }
+
+ private:
+  // The arm of point k not used as its separating line (an L's other arm;
+  // a T's through line) is its stretch of the entrance line: it must
+  // point to the partner, with paint along most of an arm's length.
+  bool EntranceArmOk(size_t k, double used, const Eigen::Vector2d& to_partner) const {
+    const Junction& p = points_[k];
+    if (p.point.shape == MarkingShape::kL) {
+      const double unused = std::abs(AngleDiff(used, p.point.direction_rad)) < kSameDirectionRad
+                                ? p.other_direction_rad
+                                : p.point.direction_rad;
+      if (Eigen::Vector2d(std::cos(unused), std::sin(unused)).dot(to_partner) < kCos45) {
+        return false;
+      }
+    }
+    return PaintAlong(f_.paint, p.point.px, to_partner, 0.5 * f_.max_width_px, f_.min_arm_px) >=
+           kMinEntrancePaintShare;
+  }
+
+  // The separating line is a stem (at least min_stem_m in view), also where
+  // an L's shorter arm is taken as it: the short strokes at both ends of a
+  // row's end line make no parallel slot.
+  bool ShortArmUsed(size_t k, double used) const {
+    const Junction& p = points_[k];
+    return p.point.shape == MarkingShape::kL &&
+           std::abs(AngleDiff(used, p.point.direction_rad)) > kSameDirectionRad &&
+           p.other_arm_px < f_.min_stem_px;
+  }
+
+  // Each point may use either arm of an L as its separating line: the first
+  // choice whose lines agree in direction, are stems, leave room for the
+  // entrance line and leave it (not run along it).
+  bool SeparatingLines(size_t i, size_t j, const Eigen::Vector2d& e, Eigen::Vector2d* dir_i,
+                       Eigen::Vector2d* dir_j) const {
+    const Eigen::Vector2d e_unit = e.normalized();
+    for (double ai : {points_[i].point.direction_rad, points_[i].other_direction_rad}) {
+      for (double aj : {points_[j].point.direction_rad, points_[j].other_direction_rad}) {
+        if (std::abs(AngleDiff(ai, aj)) > f_.o.max_direction_difference_rad) continue;
+        if (ShortArmUsed(i, ai) || ShortArmUsed(j, aj)) continue;
+        if (!EntranceArmOk(i, ai, e_unit) || !EntranceArmOk(j, aj, -e_unit)) continue;
+        const Eigen::Vector2d di(std::cos(ai), std::sin(ai)), dj(std::cos(aj), std::sin(aj));
+        const Eigen::Vector2d mean = (di + dj).normalized();
+        if (std::abs(Cross(e.normalized(), mean)) < f_.min_sin) continue;
+        *dir_i = di;
+        *dir_j = dj;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // A third marking point on the entrance line between i and j: the pair
+  // spans two slots.
+  bool ThirdPointOn(size_t i, size_t j) const {
+    for (size_t k = 0; k < points_.size(); ++k) {
+      if (k == i || k == j) continue;
+      double along = 0.0;
+      const double dist = PointDistanceToSegment(points_[k].point.px, points_[i].point.px,
+                                                 points_[j].point.px, &along);
+      if (dist < f_.o.on_line_tolerance_m * f_.s && along > 0.0 && along < 1.0) return true;
+    }
+    return false;
+  }
+
+  const Frame& f_;
+  const std::vector<PaintLine>& lines_;
+  const std::vector<Junction>& points_;
+};
+
+}  // namespace
+
 SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask) const {
   if (top_view.empty() || top_view.depth() != CV_8U ||
       (top_view.channels() != 1 && top_view.channels() != 3)) {
@@ -538,335 +979,22 @@ SlotDetection SlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask)
   if (!mask.empty() && (mask.size() != top_view.size() || mask.type() != CV_8UC1)) {
     throw std::invalid_argument("slot detector: the mask must be 8-bit and of the image's size");
   }
-  const SlotDetectorOptions& o = options_;
-  const double s = o.pixels_per_m;
-  cv::Mat grey;
-  if (top_view.channels() == 3) {
-    cv::cvtColor(top_view, grey, cv::COLOR_BGR2GRAY);
-  } else {
-    grey = top_view.clone();
-  }
-  // Fused top views paint what no camera sees (the car's footprint) pure
-  // black: regions of it are masked like the given mask.
-  cv::Mat seen;
-  {
-    cv::Mat unseen = grey <= 2;
-    cv::morphologyEx(unseen, unseen, cv::MORPH_OPEN,
-                     cv::getStructuringElement(cv::MORPH_RECT, cv::Size(9, 9)));
-    if (cv::countNonZero(unseen) > 0) {
-      seen = unseen == 0;
-      if (!mask.empty()) seen &= mask;
-    } else {
-      seen = mask;
-    }
-  }
-  cv::Mat valid;
-  if (!seen.empty()) {
-    // Masked pixels take the mean of the rest, so that their border makes
-    // no edge; a margin of mask_margin_m is ignored around them.
-    grey.setTo(cv::mean(grey, seen), seen == 0);
-    cv::erode(seen, valid, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)),
-              cv::Point(-1, -1), static_cast<int>(std::ceil(o.mask_margin_m * s)));
-  }
+  Frame f(options_);
+  PrepareImage(top_view, mask, &f);
+  FindPaint(&f);
+  const std::vector<PaintLine> lines = FindLines(f);
+  const std::vector<Junction> points = SuppressNonMaxima(f, FindJunctions(f, lines));
 
-  // 1. Paint: the brightness above the floor's median over twice the
-  //    widest line. A pixel is paint when it stands local_contrast_factor
-  //    times above the mean response around it (so that textured floor,
-  //    grass or a car's body, whose response is high everywhere, is not)
-  //    and above min_contrast_grey. Line refinement measures support
-  //    against a threshold relative to the brightest paint in view, or to
-  //    the line's own contrast for a faint line.
-  const double max_width_px = o.max_line_width_m * s;
-  const int kernel_px = 2 * static_cast<int>(std::ceil(max_width_px)) + 1;
-  const cv::Mat bright = BrightAboveFloor(grey, kernel_px);
-  const double threshold =
-      std::max(o.min_contrast_grey, o.relative_contrast * Percentile(bright, 0.995));
-  cv::Mat paint;
-  {
-    const int window_px = 2 * static_cast<int>(std::lround(o.local_window_m * s / 2)) + 1;
-    cv::Mat local_mean, response;
-    cv::boxFilter(bright, local_mean, CV_32F, cv::Size(window_px, window_px));
-    bright.convertTo(response, CV_32F);
-    paint = (response > local_mean * o.local_contrast_factor) & (bright > o.min_contrast_grey);
-  }
-  if (!valid.empty()) paint.setTo(0, valid == 0);
-
-  // 2. Centrelines: the ridges of the paint, their straight pieces by the
-  //    probabilistic Hough transform, merged per painted line and refined
-  //    on the brightness above the floor.
-  const cv::Mat ridges = Ridges(bright, paint, max_width_px, threshold);
-  const double min_arm_px = o.min_arm_m * s;
-  const double min_stem_px = o.min_stem_m * s;
-  std::vector<cv::Vec4i> segments;
-  cv::HoughLinesP(ridges, segments, 1.0, kPi / 180.0, static_cast<int>(min_arm_px * 0.6),
-                  min_arm_px * 0.7, o.max_line_width_m * s * 0.5);
-  // Pieces merge across gaps narrower than the gap between painted digits.
-  std::vector<PaintLine> rough = MergeSegments(segments, max_width_px / 2, o.max_merge_gap_m * s);
-  std::vector<PaintLine> lines;
-  for (PaintLine& line : rough) {
-    if (!RefineLine(grey, bright, threshold, o.min_contrast_grey, o.line_relative_contrast,
-                    max_width_px, min_arm_px, &line)) {
-      continue;
-    }
-    if (line.width_px < o.min_line_width_m * s * 0.5 || line.width_px > max_width_px * 1.5)
-      continue;
-    if (line.two_sided_share < o.min_two_sided_share) continue;
-    // Refinement may make two rough pieces one line: the first takes the
-    // other's extent.
-    bool duplicate = false;
-    for (PaintLine& other : lines) {
-      // Parallel, on the same centreline, overlapping along it.
-      if (std::abs(Cross(other.dir, line.dir)) < 0.05 &&
-          std::abs(other.Across(line.point + (line.t0 + line.t1) / 2 * line.dir)) < 3.0) {
-        const double a0 = other.Along(line.point + line.t0 * line.dir);
-        const double a1 = other.Along(line.point + line.t1 * line.dir);
-        const double lo = std::min(a0, a1), hi = std::max(a0, a1);
-        if (lo < other.t1 && hi > other.t0) {
-          other.t0 = std::min(other.t0, lo);
-          other.t1 = std::max(other.t1, hi);
-          duplicate = true;
-          break;
-        }
-      }
-    }
-    if (!duplicate) lines.push_back(line);
-  }
-
-  // The lot's lines are painted alike: the median width of the long lines
-  // (surely slot lines) is the width a junction's lines must have.
-  std::vector<double> long_widths;
-  for (const PaintLine& line : lines) {
-    if (line.length() >= o.long_line_m * s) long_widths.push_back(line.width_px);
-  }
-  const double typical_width_px = long_widths.size() >= 2 ? Median(long_widths) : 0.0;
-  // Long lines are slot lines whatever their width (it grows with blur
-  // far from the car); short ones must look like them.
-  const auto width_ok = [&](const PaintLine& line) {
-    return typical_width_px <= 0.0 || line.length() >= o.long_line_m * s ||
-           std::abs(line.width_px - typical_width_px) <= o.max_width_deviation * typical_width_px;
-  };
-
-  // 3. Marking points (paper III-A, Fig. 3): where one line ends on
-  //    another. A line ending in the middle of another makes a T, two lines
-  //    ending together an L. The direction is the line leaving the junction
-  //    (for an L the longer arm; the other one is kept for pairing).
-  std::vector<Junction> junctions;
-  const double min_sin = std::sin(o.min_junction_angle_rad);
-  for (size_t i = 0; i < lines.size(); ++i) {
-    for (size_t j = i + 1; j < lines.size(); ++j) {
-      const PaintLine& a = lines[i];
-      const PaintLine& b = lines[j];
-      const double sin_ab = Cross(a.dir, b.dir);
-      if (std::abs(sin_ab) < min_sin) continue;
-      // A short line meeting a long one passes as well when their widths
-      // agree (the lot's line width varies with blur across a real view).
-      const bool alike = std::max(a.width_px, b.width_px) <=
-                             (1.0 + o.max_width_deviation) * std::min(a.width_px, b.width_px) &&
-                         std::max(a.length(), b.length()) >= o.long_line_m * s;
-      if (!(width_ok(a) && width_ok(b)) && !alike) continue;
-      // Intersection: a.point + ta a.dir = b.point + tb b.dir.
-      const Eigen::Vector2d d = b.point - a.point;
-      const double ta = Cross(d, b.dir) / sin_ab;
-      const double tb = Cross(d, a.dir) / sin_ab;
-      const Eigen::Vector2d x = a.point + ta * a.dir;
-      if (x.x() < 0 || x.y() < 0 || x.x() > grey.cols - 1 || x.y() > grey.rows - 1) continue;
-      const double tol_a = 0.5 * b.width_px / std::abs(sin_ab) + o.end_tolerance_px;
-      const double tol_b = 0.5 * a.width_px / std::abs(sin_ab) + o.end_tolerance_px;
-      // Where each line stands relative to x: -1 ends there at its start,
-      // +1 ends there at its end, 0 passes through with arms on both sides,
-      // and no junction otherwise.
-      // A line overshooting the junction by less than an arm (its paint
-      // runs through the other line's width, more so at acute angles) ends
-      // there too.
-      auto classify = [&](const PaintLine& l, double t, double tol, int* where) {
-        const double minus = t - l.t0, plus = l.t1 - t;
-        if (minus >= min_arm_px && plus >= min_arm_px) return *where = 0, true;
-        if (plus >= min_arm_px && minus >= -tol) return *where = -1, true;
-        if (minus >= min_arm_px && plus >= -tol) return *where = 1, true;
-        return false;
-      };
-      int wa = 0, wb = 0;
-      if (!classify(a, ta, tol_a, &wa) || !classify(b, tb, tol_b, &wb)) continue;
-      if (wa == 0 && wb == 0) continue;  // a crossing, not a junction
-      // Arm lengths from the junction; one arm (the separating line) must be
-      // long: painted digits make short strokes only.
-      const double arm_a = wa < 0 ? a.t1 - ta : (wa > 0 ? ta - a.t0 : 0.0);
-      const double arm_b = wb < 0 ? b.t1 - tb : (wb > 0 ? tb - b.t0 : 0.0);
-      if (std::max(arm_a, arm_b) < min_stem_px) continue;
-      const Eigen::Vector2d dir_a = wa <= 0 ? a.dir : Eigen::Vector2d(-a.dir);
-      const Eigen::Vector2d dir_b = wb <= 0 ? b.dir : Eigen::Vector2d(-b.dir);
-      Junction junction;
-      junction.point.px = x;
-      junction.point.score =
-          std::clamp(std::min(a.contrast, b.contrast) / (3.0 * threshold), 0.0, 1.0);
-      if (wa != 0 && wb == 0) {
-        if (arm_a < min_stem_px) continue;
-        junction.point.shape = MarkingShape::kT;
-        junction.point.direction_rad = std::atan2(dir_a.y(), dir_a.x());
-        junction.other_direction_rad = junction.point.direction_rad;
-      } else if (wa == 0 && wb != 0) {
-        if (arm_b < min_stem_px) continue;
-        junction.point.shape = MarkingShape::kT;
-        junction.point.direction_rad = std::atan2(dir_b.y(), dir_b.x());
-        junction.other_direction_rad = junction.point.direction_rad;
-      } else {
-        junction.point.shape = MarkingShape::kL;
-        const Eigen::Vector2d& main = arm_a >= arm_b ? dir_a : dir_b;
-        const Eigen::Vector2d& other = arm_a >= arm_b ? dir_b : dir_a;
-        junction.point.direction_rad = std::atan2(main.y(), main.x());
-        junction.other_direction_rad = std::atan2(other.y(), other.x());
-        junction.other_arm_px = std::min(arm_a, arm_b);
-        // The stub's line, fitted over its whole length, can be pulled
-        // askew by paint beyond it (a digit); refit it next to the corner.
-        const PaintLine& long_line = arm_a >= arm_b ? a : b;
-        if (const std::optional<Eigen::Vector2d> refined = RefineCorner(
-                bright, threshold, x, long_line, other, long_line.width_px, min_arm_px)) {
-          junction.point.px = *refined;
-        }
-      }
-      if (!valid.empty()) {
-        const int cx = static_cast<int>(std::lround(x.x())),
-                  cy = static_cast<int>(std::lround(x.y()));
-        if (valid.at<std::uint8_t>(cy, cx) == 0) continue;
-      }
-      std::vector<Eigen::Vector2d> arms{dir_a, dir_b};
-      if (wa == 0) arms.push_back(-dir_a);
-      if (wb == 0) arms.push_back(-dir_b);
-      const double clutter =
-          Clutter(paint, junction.point.px, arms, std::max(a.width_px, b.width_px), min_arm_px);
-      if (clutter > o.max_clutter) continue;
-      // A slot's corner has few lines around it; a car's body, grass or a
-      // textured wall make many.
-      int lines_nearby = 0;
-      for (size_t k = 0; k < lines.size(); ++k) {
-        if (k == i || k == j) continue;
-        const Eigen::Vector2d ka = lines[k].point + lines[k].t0 * lines[k].dir;
-        const Eigen::Vector2d kb = lines[k].point + lines[k].t1 * lines[k].dir;
-        if (PointDistanceToSegment(junction.point.px, ka, kb, nullptr) < o.nearby_radius_m * s) {
-          ++lines_nearby;
-        }
-      }
-      if (lines_nearby > o.max_lines_nearby) continue;
-      junctions.push_back(junction);
-    }
-  }
-  // Non-maximum suppression: one marking point per junction.
-  std::sort(junctions.begin(), junctions.end(), [](const Junction& x, const Junction& y) {
-    if (x.point.shape != y.point.shape) return x.point.shape == MarkingShape::kT;
-    return x.point.score > y.point.score;
-  });
   SlotDetection result;
   for (const PaintLine& line : lines) {
     result.lines.push_back(
         {line.point + line.t0 * line.dir, line.point + line.t1 * line.dir, line.width_px});
   }
-  std::vector<double> other_direction, other_arm_px;
-  const double nms_px = o.min_arm_m * s;
-  for (const Junction& junction : junctions) {
-    bool near = false;
-    for (const MarkingPoint& kept : result.marking_points) {
-      if ((kept.px - junction.point.px).norm() < nms_px) near = true;
-    }
-    if (near) continue;
-    result.marking_points.push_back(junction.point);
-    other_direction.push_back(junction.other_direction_rad);
-    other_arm_px.push_back(junction.other_arm_px);
-  }
-
-  // 4. Entrance lines (paper III-A): pairs of marking points at a slot's
-  //    width whose separating lines leave to the same side, in the same
-  //    direction. Candidates with a third marking point on them, or of
-  //    implausible length, are removed.
-  const Eigen::Vector2d centre_px((grey.cols - 1) / 2.0, (grey.rows - 1) / 2.0);
-  const auto& mp = result.marking_points;
-  for (size_t i = 0; i < mp.size(); ++i) {
-    for (size_t j = i + 1; j < mp.size(); ++j) {
-      const Eigen::Vector2d e = mp[j].px - mp[i].px;
-      const double length_m = e.norm() / s;
-      if (length_m < o.min_entrance_m || length_m > o.max_entrance_m) continue;
-      // Each point may use either arm of an L; the arm it does not use is
-      // its stretch of the entrance line and must point to the partner.
-      const Eigen::Vector2d e_unit = e.normalized();
-      constexpr double kCos45 = 0.7071;
-      // The entrance line leaves each point towards its partner: paint
-      // along most of the first arm's length that way (for an L, its
-      // other arm; for a T, its through line).
-      const auto entrance_arm_ok = [&](size_t k, double used, const Eigen::Vector2d& to_partner) {
-        if (mp[k].shape == MarkingShape::kL) {
-          const double unused = std::abs(AngleDiff(used, mp[k].direction_rad)) < 1e-9
-                                    ? other_direction[k]
-                                    : mp[k].direction_rad;
-          if (Eigen::Vector2d(std::cos(unused), std::sin(unused)).dot(to_partner) < kCos45) {
-            return false;
-          }
-        }
-        return PaintAlong(paint, mp[k].px, to_partner, 0.5 * max_width_px, min_arm_px) >= 0.5;
-      };
-      // The separating line is a stem (at least min_stem_m in view), also
-      // where an L's shorter arm is taken as it: the short strokes at both
-      // ends of a row's end line make no parallel slot.
-      const auto short_arm_used = [&](size_t k, double used) {
-        return mp[k].shape == MarkingShape::kL &&
-               std::abs(AngleDiff(used, mp[k].direction_rad)) > 1e-9 &&
-               other_arm_px[k] < min_stem_px;
-      };
-      bool found = false;
-      Eigen::Vector2d dir_i, dir_j;
-      for (double ai : {mp[i].direction_rad, other_direction[i]}) {
-        for (double aj : {mp[j].direction_rad, other_direction[j]}) {
-          if (found) break;
-          if (std::abs(AngleDiff(ai, aj)) > o.max_direction_difference_rad) continue;
-          if (short_arm_used(i, ai) || short_arm_used(j, aj)) continue;
-          if (!entrance_arm_ok(i, ai, e_unit) || !entrance_arm_ok(j, aj, -e_unit)) continue;
-          const Eigen::Vector2d di(std::cos(ai), std::sin(ai)), dj(std::cos(aj), std::sin(aj));
-          const Eigen::Vector2d mean = (di + dj).normalized();
-          // The separating lines must leave the entrance line, not run along it.
-          if (std::abs(Cross(e.normalized(), mean)) < min_sin) continue;
-          dir_i = di;
-          dir_j = dj;
-          found = true;
-        }
-      }
-      if (!found) continue;
-      const Eigen::Vector2d depth_dir = (dir_i + dir_j).normalized();
-      // The slot opens towards the car: its interior lies beyond the
-      // entrance as seen from the image centre.
-      if (o.require_entrance_facing_vehicle &&
-          depth_dir.dot((mp[i].px + mp[j].px) / 2 - centre_px) < 0.0) {
-        continue;
-      }
-      bool third_point = false;
-      for (size_t k = 0; k < mp.size() && !third_point; ++k) {
-        if (k == i || k == j) continue;
-        double along = 0.0;
-        const double dist = PointDistanceToSegment(mp[k].px, mp[i].px, mp[j].px, &along);
-        if (dist < o.on_line_tolerance_m * s && along > 0.0 && along < 1.0) third_point = true;
-      }
-      if (third_point) continue;
-      // A parallel slot's entrance is as long as two perpendicular slots'
-      // entrances: where the corner between two of those was missed, its
-      // separating line still ends on the candidate between the two points.
-      if (length_m >= o.parallel_min_entrance_m &&
-          LineEndsBetween(lines, mp[i].px, mp[j].px, depth_dir, min_stem_px, min_sin,
-                          o.on_line_tolerance_m * s)) {
-        continue;
-      }
-      DetectedSlot slot;
-      // Corner order: walking from corner 0 to corner 1 the slot lies on
-      // the left in the vehicle frame, which the top view mirrors: on the
-      // right on screen, Cross(p1 - p0, depth) < 0.
-      const bool i_first = Cross(e, depth_dir) < 0.0;
-      const size_t first = i_first ? i : j, second = i_first ? j : i;
-      const double depth_m =
-          length_m >= o.parallel_min_entrance_m ? o.parallel_depth_m : o.standard_depth_m;
-      slot.corners_px[0] = mp[first].px;
-      slot.corners_px[1] = mp[second].px;
-      slot.corners_px[2] = mp[second].px + depth_m * s * depth_dir;
-      slot.corners_px[3] = mp[first].px + depth_m * s * depth_dir;
-      slot.depth_dir_px = depth_dir;
-      slot.marking_points = {static_cast<int>(first), static_cast<int>(second)};
-      slot.confidence = std::sqrt(mp[i].score * mp[j].score);
-      result.slots.push_back(slot);
+  for (const Junction& junction : points) result.marking_points.push_back(junction.point);
+  const EntrancePairing pairing(f, lines, points);
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t j = i + 1; j < points.size(); ++j) {
+      if (std::optional<DetectedSlot> slot = pairing.SlotOf(i, j)) result.slots.push_back(*slot);
     }
   }
   return result;
