@@ -136,6 +136,232 @@ struct Layout {
   double score = -1e300;
 };
 
+// The region where the digits may stand, rectified (paper III-A): upright,
+// one pixel per top-view pixel. Columns run along the reading direction
+// `right` (up turned clockwise on screen), rows from the digits' top down
+// to their foot.
+struct Region {
+  double ppm = 0.0;
+  Eigen::Vector2d up, right;
+  double height_px = 0.0, width_px = 0.0, pitch_px = 0.0, stroke_px = 0.0;
+  double shift_px = 0.0;      // how far the digits may lie off their place
+  double max_width_px = 0.0;  // the longest ID's width
+  int cols = 0, rows = 0;
+  double center_col = 0.0;
+  double nominal_top = 0.0;  // the digits' top edge, in rows
+  cv::Mat grey;
+  // Pixels no camera saw (0 in the top view, or outside it), grown by one
+  // for the interpolation's reach.
+  cv::Mat no_data;
+};
+
+Region Rectify(const cv::Mat& top_view_grey, const EntranceInImage& entrance,
+               const SlotIdReaderOptions& options) {
+  Region g;
+  g.ppm = options.pixels_per_m;
+  g.up = entrance.depth_dir_px / entrance.depth_dir_px.norm();
+  g.right = Eigen::Vector2d(-g.up.y(), g.up.x());
+  const Eigen::Vector2d mid = (entrance.corner0_px + entrance.corner1_px) / 2;
+  g.height_px = options.id_height_m * g.ppm;
+  g.width_px = font::kDigitWidth * g.height_px;
+  g.pitch_px = (font::kDigitWidth + font::kDigitGap) * g.height_px;
+  g.stroke_px = font::kDigitStroke * g.height_px;
+  g.shift_px = options.max_offset_m * g.ppm;
+  const double margin_px = kRegionMarginM * g.ppm;
+  g.max_width_px = font::IdWidth(options.max_digits, g.height_px);
+  g.cols = static_cast<int>(std::ceil(g.max_width_px + 2 * (g.shift_px + margin_px))) + 1;
+  g.rows = static_cast<int>(std::ceil(g.height_px + 2 * (g.shift_px + margin_px))) + 1;
+  g.center_col = (g.cols - 1) / 2.0;
+  // Row r lies (top_depth_px - r) pixels deep into the slot.
+  const double top_depth_px =
+      (options.id_setback_m + options.id_height_m) * g.ppm + g.shift_px + margin_px;
+  g.nominal_top = g.shift_px + margin_px;
+  const Eigen::Vector2d origin = mid - g.right * g.center_col + g.up * top_depth_px;
+  const cv::Matx23d region_to_image(g.right.x(), -g.up.x(), origin.x(), g.right.y(), -g.up.y(),
+                                    origin.y());
+  cv::Mat seen;
+  cv::warpAffine(top_view_grey, g.grey, region_to_image, cv::Size(g.cols, g.rows),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::warpAffine(top_view_grey, seen, region_to_image, cv::Size(g.cols, g.rows),
+                 cv::INTER_NEAREST | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(0));
+  g.no_data = seen == 0;
+  cv::dilate(g.no_data, g.no_data, cv::Mat());
+  return g;
+}
+
+// The region's grey levels where a camera saw it.
+Histogram LevelsOf(const Region& g) {
+  Histogram levels;
+  for (int r = 0; r < g.rows; ++r) {
+    const std::uint8_t* v = g.grey.ptr<std::uint8_t>(r);
+    const std::uint8_t* n = g.no_data.ptr<std::uint8_t>(r);
+    for (int c = 0; c < g.cols; ++c) {
+      if (n[c]) continue;
+      ++levels.counts[v[c]];
+      ++levels.total;
+    }
+  }
+  return levels;
+}
+
+// The columns any ID may cover, [begin, end).
+std::pair<int, int> IdWindow(const Region& g) {
+  return {
+      std::max(0, static_cast<int>(std::floor(g.center_col - g.max_width_px / 2 - g.shift_px))),
+      std::min(g.cols,
+               static_cast<int>(std::ceil(g.center_col + g.max_width_px / 2 + g.shift_px)) + 1)};
+}
+
+// The digits' band (all digits span the full height): its top row, where
+// the ink over the window's columns is largest, less the offset penalty.
+double FindBandTop(const Region& g, const cv::Mat& ink) {
+  const auto [window_begin, window_end] = IdWindow(g);
+  std::vector<double> row_ink(static_cast<size_t>(g.rows), 0.0);
+  for (int r = 0; r < g.rows; ++r) {
+    const float* k = ink.ptr<float>(r);
+    for (int c = window_begin; c < window_end; ++c) row_ink[static_cast<size_t>(r)] += k[c];
+  }
+  const ProfileSums row_sums(row_ink);
+  double top = g.nominal_top, best_band = -1e300;
+  for (double t = g.nominal_top - g.shift_px; t <= g.nominal_top + g.shift_px + 1e-9;
+       t += kLayoutStepPx) {
+    const double score =
+        row_sums.Sum(t, t + g.height_px) - kOffsetPenaltyPerPx * std::abs(t - g.nominal_top);
+    if (score > best_band) {
+      best_band = score;
+      top = t;
+    }
+  }
+  return top;
+}
+
+// Column profiles over the band, and over its top and bottom thirds: every
+// digit of the font has ink in both (segments a, b or f above, c, d or e
+// below), other paint reaching into a cell (an angled slot's entrance stub)
+// mostly not; and the pixels no camera saw.
+struct ColumnProfiles {
+  ProfileSums ink, top, bottom, unseen;
+};
+
+ColumnProfiles ProfilesOf(const Region& g, const cv::Mat& ink, double band_top) {
+  const double band_bottom = band_top + g.height_px;
+  const auto cols = static_cast<size_t>(g.cols);
+  std::vector<double> col_ink(cols, 0.0), col_ink_top(cols, 0.0), col_ink_bottom(cols, 0.0),
+      col_unseen(cols, 0.0);
+  for (int r = std::max(0, static_cast<int>(std::ceil(band_top)));
+       r < std::min(g.rows, static_cast<int>(std::ceil(band_bottom))); ++r) {
+    const float* k = ink.ptr<float>(r);
+    const std::uint8_t* n = g.no_data.ptr<std::uint8_t>(r);
+    const bool in_top = r < band_top + g.height_px / 3;
+    const bool in_bottom = r >= band_bottom - g.height_px / 3;
+    for (int c = 0; c < g.cols; ++c) {
+      col_ink[static_cast<size_t>(c)] += k[c];
+      if (in_top) col_ink_top[static_cast<size_t>(c)] += k[c];
+      if (in_bottom) col_ink_bottom[static_cast<size_t>(c)] += k[c];
+      col_unseen[static_cast<size_t>(c)] += n[c] ? 1.0 : 0.0;
+    }
+  }
+  return {ProfileSums(col_ink), ProfileSums(col_ink_top), ProfileSums(col_ink_bottom),
+          ProfileSums(col_unseen)};
+}
+
+struct LayoutSearch {
+  Layout best;
+  // Per digit count, the best score of a layout left open (not explaining
+  // the ink, a cell partly unseen).
+  std::vector<double> best_open_score;
+  double min_cell_ink = 0.0;
+};
+
+// Every candidate layout: n digits centred `shift` off the nominal place.
+// It explains the ink when each of its cells holds a digit's worth, top and
+// bottom; it is ruled out when one of its cells, fully seen, does not; else
+// it stays open (a cell without ink lies partly where no camera saw). Its
+// score: the ink inside its cells less the ink outside, plus the ink in
+// each cell's right stroke (segments b and c): every digit of the font has
+// one of them, and it pins a "1", which would otherwise slide freely in its
+// cell.
+LayoutSearch FindLayout(const Region& g, const ColumnProfiles& p, int max_digits) {
+  const auto [window_begin, window_end] = IdWindow(g);
+  const double window_ink = p.ink.Sum(window_begin - 0.5, window_end - 0.5);
+  LayoutSearch search;
+  search.min_cell_ink = kMinCellInkStrokes * g.stroke_px * g.height_px;
+  const double min_third_ink = search.min_cell_ink / 3;
+  const double max_cell_unseen = kMaxNoDataShare * g.width_px * g.height_px;
+  search.best_open_score.assign(static_cast<size_t>(max_digits) + 1, -1e300);
+  for (int n = 1; n <= max_digits; ++n) {
+    const double id_width_px = font::IdWidth(n, g.height_px);
+    for (double shift = -g.shift_px; shift <= g.shift_px + 1e-9; shift += kLayoutStepPx) {
+      const double left = g.center_col + shift - id_width_px / 2;
+      double inside = 0.0, right_strokes = 0.0;
+      bool explains = true, ruled_out = false;
+      for (int k = 0; k < n; ++k) {
+        const double a = left + k * g.pitch_px, b = a + g.width_px;
+        const double cell = p.ink.Sum(a, b);
+        if (cell < search.min_cell_ink || p.top.Sum(a, b) < min_third_ink ||
+            p.bottom.Sum(a, b) < min_third_ink) {
+          explains = false;
+          ruled_out = ruled_out || p.unseen.Sum(a, b) <= max_cell_unseen;
+        }
+        inside += cell;
+        right_strokes += p.ink.Sum(b - g.stroke_px, b);
+      }
+      const double score =
+          inside - (window_ink - inside) + right_strokes - kOffsetPenaltyPerPx * std::abs(shift);
+      if (!explains) {
+        double& open = search.best_open_score[static_cast<size_t>(n)];
+        if (!ruled_out) open = std::max(open, score);
+        continue;
+      }
+      if (score > search.best.score) {
+        search.best = {n, left, (window_ink - inside) / inside, score};
+      }
+    }
+  }
+  return search;
+}
+
+// Each digit cell, rectified to the classifier's patch (drawn at twice its
+// resolution and averaged down, as the classifier was trained), and
+// classified; digits below min_digit_probability stay unread.
+SlotIdReading ReadDigits(const Region& g, const cv::Mat& normalized, const Layout& layout,
+                         double band_top, const DigitClassifier& classifier,
+                         const SlotIdReaderOptions& options, SlotIdReadDetails* details) {
+  SlotIdReading reading;
+  const cv::Size big(2 * kDigitPatchCols, 2 * kDigitPatchRows);
+  for (int k = 0; k < layout.digits; ++k) {
+    const double cell_left = layout.left_px + k * g.pitch_px - kDigitPatchMarginX * g.height_px;
+    const double cell_top = band_top - kDigitPatchMarginY * g.height_px;
+    const double step_x = (g.width_px + 2 * kDigitPatchMarginX * g.height_px) / big.width;
+    const double step_y = (g.height_px + 2 * kDigitPatchMarginY * g.height_px) / big.height;
+    // Patch pixel i samples the region at cell_left + (i + 0.5) step_x.
+    const cv::Matx23d patch_to_region(step_x, 0, cell_left + 0.5 * step_x, 0, step_y,
+                                      cell_top + 0.5 * step_y);
+    cv::Mat fine, patch;
+    cv::warpAffine(normalized, fine, patch_to_region, big, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                   cv::BORDER_REPLICATE);
+    cv::resize(fine, patch, cv::Size(kDigitPatchCols, kDigitPatchRows), 0, 0, cv::INTER_AREA);
+    const ClassProbabilities p = classifier.Classify(patch);
+    if (details != nullptr) details->digit_patches.push_back(patch);
+    DigitReading digit;
+    double best = 0.0;
+    for (int c = 0; c < 10; ++c) best = std::max(best, p[static_cast<size_t>(c)]);
+    if (best >= options.min_digit_probability) {
+      for (int c = 0; c < 10; ++c) {
+        if (p[static_cast<size_t>(c)] >= options.min_hypothesis_probability) {
+          digit.hypotheses.push_back({static_cast<char>('0' + c), p[static_cast<size_t>(c)]});
+        }
+      }
+      std::sort(digit.hypotheses.begin(), digit.hypotheses.end(),
+                [](const DigitHypothesis& a, const DigitHypothesis& b) {
+                  return a.probability > b.probability;
+                });
+    }
+    reading.digits.push_back(std::move(digit));
+  }
+  return reading;
+}
+
 }  // namespace
 
 bool SlotIdReaderOptions::IsValid(std::string* error) const {
@@ -189,56 +415,14 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
   if (!(norm > 1e-9) || !entrance.corner0_px.allFinite() || !entrance.corner1_px.allFinite()) {
     return give_up("bad entrance");
   }
-
-  // Rectification (paper III-A): the region where the digits may stand,
-  // upright, one pixel per top-view pixel. Columns run along the reading
-  // direction `right` (up turned clockwise on screen), rows from the
-  // digits' top down to their foot.
-  const double ppm = options_.pixels_per_m;
-  const Eigen::Vector2d up = entrance.depth_dir_px / norm;
-  const Eigen::Vector2d right(-up.y(), up.x());
-  const Eigen::Vector2d mid = (entrance.corner0_px + entrance.corner1_px) / 2;
-  const double height_px = options_.id_height_m * ppm;
-  const double width_px = font::kDigitWidth * height_px;
-  const double pitch_px = (font::kDigitWidth + font::kDigitGap) * height_px;
-  const double stroke_px = font::kDigitStroke * height_px;
-  const double shift_px = options_.max_offset_m * ppm;
-  const double margin_px = kRegionMarginM * ppm;
-  const double max_width_px = font::IdWidth(options_.max_digits, height_px);
-  const int cols = static_cast<int>(std::ceil(max_width_px + 2 * (shift_px + margin_px))) + 1;
-  const int rows = static_cast<int>(std::ceil(height_px + 2 * (shift_px + margin_px))) + 1;
-  const double center_col = (cols - 1) / 2.0;
-  // Row r lies (top_depth_px - r) pixels deep into the slot.
-  const double top_depth_px =
-      (options_.id_setback_m + options_.id_height_m) * ppm + shift_px + margin_px;
-  const double nominal_top = shift_px + margin_px;  // the digits' top edge, in rows
-  const Eigen::Vector2d origin = mid - right * center_col + up * top_depth_px;
-  const cv::Matx23d region_to_image(right.x(), -up.x(), origin.x(), right.y(), -up.y(), origin.y());
-  cv::Mat region, seen;
-  cv::warpAffine(top_view_grey, region, region_to_image, cv::Size(cols, rows),
-                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(0));
-  // Pixels no camera saw (0 in the top view, or outside it), grown by one
-  // for the interpolation's reach.
-  cv::warpAffine(top_view_grey, seen, region_to_image, cv::Size(cols, rows),
-                 cv::INTER_NEAREST | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(0));
-  cv::Mat no_data = seen == 0;
-  cv::dilate(no_data, no_data, cv::Mat());
+  const Region g = Rectify(top_view_grey, entrance, options_);
 
   // Floor and paint levels from the region's histogram. Blurred far from
   // the car, a three-digit ID and its halo cover up to 40 % of the region:
   // the floor's median is about the 30th percentile, its spread shows below
   // it, and the 97.5th percentile is paint.
-  Histogram levels;
-  for (int r = 0; r < rows; ++r) {
-    const std::uint8_t* v = region.ptr<std::uint8_t>(r);
-    const std::uint8_t* n = no_data.ptr<std::uint8_t>(r);
-    for (int c = 0; c < cols; ++c) {
-      if (n[c]) continue;
-      ++levels.counts[v[c]];
-      ++levels.total;
-    }
-  }
-  if (levels.total < rows * cols / 2) return give_up("region not seen");
+  const Histogram levels = LevelsOf(g);
+  if (levels.total < g.rows * g.cols / 2) return give_up("region not seen");
   const int floor_grey = levels.Percentile(kFloorPercentile);
   const double noise_grey =
       std::max(1.0, (floor_grey - levels.Percentile(kNoisePercentile)) / kNoisePercentileSpread);
@@ -251,167 +435,57 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
 
   // Normalized (floor 0, paint 1) and soft ink maps.
   cv::Mat normalized;
-  region.convertTo(normalized, CV_32F, 1.0 / contrast_grey, -floor_grey / contrast_grey);
-  normalized.setTo(0.0f, no_data);
+  g.grey.convertTo(normalized, CV_32F, 1.0 / contrast_grey, -floor_grey / contrast_grey);
+  normalized.setTo(0.0f, g.no_data);
   cv::Mat ink = (normalized - kInkLow) * (1.0f / (kInkHigh - kInkLow));
   cv::min(cv::max(ink, 0.0f), 1.0f, ink);
 
-  // Layout: the digits' band (all digits span the full height), then how
-  // many digits and where along it. Rows first, over the columns any ID
-  // may cover.
-  const int window_begin =
-      std::max(0, static_cast<int>(std::floor(center_col - max_width_px / 2 - shift_px)));
-  const int window_end =
-      std::min(cols, static_cast<int>(std::ceil(center_col + max_width_px / 2 + shift_px)) + 1);
-  std::vector<double> row_ink(static_cast<size_t>(rows), 0.0);
-  for (int r = 0; r < rows; ++r) {
-    const float* k = ink.ptr<float>(r);
-    for (int c = window_begin; c < window_end; ++c) row_ink[static_cast<size_t>(r)] += k[c];
-  }
-  const ProfileSums row_sums(row_ink);
-  double top = nominal_top, best_band = -1e300;
-  for (double t = nominal_top - shift_px; t <= nominal_top + shift_px + 1e-9; t += kLayoutStepPx) {
-    const double score =
-        row_sums.Sum(t, t + height_px) - kOffsetPenaltyPerPx * std::abs(t - nominal_top);
-    if (score > best_band) {
-      best_band = score;
-      top = t;
-    }
-  }
-  const double band_top = top, band_bottom = top + height_px;
-  // Column profiles over the band, and over its top and bottom thirds:
-  // every digit of the font has ink in both (segments a, b or f above, c,
-  // d or e below), other paint reaching into a cell (an angled slot's
-  // entrance stub) mostly not.
-  std::vector<double> col_ink(static_cast<size_t>(cols), 0.0);
-  std::vector<double> col_ink_top(static_cast<size_t>(cols), 0.0);
-  std::vector<double> col_ink_bottom(static_cast<size_t>(cols), 0.0);
-  std::vector<double> col_unseen(static_cast<size_t>(cols), 0.0);
-  for (int r = std::max(0, static_cast<int>(std::ceil(band_top)));
-       r < std::min(rows, static_cast<int>(std::ceil(band_bottom))); ++r) {
-    const float* k = ink.ptr<float>(r);
-    const std::uint8_t* n = no_data.ptr<std::uint8_t>(r);
-    const bool in_top = r < band_top + height_px / 3, in_bottom = r >= band_bottom - height_px / 3;
-    for (int c = 0; c < cols; ++c) {
-      col_ink[static_cast<size_t>(c)] += k[c];
-      if (in_top) col_ink_top[static_cast<size_t>(c)] += k[c];
-      if (in_bottom) col_ink_bottom[static_cast<size_t>(c)] += k[c];
-      col_unseen[static_cast<size_t>(c)] += n[c] ? 1.0 : 0.0;
-    }
-  }
-  const ProfileSums col_sums(col_ink), top_sums(col_ink_top), bottom_sums(col_ink_bottom),
-      unseen_sums(col_unseen);
-  const double window_ink = col_sums.Sum(window_begin - 0.5, window_end - 0.5);
-  const double min_cell_ink = kMinCellInkStrokes * stroke_px * height_px;
-  const double min_third_ink = min_cell_ink / 3;
-  const double max_cell_unseen = kMaxNoDataShare * width_px * height_px;
-  // Every candidate layout: n digits centred `shift` off the nominal place.
-  // It explains the ink when each of its cells holds a digit's worth, top
-  // and bottom; it is ruled out when one of its cells, fully seen, does
-  // not; else it stays open (a cell without ink lies partly where no
-  // camera saw). Its score: the ink inside its cells less the ink outside,
-  // plus the ink in each cell's right stroke (segments b and c): every
-  // digit of the font has one of them, and it pins a "1", which would
-  // otherwise slide freely in its cell.
-  Layout layout;
-  std::vector<double> best_open_score(static_cast<size_t>(options_.max_digits) + 1, -1e300);
-  for (int n = 1; n <= options_.max_digits; ++n) {
-    const double id_width_px = font::IdWidth(n, height_px);
-    for (double shift = -shift_px; shift <= shift_px + 1e-9; shift += kLayoutStepPx) {
-      const double left = center_col + shift - id_width_px / 2;
-      double inside = 0.0, right_strokes = 0.0;
-      bool explains = true, ruled_out = false;
-      for (int k = 0; k < n; ++k) {
-        const double a = left + k * pitch_px, b = a + width_px;
-        const double cell = col_sums.Sum(a, b);
-        if (cell < min_cell_ink || top_sums.Sum(a, b) < min_third_ink ||
-            bottom_sums.Sum(a, b) < min_third_ink) {
-          explains = false;
-          ruled_out = ruled_out || unseen_sums.Sum(a, b) <= max_cell_unseen;
-        }
-        inside += cell;
-        right_strokes += col_sums.Sum(b - stroke_px, b);
-      }
-      const double score =
-          inside - (window_ink - inside) + right_strokes - kOffsetPenaltyPerPx * std::abs(shift);
-      if (!explains) {
-        double& open = best_open_score[static_cast<size_t>(n)];
-        if (!ruled_out) open = std::max(open, score);
-        continue;
-      }
-      if (score > layout.score) layout = {n, left, (window_ink - inside) / inside, score};
-    }
-  }
+  // Layout: the digits' band, then how many digits and where along it.
+  const double band_top = FindBandTop(g, ink);
+  const ColumnProfiles profiles = ProfilesOf(g, ink, band_top);
+  const LayoutSearch search = FindLayout(g, profiles, options_.max_digits);
+  const Layout& layout = search.best;
   if (layout.digits == 0) return give_up("no digits");
   d.digits_found = layout.digits;
   d.stray_ink = layout.stray_ink;
-  d.offset_px = {layout.left_px + font::IdWidth(layout.digits, height_px) / 2 - center_col,
-                 nominal_top - band_top};
+  d.offset_px = {layout.left_px + font::IdWidth(layout.digits, g.height_px) / 2 - g.center_col,
+                 g.nominal_top - band_top};
   // Paint the layout leaves out: digits beyond the search range (the
   // entrance far off), or other paint.
   if (layout.stray_ink > kMaxStrayInk) return give_up("stray paint");
   // A longer ID, partly out of sight, that explains the ink seen about as
   // well: a digit cut off would be read as another, or the ID as a shorter one.
   for (int n = layout.digits + 1; n <= options_.max_digits; ++n) {
-    if (best_open_score[static_cast<size_t>(n)] >= layout.score - min_cell_ink) {
+    if (search.best_open_score[static_cast<size_t>(n)] >= layout.score - search.min_cell_ink) {
       return give_up("maybe longer");
     }
   }
   // The digits themselves, with the classifier's margins, must be seen.
   {
-    const double pad = kDigitPatchMarginX * height_px;
-    const double id_width_px = font::IdWidth(layout.digits, height_px);
-    const double unseen = unseen_sums.Sum(layout.left_px - pad, layout.left_px + id_width_px + pad);
-    if (unseen > kMaxNoDataShare * (id_width_px + 2 * pad) * height_px) return give_up("not seen");
+    const double pad = kDigitPatchMarginX * g.height_px;
+    const double id_width_px = font::IdWidth(layout.digits, g.height_px);
+    const double unseen =
+        profiles.unseen.Sum(layout.left_px - pad, layout.left_px + id_width_px + pad);
+    if (unseen > kMaxNoDataShare * (id_width_px + 2 * pad) * g.height_px) {
+      return give_up("not seen");
+    }
   }
 
   // Worn paint: fainter than the slot's own lines.
   const std::optional<double> line0 =
-      LinePaintGrey(top_view_grey, entrance.corner0_px, up, right, ppm);
+      LinePaintGrey(top_view_grey, entrance.corner0_px, g.up, g.right, g.ppm);
   const std::optional<double> line1 =
-      LinePaintGrey(top_view_grey, entrance.corner1_px, up, right, ppm);
+      LinePaintGrey(top_view_grey, entrance.corner1_px, g.up, g.right, g.ppm);
   if (line0 || line1) {
     const double line_grey = std::max(line0.value_or(0.0), line1.value_or(0.0));
     d.paint_ratio = contrast_grey / std::max(line_grey - floor_grey, 1.0);
     if (d.paint_ratio < options_.min_paint_ratio) return give_up("worn");
   }
 
-  // Each digit cell, rectified to the classifier's patch (drawn at twice its
-  // resolution and averaged down, as the classifier was trained).
-  SlotIdReading reading;
-  bool any_read = false;
-  const cv::Size big(2 * kDigitPatchCols, 2 * kDigitPatchRows);
-  for (int k = 0; k < layout.digits; ++k) {
-    const double cell_left = layout.left_px + k * pitch_px - kDigitPatchMarginX * height_px;
-    const double cell_top = band_top - kDigitPatchMarginY * height_px;
-    const double step_x = (width_px + 2 * kDigitPatchMarginX * height_px) / big.width;
-    const double step_y = (height_px + 2 * kDigitPatchMarginY * height_px) / big.height;
-    // Patch pixel i samples the region at cell_left + (i + 0.5) step_x.
-    const cv::Matx23d patch_to_region(step_x, 0, cell_left + 0.5 * step_x, 0, step_y,
-                                      cell_top + 0.5 * step_y);
-    cv::Mat fine, patch;
-    cv::warpAffine(normalized, fine, patch_to_region, big, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                   cv::BORDER_REPLICATE);
-    cv::resize(fine, patch, cv::Size(kDigitPatchCols, kDigitPatchRows), 0, 0, cv::INTER_AREA);
-    const ClassProbabilities p = classifier_->Classify(patch);
-    if (details != nullptr) details->digit_patches.push_back(patch);
-    DigitReading digit;
-    double best = 0.0;
-    for (int c = 0; c < 10; ++c) best = std::max(best, p[static_cast<size_t>(c)]);
-    if (best >= options_.min_digit_probability) {
-      for (int c = 0; c < 10; ++c) {
-        if (p[static_cast<size_t>(c)] >= options_.min_hypothesis_probability) {
-          digit.hypotheses.push_back({static_cast<char>('0' + c), p[static_cast<size_t>(c)]});
-        }
-      }
-      std::sort(digit.hypotheses.begin(), digit.hypotheses.end(),
-                [](const DigitHypothesis& a, const DigitHypothesis& b) {
-                  return a.probability > b.probability;
-                });
-      any_read = true;
-    }
-    reading.digits.push_back(std::move(digit));
-  }
+  const SlotIdReading reading =
+      ReadDigits(g, normalized, layout, band_top, *classifier_, options_, details);
+  const bool any_read = std::any_of(reading.digits.begin(), reading.digits.end(),
+                                    [](const DigitReading& digit) { return digit.read(); });
   if (!any_read) return give_up("unread");
   d.outcome = reading.partial() ? "partial" : "read";
   return reading;
