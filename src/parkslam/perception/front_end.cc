@@ -141,22 +141,71 @@ PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
 
 PerceptionFrontEnd::~PerceptionFrontEnd() = default;
 
+namespace {
+
+bool IsExcluded(const std::vector<std::string>& excluded, const std::string& name) {
+  return std::find(excluded.begin(), excluded.end(), name) != excluded.end();
+}
+
+// The frame's image of a camera; null when it has none.
+const ImagePlane* ImageOf(const CameraFrame& frame, const std::string& name) {
+  for (size_t k = 0; k < frame.cameras.size() && k < frame.images.size(); ++k) {
+    if (frame.cameras[k] == name && frame.images[k].pixels != nullptr) return &frame.images[k];
+  }
+  return nullptr;
+}
+
+// A tag's observation in the vehicle frame from its pose in the camera
+// (paper III-B): the ground-plane position x = sin(alpha) d to the right,
+// y = cos(alpha) d ahead of the camera, the outward normal's yaw, and the
+// covariance of range and bearing noise.
+TagObservation TagObservationOf(const DetectedTag& t, const camera::CameraConfig& camera,
+                                const PerceptionOptions& options) {
+  const Eigen::Matrix3d R_vehicle_camera = camera.T_vehicle_camera.rotation();
+  const Eigen::Vector3d camera_vehicle = camera.T_vehicle_camera.translation();
+  // The camera's optical axis and right-hand direction on the ground.
+  const Eigen::Vector3d z_axis = R_vehicle_camera.col(2), x_axis = R_vehicle_camera.col(0);
+  const Eigen::Vector2d forward = Eigen::Vector2d(z_axis.x(), z_axis.y()).normalized();
+  const Eigen::Vector2d right = Eigen::Vector2d(x_axis.x(), x_axis.y()).normalized();
+  TagObservation obs;
+  obs.tag_id = t.tag_id;
+  const Eigen::Vector2d offset = t.position_m.x() * right + t.position_m.y() * forward;
+  obs.p_vehicle = Eigen::Vector2d(camera_vehicle.x(), camera_vehicle.y()) + offset;
+  obs.range_m = offset.norm();
+  obs.bearing_rad = std::atan2(Cross2(forward, offset), forward.dot(offset));
+  // Outward normal: the tag's z axis, signed to face the camera.
+  Eigen::Vector3d n_camera = t.T_camera_tag.rotation().col(2);
+  if (n_camera.dot(-t.T_camera_tag.translation()) < 0.0) n_camera = -n_camera;
+  const Eigen::Vector3d n_vehicle = R_vehicle_camera * n_camera;
+  obs.yaw_vehicle_rad = std::atan2(n_vehicle.y(), n_vehicle.x());
+  obs.yaw_sigma_rad = options.tag_yaw_sigma_rad + options.tag_yaw_sigma_per_m * obs.range_m;
+  const double range_sigma =
+      options.tag_range_sigma_m + options.tag_range_sigma_per_m * obs.range_m;
+  const double bearing_sigma = options.tag_bearing_sigma_rad;
+  // J diag(sr^2, sb^2) J^T, J = d(point)/d(range, bearing), in the
+  // vehicle frame along (forward, left) of the camera.
+  const Eigen::Vector2d u = offset / std::max(obs.range_m, 1e-6);
+  const Eigen::Vector2d v(-u.y(), u.x());
+  obs.covariance_vehicle = range_sigma * range_sigma * u * u.transpose() +
+                           std::pow(obs.range_m * bearing_sigma, 2) * v * v.transpose();
+  return obs;
+}
+
+}  // namespace
+
 PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame,
                                              const std::vector<std::string>& excluded) const {
   PerceptionOutput out;
-  const auto is_excluded = [&excluded](const std::string& name) {
-    return std::find(excluded.begin(), excluded.end(), name) != excluded.end();
-  };
   out.slots.t_ns = frame.t_ns;
   out.tags.t_ns = frame.t_ns;
-  const auto image_of = [&frame](const std::string& name) -> const ImagePlane* {
-    for (size_t k = 0; k < frame.cameras.size() && k < frame.images.size(); ++k) {
-      if (frame.cameras[k] == name && frame.images[k].pixels != nullptr) return &frame.images[k];
-    }
-    return nullptr;
-  };
+  PerceiveSlots(frame, excluded, &out);
+  PerceiveTags(frame, excluded, &out);
+  return out;
+}
 
-  // Slots (paper III-A): fusion, detection, ID reading.
+void PerceptionFrontEnd::PerceiveSlots(const CameraFrame& frame,
+                                       const std::vector<std::string>& excluded,
+                                       PerceptionOutput* out) const {
   // A left-out fisheye is fused as black (what no camera sees) and its part
   // of the top view masked.
   std::vector<cv::Mat> fisheyes;
@@ -164,9 +213,9 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame,
   std::size_t left_out = 0;
   for (std::size_t c = 0; c < options_.fisheye_cameras.size(); ++c) {
     const std::string& name = options_.fisheye_cameras[c];
-    const ImagePlane* plane = image_of(name);
+    const ImagePlane* plane = ImageOf(frame, name);
     if (plane == nullptr) break;
-    if (!is_excluded(name)) {
+    if (!IsExcluded(excluded, name)) {
       fisheyes.push_back(camera::AsMat(*plane));
       continue;
     }
@@ -174,94 +223,64 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame,
     if (left_out++ == 0) mask = footprint_mask_.clone();
     mask.setTo(0, camera_regions_[c]);
   }
-  if (fisheyes.size() == options_.fisheye_cameras.size() && left_out < fisheyes.size()) {
-    Clock::time_point start = Clock::now();
-    out.top_view = fusion_->Fuse(fisheyes);
-    out.timing.fusion_ms = MsSince(start);
-    start = Clock::now();
-    out.detection = learned_detector_ != nullptr ? learned_detector_->Detect(out.top_view, mask)
-                                                 : slot_detector_->Detect(out.top_view, mask);
-    out.timing.slots_ms = MsSince(start);
-    start = Clock::now();
-    out.ids.resize(out.detection.slots.size());
-    for (size_t k = 0; k < out.detection.slots.size(); ++k) {
-      const DetectedSlot& slot = out.detection.slots[k];
-      const EntranceInImage entrance{slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px};
-      if (id_reader_ != nullptr) out.ids[k] = id_reader_->Read(out.top_view, entrance);
-      if (learned_reader_ != nullptr) out.ids[k] = learned_reader_->Read(out.top_view, entrance);
-    }
-    out.timing.ids_ms = MsSince(start);
-    const Eigen::Vector2d view_centre_vehicle(options_.top_view.center_x_m, 0.0);
-    for (size_t k = 0; k < out.detection.slots.size(); ++k) {
-      const DetectedSlot& slot = out.detection.slots[k];
-      SlotObservation obs;
-      double far_m = 0.0;
-      for (int c = 0; c < kSlotCorners; ++c) {
-        obs.corners_vehicle[static_cast<size_t>(c)] =
-            fusion_->PixelToVehicle(slot.corners_px[static_cast<size_t>(c)]);
-        obs.corner_observed[static_cast<size_t>(c)] = slot.corner_observed[static_cast<size_t>(c)];
-        if (c < 2) {
-          far_m = std::max(
-              far_m, (obs.corners_vehicle[static_cast<size_t>(c)] - view_centre_vehicle).norm());
-        }
+  if (fisheyes.size() != options_.fisheye_cameras.size() || left_out >= fisheyes.size()) return;
+  Clock::time_point start = Clock::now();
+  out->top_view = fusion_->Fuse(fisheyes);
+  out->timing.fusion_ms = MsSince(start);
+  start = Clock::now();
+  out->detection = learned_detector_ != nullptr ? learned_detector_->Detect(out->top_view, mask)
+                                                : slot_detector_->Detect(out->top_view, mask);
+  out->timing.slots_ms = MsSince(start);
+  start = Clock::now();
+  out->ids.resize(out->detection.slots.size());
+  for (size_t k = 0; k < out->detection.slots.size(); ++k) {
+    const DetectedSlot& slot = out->detection.slots[k];
+    const EntranceInImage entrance{slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px};
+    if (id_reader_ != nullptr) out->ids[k] = id_reader_->Read(out->top_view, entrance);
+    if (learned_reader_ != nullptr) out->ids[k] = learned_reader_->Read(out->top_view, entrance);
+  }
+  out->timing.ids_ms = MsSince(start);
+  const Eigen::Vector2d view_centre_vehicle(options_.top_view.center_x_m, 0.0);
+  for (size_t k = 0; k < out->detection.slots.size(); ++k) {
+    const DetectedSlot& slot = out->detection.slots[k];
+    SlotObservation obs;
+    double far_m = 0.0;
+    for (int c = 0; c < kSlotCorners; ++c) {
+      obs.corners_vehicle[static_cast<size_t>(c)] =
+          fusion_->PixelToVehicle(slot.corners_px[static_cast<size_t>(c)]);
+      obs.corner_observed[static_cast<size_t>(c)] = slot.corner_observed[static_cast<size_t>(c)];
+      if (c < 2) {
+        far_m = std::max(
+            far_m, (obs.corners_vehicle[static_cast<size_t>(c)] - view_centre_vehicle).norm());
       }
-      obs.corner_sigma_m = options_.corner_sigma_m + options_.corner_sigma_per_m * far_m;
-      obs.detection_confidence = slot.confidence;
-      obs.id = out.ids[k];
-      out.slots.slots.push_back(obs);
     }
+    obs.corner_sigma_m = options_.corner_sigma_m + options_.corner_sigma_per_m * far_m;
+    obs.detection_confidence = slot.confidence;
+    obs.id = out->ids[k];
+    out->slots.slots.push_back(obs);
   }
+}
 
-  // Tags (paper III-B) in the front camera.
-  const ImagePlane* tag_plane =
-      is_excluded(options_.tag_camera) ? nullptr : image_of(options_.tag_camera);
-  if (const ImagePlane* plane = tag_plane) {
-    const Clock::time_point start = Clock::now();
-    const cv::Mat image = camera::AsMat(*plane);
-    if (image.cols != tag_camera_.intrinsics.width || image.rows != tag_camera_.intrinsics.height) {
-      throw std::invalid_argument("perception: the " + options_.tag_camera + " image is " +
-                                  std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                                  ", the camera " + std::to_string(tag_camera_.intrinsics.width) +
-                                  "x" + std::to_string(tag_camera_.intrinsics.height));
-    }
-    const std::vector<DetectedTag> tags = tag_detector_->Detect(
-        image.rowRange(tag_first_row_, tag_first_row_ + tag_rows_), &tag_band_intrinsics_);
-    out.timing.tags_ms = MsSince(start);
-    const Eigen::Matrix3d R_vehicle_camera = tag_camera_.T_vehicle_camera.rotation();
-    const Eigen::Vector3d camera_vehicle = tag_camera_.T_vehicle_camera.translation();
-    // The camera's optical axis and right-hand direction on the ground.
-    const Eigen::Vector3d z_axis = R_vehicle_camera.col(2), x_axis = R_vehicle_camera.col(0);
-    const Eigen::Vector2d forward = Eigen::Vector2d(z_axis.x(), z_axis.y()).normalized();
-    const Eigen::Vector2d right = Eigen::Vector2d(x_axis.x(), x_axis.y()).normalized();
-    for (const DetectedTag& t : tags) {
-      if (!t.has_pose) continue;
-      TagObservation obs;
-      obs.tag_id = t.tag_id;
-      // The paper's ground-plane position: x = sin(alpha) d to the right,
-      // y = cos(alpha) d ahead of the camera.
-      const Eigen::Vector2d offset = t.position_m.x() * right + t.position_m.y() * forward;
-      obs.p_vehicle = Eigen::Vector2d(camera_vehicle.x(), camera_vehicle.y()) + offset;
-      obs.range_m = offset.norm();
-      obs.bearing_rad = std::atan2(Cross2(forward, offset), forward.dot(offset));
-      // Outward normal: the tag's z axis, signed to face the camera.
-      Eigen::Vector3d n_camera = t.T_camera_tag.rotation().col(2);
-      if (n_camera.dot(-t.T_camera_tag.translation()) < 0.0) n_camera = -n_camera;
-      const Eigen::Vector3d n_vehicle = R_vehicle_camera * n_camera;
-      obs.yaw_vehicle_rad = std::atan2(n_vehicle.y(), n_vehicle.x());
-      obs.yaw_sigma_rad = options_.tag_yaw_sigma_rad + options_.tag_yaw_sigma_per_m * obs.range_m;
-      const double range_sigma =
-          options_.tag_range_sigma_m + options_.tag_range_sigma_per_m * obs.range_m;
-      const double bearing_sigma = options_.tag_bearing_sigma_rad;
-      // J diag(sr^2, sb^2) J^T, J = d(point)/d(range, bearing), in the
-      // vehicle frame along (forward, left) of the camera.
-      const Eigen::Vector2d u = offset / std::max(obs.range_m, 1e-6);
-      const Eigen::Vector2d v(-u.y(), u.x());
-      obs.covariance_vehicle = range_sigma * range_sigma * u * u.transpose() +
-                               std::pow(obs.range_m * bearing_sigma, 2) * v * v.transpose();
-      out.tags.tags.push_back(obs);
-    }
+void PerceptionFrontEnd::PerceiveTags(const CameraFrame& frame,
+                                      const std::vector<std::string>& excluded,
+                                      PerceptionOutput* out) const {
+  if (IsExcluded(excluded, options_.tag_camera)) return;
+  const ImagePlane* plane = ImageOf(frame, options_.tag_camera);
+  if (plane == nullptr) return;
+  const Clock::time_point start = Clock::now();
+  const cv::Mat image = camera::AsMat(*plane);
+  if (image.cols != tag_camera_.intrinsics.width || image.rows != tag_camera_.intrinsics.height) {
+    throw std::invalid_argument("perception: the " + options_.tag_camera + " image is " +
+                                std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                                ", the camera " + std::to_string(tag_camera_.intrinsics.width) +
+                                "x" + std::to_string(tag_camera_.intrinsics.height));
   }
-  return out;
+  const std::vector<DetectedTag> tags = tag_detector_->Detect(
+      image.rowRange(tag_first_row_, tag_first_row_ + tag_rows_), &tag_band_intrinsics_);
+  out->timing.tags_ms = MsSince(start);
+  for (const DetectedTag& t : tags) {
+    if (t.has_pose) out->tags.tags.push_back(TagObservationOf(t, tag_camera_, options_));
+  }
 }
 
 PerceptionSource::PerceptionSource(SensorSource& inner, const PerceptionFrontEnd& front_end)

@@ -138,6 +138,13 @@ class PerceptionFrontEnd {
   const PerceptionOptions& options() const { return options_; }
 
  private:
+  // Paper III-A: fusion, detection, ID reading, into out->slots (and the
+  // top view, detection, IDs and their times).
+  void PerceiveSlots(const CameraFrame& frame, const std::vector<std::string>& excluded,
+                     PerceptionOutput* out) const;
+  // Paper III-B: tags in the tag camera, into out->tags.
+  void PerceiveTags(const CameraFrame& frame, const std::vector<std::string>& excluded,
+                    PerceptionOutput* out) const;
   PerceptionOptions options_;
   camera::CameraConfig tag_camera_;
   int tag_first_row_ = 0, tag_rows_ = 0;  // the searched band of the front image
