@@ -56,8 +56,8 @@ void AddPlanFromMapCommand(CLI::App& app) {
     io::CheckOutputsSpareInputs({{options->out, "--out"}}, inputs);
     const SemanticMap map = io::ReadMap(options->map);
     io::PlanFile plan;
-    plan.name = options->name.empty() ? std::filesystem::path(options->map).stem().string()
-                                      : options->name;
+    plan.name =
+        options->name.empty() ? std::filesystem::path(options->map).stem().string() : options->name;
     plan.hall = sim::MapBounds(map, kHallMargin_m);
     plan.world = sim::PlanFromMap(map);
     if (!options->route.empty()) {
@@ -68,9 +68,10 @@ void AddPlanFromMapCommand(CLI::App& app) {
       throw std::runtime_error(options->map + ": the map makes no valid plan: " + error);
     }
     io::WriteFileAtomically(options->out, io::PlanToYaml(plan));
-    std::printf("plan of %zu slots, %zu tags, %zu walls, %zu pillars, %zu waypoints written to %s\n",
-                plan.world.slots.size(), plan.world.tags.size(), plan.world.walls.size(),
-                plan.world.pillars.size(), plan.route.waypoints_m.size(), options->out.c_str());
+    std::printf(
+        "plan of %zu slots, %zu tags, %zu walls, %zu pillars, %zu waypoints written to %s\n",
+        plan.world.slots.size(), plan.world.tags.size(), plan.world.walls.size(),
+        plan.world.pillars.size(), plan.route.waypoints_m.size(), options->out.c_str());
     if (plan.route.waypoints_m.empty()) {
       std::printf("its route is empty: give route.waypoints_m before simulating it\n");
     }

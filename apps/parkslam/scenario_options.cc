@@ -27,11 +27,10 @@ const CLI::Validator& SeedValidator() {
 }
 
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
-  CLI::Option* world =
-      command
-          ->add_option("--world", options->world,
-                       "Built-in world `default` or a scenario YAML file")
-          ->capture_default_str();
+  CLI::Option* world = command
+                           ->add_option("--world", options->world,
+                                        "Built-in world `default` or a scenario YAML file")
+                           ->capture_default_str();
   command
       ->add_option("--plan", options->plan,
                    "A world plan YAML instead: slots, walls, pillars and tags listed one by one, "
@@ -59,7 +58,7 @@ std::vector<io::NamedPath> ScenarioFiles(const ScenarioOptions& options) {
 }
 
 sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options) {
-  sim::ScenarioConfig scenario = !options.plan.empty()       ? io::LoadPlanFile(options.plan)
+  sim::ScenarioConfig scenario = !options.plan.empty()        ? io::LoadPlanFile(options.plan)
                                  : options.world == "default" ? sim::DefaultScenario()
                                                               : io::LoadScenarioFile(options.world);
   if (options.id_confusion_rate >= 0.0) {

@@ -93,14 +93,14 @@ TEST(WorldPlanYamlTest, GoodPlanBecomesAScenario) {
   EXPECT_EQ(world.tags[0].tag_id, 3);
   EXPECT_EQ(world.pillars.size(), 1u);
   EXPECT_DOUBLE_EQ(world.floor_area_m2, 600.0);
-  EXPECT_EQ(sim::RouteWaypoints(scenario.route),
-            (std::vector<Eigen::Vector2d>{{2, 9}, {28, 9}}));
+  EXPECT_EQ(sim::RouteWaypoints(scenario.route), (std::vector<Eigen::Vector2d>{{2, 9}, {28, 9}}));
   EXPECT_EQ(scenario.route.cruise_speed_kmh, 9.0);
 }
 
 TEST(WorldPlanYamlTest, UnknownKeyIsNamedWithItsLine) {
-  EXPECT_EQ(ErrorOf([] { PlanFromYaml(Replaced(kGoodPlan, "corners_m", "corner_m"), "plan.yaml"); }),
-            "plan.yaml:5: slots[0].corner_m: unknown key (did you mean 'corners_m'?)");
+  EXPECT_EQ(
+      ErrorOf([] { PlanFromYaml(Replaced(kGoodPlan, "corners_m", "corner_m"), "plan.yaml"); }),
+      "plan.yaml:5: slots[0].corner_m: unknown key (did you mean 'corners_m'?)");
   EXPECT_THAT(ErrorOf([] { PlanFromYaml(Replaced(kGoodPlan, "pillars:", "pilars:"), "p.yaml"); }),
               HasSubstr("p.yaml:10: pilars: unknown key (did you mean 'pillars'?)"));
   EXPECT_THAT(
@@ -109,13 +109,12 @@ TEST(WorldPlanYamlTest, UnknownKeyIsNamedWithItsLine) {
 }
 
 TEST(WorldPlanYamlTest, BadCornersAreNamed) {
-  const std::string clockwise =
-      Replaced(kGoodPlan, "[[7.5, 5.3], [5, 5.3], [5, 0], [7.5, 0]]",
-               "[[5, 5.3], [7.5, 5.3], [7.5, 0], [5, 0]]");
+  const std::string clockwise = Replaced(kGoodPlan, "[[7.5, 5.3], [5, 5.3], [5, 0], [7.5, 0]]",
+                                         "[[5, 5.3], [7.5, 5.3], [7.5, 0], [5, 0]]");
   EXPECT_THAT(ErrorOf([&] { ScenarioFromPlan(PlanFromYaml(clockwise, "p.yaml"), "p.yaml"); }),
               HasSubstr("p.yaml: slots[0].corners_m: corner 0 does not turn left"));
-  const std::string three =
-      Replaced(kGoodPlan, "[[7.5, 5.3], [5, 5.3], [5, 0], [7.5, 0]]", "[[7.5, 5.3], [5, 5.3], [5, 0]]");
+  const std::string three = Replaced(kGoodPlan, "[[7.5, 5.3], [5, 5.3], [5, 0], [7.5, 0]]",
+                                     "[[7.5, 5.3], [5, 5.3], [5, 0]]");
   EXPECT_EQ(ErrorOf([&] { ScenarioFromPlan(PlanFromYaml(three, "p.yaml"), "p.yaml"); }),
             "p.yaml: slots[0].corners_m: needs four corners, got 3");
 }

@@ -153,11 +153,11 @@ void CheckRouteInPlan(const ScenarioConfig& s, Checker& c) {
   if (!s.world.plan || !c.ok()) return;
   const bool approach_only = s.route.loop_m.empty() && s.route.finish_m.empty();
   std::string error;
-  c.Require(IsDrivableRoute(RouteWaypoints(s.route), FloorRegions(s.world),
-                            BuildWorld(s.world, static_cast<std::uint64_t>(s.world.seed)),
-                            approach_only ? "route.approach_m" : "route (waypoints in order)",
-                            &error),
-            error);
+  c.Require(
+      IsDrivableRoute(RouteWaypoints(s.route), FloorRegions(s.world),
+                      BuildWorld(s.world, static_cast<std::uint64_t>(s.world.seed)),
+                      approach_only ? "route.approach_m" : "route (waypoints in order)", &error),
+      error);
 }
 
 void CheckWaypoints(const std::vector<Eigen::Vector2d>& points, const std::string& field,

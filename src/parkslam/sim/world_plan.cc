@@ -51,9 +51,9 @@ class Checker {
     if (error_ != nullptr) *error_ = field + ": " + what;
   }
   void Point(const Eigen::Vector2d& p, const std::string& field) {
-    Require(p.allFinite() && std::abs(p.x()) <= kMaxCoordinate_m &&
-                std::abs(p.y()) <= kMaxCoordinate_m,
-            field, "must be finite and at most " + Number(kMaxCoordinate_m) + " m in magnitude");
+    Require(
+        p.allFinite() && std::abs(p.x()) <= kMaxCoordinate_m && std::abs(p.y()) <= kMaxCoordinate_m,
+        field, "must be finite and at most " + Number(kMaxCoordinate_m) + " m in magnitude");
   }
 
  private:
@@ -141,8 +141,7 @@ void CheckTag(const PlanTag& tag, const WorldPlan& plan, const std::string& fiel
     const PlanWall& wall = plan.walls[static_cast<size_t>(tag.mount_index)];
     const double distance_m = DistanceToSegment(tag.p_m, wall.a_m, wall.b_m);
     c.Require(distance_m <= kMaxTagMountDistance_m, field + ".p_m",
-              "lies " + Number(distance_m) + " m from its wall " +
-                  std::to_string(tag.mount_index));
+              "lies " + Number(distance_m) + " m from its wall " + std::to_string(tag.mount_index));
   } else if (tag.mount == "pillar") {
     c.Require(tag.mount_index >= 0 && tag.mount_index < static_cast<int>(plan.pillars.size()),
               mount, "names no pillar (the plan has " + std::to_string(plan.pillars.size()) + ")");
@@ -262,8 +261,8 @@ World BuildWorldFromPlan(const WorldPlan& plan, const std::string& name, const R
   for (const PlanWall& w : plan.walls) world.walls.push_back({w.a_m, w.b_m, w.normal});
   for (const PlanPillar& p : plan.pillars) world.pillars.push_back({p.center_m, p.half_size_m});
   for (const PlanTag& t : plan.tags) {
-    world.tags.push_back({t.id, t.p_m, DegToRad(t.normal_yaw_deg), t.size_m, t.mount == "pillar",
-                          t.mount_index});
+    world.tags.push_back(
+        {t.id, t.p_m, DegToRad(t.normal_yaw_deg), t.size_m, t.mount == "pillar", t.mount_index});
   }
   for (const RegionConfig& r : PlanFloor(plan, hall)) {
     world.floor_area_m2 += (r.max_x_m - r.min_x_m) * (r.max_y_m - r.min_y_m);
@@ -275,8 +274,10 @@ WorldPlan PlanFromWorld(const World& world, const std::vector<RegionConfig>& flo
   WorldPlan plan;
   plan.floor = floor;
   for (const WorldSlot& s : world.slots) {
-    plan.slots.push_back({ToString(s.kind), {s.corners_map.begin(), s.corners_map.end()},
-                          s.painted_id, s.id_legible});
+    plan.slots.push_back({ToString(s.kind),
+                          {s.corners_map.begin(), s.corners_map.end()},
+                          s.painted_id,
+                          s.id_legible});
   }
   for (const WorldWall& w : world.walls) plan.walls.push_back({w.a_map, w.b_map, w.normal_map});
   for (const WorldPillar& p : world.pillars) plan.pillars.push_back({p.center_map, p.half_size_m});
@@ -302,7 +303,8 @@ WorldPlan PlanFromMap(const SemanticMap& map) {
   }
   if (map.slots.empty()) {
     const RegionConfig bounds = MapBounds(map, 0.0);
-    centroid = Eigen::Vector2d(bounds.min_x_m + bounds.max_x_m, bounds.min_y_m + bounds.max_y_m) / 2;
+    centroid =
+        Eigen::Vector2d(bounds.min_x_m + bounds.max_x_m, bounds.min_y_m + bounds.max_y_m) / 2;
   }
 
   // Obstacles: where each one went (its first wall leg, or its pillar).

@@ -144,8 +144,7 @@ TEST(WorldPlanTest, DuplicateIdsAreRefused) {
   WorldPlan plan = OneSlotPlan();
   plan.slots.push_back(plan.slots[0]);
   for (Eigen::Vector2d& p : plan.slots[1].corners_m) p.x() += 2.5;
-  EXPECT_EQ(PlanError(plan),
-            "world.plan.slots[1].painted_id: '01' is painted on another slot too");
+  EXPECT_EQ(PlanError(plan), "world.plan.slots[1].painted_id: '01' is painted on another slot too");
   plan.slots[1].painted_id.clear();  // unpainted slots may be many
   std::string error;
   EXPECT_TRUE(IsValidPlan(plan, kHall, "world.plan", &error)) << error;
@@ -179,8 +178,7 @@ TEST(WorldPlanTest, RouteMustStayOnTheFloorAndMissWalls) {
   const World world = BuildWorldFromPlan(plan, "one", kHall);
   const std::vector<RegionConfig> floor = PlanFloor(plan, kHall);
   std::string error;
-  EXPECT_TRUE(IsDrivableRoute({{0, 8}, {18, 8}, {18, 15}}, floor, world, "route", &error))
-      << error;
+  EXPECT_TRUE(IsDrivableRoute({{0, 8}, {18, 8}, {18, 15}}, floor, world, "route", &error)) << error;
   EXPECT_FALSE(IsDrivableRoute({{0, 8}, {25, 8}}, floor, world, "route", &error));
   EXPECT_EQ(error, "route[1]: (25, 8) is off the floor");
   EXPECT_FALSE(IsDrivableRoute({{5, 10}, {15, 10}}, floor, world, "route", &error));
