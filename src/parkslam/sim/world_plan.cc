@@ -228,8 +228,11 @@ bool IsDrivableRoute(const std::vector<Eigen::Vector2d>& waypoints_m,
   Checker c(error);
   for (size_t i = 0; i < waypoints_m.size() && c.ok(); ++i) {
     const Eigen::Vector2d& p = waypoints_m[i];
-    c.Require(OnFloor(p, floor), Index(field, i),
-              "(" + Number(p.x()) + ", " + Number(p.y()) + ") is off the floor");
+    // Built in steps: GCC 12 warns wrongly on "literal" + std::string (its
+    // bug 105329).
+    std::string where = "(";
+    where += Number(p.x()) + ", " + Number(p.y()) + ") is off the floor";
+    c.Require(OnFloor(p, floor), Index(field, i), where);
   }
   for (size_t i = 0; i + 1 < waypoints_m.size() && c.ok(); ++i) {
     const Eigen::Vector2d a = waypoints_m[i], b = waypoints_m[i + 1];
