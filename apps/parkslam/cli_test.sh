@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render localize follow topview tags detect eval-detect make-training-set report check-dataset solve-graph make-graph; do
+for cmd in simulate odometry eval-traj demo map eval-map render plan-from-map localize follow topview tags detect eval-detect make-training-set report check-dataset solve-graph make-graph; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -267,6 +267,24 @@ printf '\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00
 expect nonzero "one.png: an image of 1 x 1 pixels; a top view needs at least 64 x 64" -- "$PARKSLAM" detect --image "$tmp/one.png"
 
 expect nonzero "initial-trust-region.*1e-32 to 1e16" -- "$PARKSLAM" map "$tmp/g" --out "$tmp/tr.json" --initial-trust-region 1e300
+
+# A world from a plan (docs/world_plan.md): the example garage simulated,
+# mapped and scored; a map turned back into a plan; plans refused with the
+# file and the key.
+plan="$(dirname "$0")/../../config/plans/example_garage.yaml"
+expect 0 "example_garage-seed1: 104.0 s, 146.4 m driven" -- "$PARKSLAM" simulate --plan "$plan" --out "$tmp/pl"
+expect 0 "map written" -- "$PARKSLAM" map "$tmp/pl" --out "$tmp/pl_map.json"
+expect 0 "slots: 28 of 28 matched" -- "$PARKSLAM" eval-map --map "$tmp/pl_map.json" --truth "$tmp/pl/groundtruth/map.json"
+expect 0 "plan of 28 slots, 12 tags, 5 walls, 3 pillars, [0-9]+ waypoints" -- "$PARKSLAM" plan-from-map "$tmp/pl/groundtruth/map.json" --route "$tmp/pl/groundtruth/trajectory.tum" --out "$tmp/pl_again.yaml"
+expect 0 "written to" -- "$PARKSLAM" simulate --plan "$tmp/pl_again.yaml" --out "$tmp/pl2"
+expect 0 "its route is empty" -- "$PARKSLAM" plan-from-map "$tmp/pl_map.json" --out "$tmp/pl_mapped.yaml"
+expect nonzero "pl_mapped.yaml: route: needs at least two waypoints" -- "$PARKSLAM" simulate --plan "$tmp/pl_mapped.yaml" --out "$tmp/x"
+sed 's/corners_m/corner_m/' "$plan" > "$tmp/bad_plan.yaml"
+expect nonzero "bad_plan.yaml:[0-9]+: slots\[0\].corner_m: unknown key" -- "$PARKSLAM" simulate --plan "$tmp/bad_plan.yaml" --out "$tmp/x"
+expect nonzero "excludes" -- "$PARKSLAM" simulate --plan "$plan" --world default --out "$tmp/x"
+# The built-in lot as a plan drives the same drive.
+"$PARKSLAM" simulate --dump-plan > "$tmp/default_plan.yaml"
+expect 0 "default-seed1: 327.6 s, 596.3 m driven.*9591 slots.*3613 tags" -- "$PARKSLAM" simulate --plan "$tmp/default_plan.yaml" --out "$tmp/dp"
 
 # Seeds are whole numbers in range, never wrapped around.
 expect nonzero "a seed is a whole number.*'-1'" -- "$PARKSLAM" simulate --seed -1 --out "$tmp/s1"

@@ -141,12 +141,9 @@ void AddFollowCommand(CLI::App& app) {
       ->capture_default_str();
   AddScenarioOptions(cmd, &options->scenario);
   cmd->callback([options] {
-    io::CheckOutputsSpareInputs(
-        {{options->out, "--out"}},
-        {{options->map, "--map"},
-         {options->trace, "--trace"},
-         {options->scenario.world == "default" ? std::string() : options->scenario.world,
-          "--world"}});
+    std::vector<io::NamedPath> inputs{{options->map, "--map"}, {options->trace, "--trace"}};
+    for (const io::NamedPath& file : ScenarioFiles(options->scenario)) inputs.push_back(file);
+    io::CheckOutputsSpareInputs({{options->out, "--out"}}, inputs);
     const std::filesystem::path out = options->out;
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     const SemanticMap map = io::ReadMap(options->map);

@@ -8,6 +8,7 @@
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/io/scenario_yaml.h"
+#include "parkslam/io/world_plan_yaml.h"
 #include "progress.h"
 #include "steps.h"
 
@@ -62,6 +63,7 @@ void AddSimulateCommand(CLI::App& app) {
     std::uint64_t seed = 1;
     std::string out;
     bool dump_config = false;
+    bool dump_plan = false;
     bool images = false;
     double image_rate_hz = 2.0;
     bool force = false;
@@ -86,16 +88,21 @@ void AddSimulateCommand(CLI::App& app) {
                 "data would otherwise mix with the new drive's)");
   cmd->add_flag("--dump-config", options->dump_config,
                 "Print the resolved scenario as YAML and exit (a start for your own world)");
+  cmd->add_flag("--dump-plan", options->dump_plan,
+                "Print the resolved scenario's world slot by slot and its route's waypoints as a "
+                "world plan (docs/world_plan.md) and exit");
   cmd->callback([options] {
     const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
     if (options->dump_config) {
       std::cout << io::ScenarioToYaml(scenario);
       return;
     }
+    if (options->dump_plan) {
+      std::cout << io::PlanToYaml(io::PlanFromScenario(scenario));
+      return;
+    }
     if (options->out.empty()) throw CLI::RequiredError("--out");
-    const std::string world =
-        options->scenario.world == "default" ? std::string() : options->scenario.world;
-    io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{world, "--world"}});
+    io::CheckOutputsSpareInputs({{options->out, "--out"}}, ScenarioFiles(options->scenario));
     PrepareDatasetFolder(options->out, options->force);
     const auto start = std::chrono::steady_clock::now();
     const io::Dataset dataset = SimulateDataset(scenario, options->seed);

@@ -10,6 +10,7 @@
 #include "parkslam/common/se2.h"
 #include "parkslam/harness/fault_injection.h"
 #include "parkslam/harness/sensor_stream.h"
+#include "parkslam/io/output_guard.h"
 #include "parkslam/options/algorithm_options.h"
 #include "parkslam/perception/front_end.h"
 #include "parkslam/sim/scenario_config.h"
@@ -27,6 +28,7 @@ void AddDemoCommand(CLI::App& app);
 void AddMapCommand(CLI::App& app);
 void AddEvalMapCommand(CLI::App& app);
 void AddRenderCommand(CLI::App& app);
+void AddPlanFromMapCommand(CLI::App& app);
 void AddLocalizeCommand(CLI::App& app);
 void AddFollowCommand(CLI::App& app);
 void AddTopviewCommand(CLI::App& app);
@@ -60,11 +62,15 @@ void WriteReport(const std::filesystem::path& dir, const ReportInputs& inputs,
 // Options shared by `simulate` and `demo` that pick and tune the scenario.
 struct ScenarioOptions {
   std::string world = "default";
+  std::string plan;  // a world plan file instead of --world
   std::vector<std::string> overrides;
   double id_confusion_rate = -1.0;  // < 0: keep the scenario's
   double id_partial_rate = -1.0;
 };
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options);
+// The files the scenario is read from (--world, --plan), named as the user
+// gave them, for io::CheckOutputsSpareInputs.
+std::vector<io::NamedPath> ScenarioFiles(const ScenarioOptions& options);
 
 // A seed: a whole number from 0 to 2^64 - 1, written as such ("-1" would
 // otherwise wrap around to 2^64 - 1 without a word).

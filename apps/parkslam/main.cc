@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   parkslam::app::AddMapCommand(app);
   parkslam::app::AddEvalMapCommand(app);
   parkslam::app::AddRenderCommand(app);
+  parkslam::app::AddPlanFromMapCommand(app);
   parkslam::app::AddLocalizeCommand(app);
   parkslam::app::AddFollowCommand(app);
   parkslam::app::AddTopviewCommand(app);

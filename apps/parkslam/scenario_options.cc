@@ -8,6 +8,7 @@
 #include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/options_yaml.h"
 #include "parkslam/io/scenario_yaml.h"
+#include "parkslam/io/world_plan_yaml.h"
 
 namespace parkslam::app {
 
@@ -26,8 +27,16 @@ const CLI::Validator& SeedValidator() {
 }
 
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
-  command->add_option("--world", options->world, "Built-in world `default` or a scenario YAML file")
-      ->capture_default_str();
+  CLI::Option* world = command
+                           ->add_option("--world", options->world,
+                                        "Built-in world `default` or a scenario YAML file")
+                           ->capture_default_str();
+  command
+      ->add_option("--plan", options->plan,
+                   "A world plan YAML instead: slots, walls, pillars and tags listed one by one, "
+                   "and a route as waypoints (docs/world_plan.md, config/plans/)")
+      ->check(CLI::ExistingFile)
+      ->excludes(world);
   command
       ->add_option("--id-confusion-rate", options->id_confusion_rate,
                    "Share of ID readings with one digit confused (3/8, 1/7 ...)")
@@ -41,9 +50,17 @@ void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
                       "--set sensors.slots.miss_rate=0.1 (repeatable)");
 }
 
+std::vector<io::NamedPath> ScenarioFiles(const ScenarioOptions& options) {
+  std::vector<io::NamedPath> files;
+  if (options.world != "default") files.push_back({options.world, "--world"});
+  if (!options.plan.empty()) files.push_back({options.plan, "--plan"});
+  return files;
+}
+
 sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options) {
-  sim::ScenarioConfig scenario =
-      options.world == "default" ? sim::DefaultScenario() : io::LoadScenarioFile(options.world);
+  sim::ScenarioConfig scenario = !options.plan.empty()        ? io::LoadPlanFile(options.plan)
+                                 : options.world == "default" ? sim::DefaultScenario()
+                                                              : io::LoadScenarioFile(options.world);
   if (options.id_confusion_rate >= 0.0) {
     scenario.sensors.ids.confusion_rate = options.id_confusion_rate;
   }

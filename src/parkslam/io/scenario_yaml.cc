@@ -15,6 +15,7 @@
 namespace parkslam::io {
 namespace {
 
+using visit_yaml::kIsOptional;
 using visit_yaml::kIsVector;
 using visit_yaml::ReadValue;
 using visit_yaml::Visitable;
@@ -70,7 +71,10 @@ class Overrider {
       return;
     }
     const PathStep& next = steps_[step];
-    if constexpr (kIsVector<T>) {
+    if constexpr (kIsOptional<T>) {
+      if (!field) throw IoError("--set: " + path + ": not set, so none of its keys can be set");
+      Apply(*field, step, path);
+    } else if constexpr (kIsVector<T>) {
       if (!next.index) Unknown();
       if (*next.index >= field.size()) {
         throw IoError("--set: " + IndexKey(path, *next.index) +

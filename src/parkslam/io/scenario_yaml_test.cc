@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -57,6 +58,11 @@ class Flattener {
     leaves_->push_back({path + ".size", std::to_string(v.size())});
     for (std::size_t i = 0; i < v.size(); ++i) Add(path + "[" + std::to_string(i) + "]", v[i]);
   }
+  template <typename T>
+  void Add(const std::string& path, std::optional<T>& v) {
+    leaves_->push_back({path + ".set", v ? "T" : "F"});
+    if (v) Add(path, *v);
+  }
   template <HasFields T>
   void Add(const std::string& path, T& v) {
     Flattener inner(path, leaves_);
@@ -92,6 +98,10 @@ class Mutator {
   void Change(std::vector<T>& v) {
     v.emplace_back();
     for (T& element : v) Change(element);
+  }
+  template <typename T>
+  void Change(std::optional<T>& v) {
+    if (v) Change(*v);
   }
   template <HasFields T>
   void Change(T& v) {

@@ -39,6 +39,11 @@ concept Visitable = requires(T& value, NullVisitor& visitor) {
 };
 
 template <typename T>
+inline constexpr bool kIsOptional = false;
+template <typename T>
+inline constexpr bool kIsOptional<std::optional<T>> = true;
+
+template <typename T>
 inline constexpr bool kIsVector = false;
 template <typename T>
 inline constexpr bool kIsVector<std::vector<T>> = true;
@@ -100,6 +105,15 @@ inline void ReadValue(const YamlReader& r, const YAML::Node& node, const std::st
 template <Visitable T>
 inline void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
                       std::vector<T>* values);
+// An optional field given in the file: read over its value, or over T's
+// defaults when it had none.
+template <typename T>
+inline void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
+                      std::optional<T>* value) {
+  T read = value->has_value() ? **value : T{};
+  ReadValue(r, node, path, &read);
+  *value = std::move(read);
+}
 
 // Reads the keys of one mapping into the fields of the struct visiting it.
 class FieldReader {
@@ -180,7 +194,9 @@ class FlowWriter {
  public:
   template <typename T>
   void operator()(const char* key, T& field) {
-    if constexpr (kIsScalar<T>) {
+    if constexpr (kIsOptional<T>) {
+      if (field) flowable_ = false;  // an optional field unset is not written
+    } else if constexpr (kIsScalar<T>) {
       text_.append(text_.size() > 1 ? ", " : "");
       text_.append(key);
       text_.append(": ");
@@ -276,10 +292,14 @@ class FieldWriter {
 
   template <typename T>
   void operator()(const char* key, T& field) {
-    out_->append(static_cast<std::size_t>(indent_), ' ');
-    out_->append(key);
-    out_->push_back(':');
-    WriteValue(field, key, indent_, out_);
+    if constexpr (kIsOptional<T>) {
+      if (field) (*this)(key, *field);  // an optional field unset is not written
+    } else {
+      out_->append(static_cast<std::size_t>(indent_), ' ');
+      out_->append(key);
+      out_->push_back(':');
+      WriteValue(field, key, indent_, out_);
+    }
   }
 
  private:

@@ -8,6 +8,9 @@
 #include "parkslam/common/angles.h"
 #include "parkslam/common/plausible_ranges.h"
 #include "parkslam/map/semantic_map.h"
+#include "parkslam/sim/route.h"
+#include "parkslam/sim/world.h"
+#include "parkslam/sim/world_plan.h"
 
 namespace parkslam::sim {
 namespace {
@@ -138,6 +141,23 @@ void CheckWorld(const WorldConfig& w, Checker& c) {
   }
   c.Rate(w.id_missing_rate, "world.id_missing_rate");
   c.Rate(w.id_worn_rate, "world.id_worn_rate");
+  if (w.plan && c.ok()) {
+    std::string plan_error;
+    c.Require(IsValidPlan(*w.plan, w.hall, "world.plan", &plan_error), plan_error);
+  }
+}
+
+// The route of a plan's world stays on its floor and clear of its walls and
+// pillars (a generated lot leaves its aisles to the route's author).
+void CheckRouteInPlan(const ScenarioConfig& s, Checker& c) {
+  if (!s.world.plan || !c.ok()) return;
+  const bool approach_only = s.route.loop_m.empty() && s.route.finish_m.empty();
+  std::string error;
+  c.Require(
+      IsDrivableRoute(RouteWaypoints(s.route), FloorRegions(s.world),
+                      BuildWorld(s.world, static_cast<std::uint64_t>(s.world.seed)),
+                      approach_only ? "route.approach_m" : "route (waypoints in order)", &error),
+      error);
 }
 
 void CheckWaypoints(const std::vector<Eigen::Vector2d>& points, const std::string& field,
@@ -276,6 +296,7 @@ bool ScenarioConfig::IsValid(std::string* error) const {
   Checker checker(error);
   CheckWorld(world, checker);
   CheckRoute(route, checker);
+  CheckRouteInPlan(*this, checker);
   // The vehicle's own message, taken only after IsValid wrote it.
   std::string vehicle_error;
   const bool vehicle_ok = vehicle.IsValid(&vehicle_error);

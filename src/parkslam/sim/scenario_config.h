@@ -9,12 +9,15 @@
 // without further code. The defaults are documented in docs/simulator.md.
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "parkslam/common/lot_constants.h"
 #include "parkslam/sensor/odometry_spec.h"
 #include "parkslam/sensor/vehicle.h"
+#include "parkslam/sim/region.h"
+#include "parkslam/sim/world_plan.h"
 
 namespace parkslam::sim {
 
@@ -59,22 +62,6 @@ struct SlotRowConfig {
   }
 };
 
-// An axis-aligned rectangle of the map frame.
-struct RegionConfig {
-  double min_x_m = 0.0, min_y_m = 0.0, max_x_m = 0.0, max_y_m = 0.0;
-
-  bool Contains(const Eigen::Vector2d& p) const {
-    return p.x() >= min_x_m && p.x() <= max_x_m && p.y() >= min_y_m && p.y() <= max_y_m;
-  }
-  template <typename V>
-  void VisitFields(V& v) {
-    v("min_x_m", min_x_m);
-    v("min_y_m", min_y_m);
-    v("max_x_m", max_x_m);
-    v("max_y_m", max_y_m);
-  }
-};
-
 struct WorldConfig {
   std::string name = "default";
   // Decides which painted IDs are missing or worn: the lot stays the same
@@ -99,6 +86,11 @@ struct WorldConfig {
   // Share of slots with no painted ID, and with an ID worn beyond reading.
   double id_missing_rate = 0.03;
   double id_worn_rate = 0.05;
+  // A lot given explicitly (world_plan.h, docs/world_plan.md): when set,
+  // the world is the plan's slots, walls, pillars and tags inside `hall`,
+  // and the keys above that generate a lot (rows, corridor, pillar size,
+  // tags, ID rates) play no part. Left out of the YAML when not set.
+  std::optional<WorldPlan> plan;
 
   template <typename V>
   void VisitFields(V& v) {
@@ -117,6 +109,7 @@ struct WorldConfig {
     v("tag_regions", tag_regions);
     v("id_missing_rate", id_missing_rate);
     v("id_worn_rate", id_worn_rate);
+    v("plan", plan);
   }
 
   bool IsValid(std::string* error) const;

@@ -7,6 +7,7 @@
 #include "parkslam/common/angles.h"
 #include "parkslam/common/cross.h"
 #include "parkslam/common/random.h"
+#include "parkslam/sim/world_plan.h"
 
 namespace parkslam::sim {
 namespace {
@@ -200,6 +201,7 @@ bool SegmentHitsSquare(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
 World BuildWorld(const WorldConfig& config, std::uint64_t seed) {
   std::string error;
   if (!config.IsValid(&error)) throw std::invalid_argument(error);
+  if (config.plan) return BuildWorldFromPlan(*config.plan, config.name, config.hall);
 
   World world;
   world.name = config.name;
@@ -214,6 +216,17 @@ World BuildWorld(const WorldConfig& config, std::uint64_t seed) {
     world.floor_area_m2 += config.corridor_length_m * config.corridor_width_m;
   }
   return world;
+}
+
+std::vector<RegionConfig> FloorRegions(const WorldConfig& config) {
+  if (config.plan) return PlanFloor(*config.plan, config.hall);
+  std::vector<RegionConfig> floor{config.hall};
+  if (config.corridor) {
+    floor.push_back({config.hall.min_x_m - config.corridor_length_m,
+                     config.corridor_center_y_m - config.corridor_width_m / 2, config.hall.min_x_m,
+                     config.corridor_center_y_m + config.corridor_width_m / 2});
+  }
+  return floor;
 }
 
 SemanticMap ToSemanticMap(const World& world) {

@@ -54,9 +54,15 @@ struct World {
 };
 
 // Builds the world from its configuration. Deterministic: the seed decides
-// which IDs are missing or worn and which candidate places carry tags.
-// Throws std::invalid_argument when the configuration is invalid.
+// which IDs are missing or worn and which candidate places carry tags. With
+// config.plan, the world is the plan's (BuildWorldFromPlan) and the seed
+// plays no part. Throws std::invalid_argument when the configuration is
+// invalid.
 World BuildWorld(const WorldConfig& config, std::uint64_t seed);
+
+// The drivable floor as rectangles: a plan's floor, else the hall and the
+// corridor.
+std::vector<RegionConfig> FloorRegions(const WorldConfig& config);
 
 // The ground truth as a map in the project's map format: slots (IDs, all
 // four corners observed, zero uncertainty), tags, and obstacles (pillars as
