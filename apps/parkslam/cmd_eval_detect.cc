@@ -22,30 +22,27 @@
 #include "progress.h"
 
 namespace parkslam::app {
-namespace {}  // namespace
+namespace {
 
-void AddEvalDetectCommand(CLI::App& app) {
-  struct Options {
-    ScenarioOptions scenario;
-    std::uint64_t seed = 1;
-    std::string ps2, out_dir;
-    double rate_hz = 0.5;
-    int max_frames = 0;
-    bool json = false;
-    std::string detector = "classical";
-    std::string models;
-    std::string classical_check = "refine";
-    int input_size = 256;
-    int flips = 1;
-    double min_confidence = 0.0;
-    ConfigOptions config;
-  };
-  auto options = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand(
-      "eval-detect",
-      "Score the slot detector and ID reader with the DMPR-PS rule (10 px, 30 degrees at 600 px "
-      "for 10 m): on top views rendered along a simulated drive against the simulator's truth, "
-      "or on labelled ps2.0 images (--ps2)");
+struct Options {
+  ScenarioOptions scenario;
+  std::uint64_t seed = 1;
+  std::string ps2, out_dir;
+  double rate_hz = 0.5;
+  int max_frames = 0;
+  bool json = false;
+  std::string detector = "classical";
+  std::string models;
+  std::string classical_check = "refine";
+  int input_size = 256;
+  int flips = 1;
+  double min_confidence = 0.0;
+  ConfigOptions config;
+  // Given on the command line (else the network's own).
+  bool input_size_given = false, flips_given = false;
+};
+
+void AddFlags(CLI::App* cmd, Options* options) {
   AddScenarioOptions(cmd, &options->scenario);
   cmd->add_option("--seed", options->seed, "Drive seed")
       ->check(SeedValidator())
@@ -92,103 +89,135 @@ void AddEvalDetectCommand(CLI::App& app) {
                   "chosen on the synthetic validation set)")
       ->check(CLI::Range(0.01, 0.99));
   AddConfigOptions(cmd, &options->config);
+}
+
+// The front end's options: --config, then the learned detector's flags.
+perception::PerceptionOptions PerceptionOf(const Options& o) {
+  perception::PerceptionOptions perception_options = o.config.Load().front_end;
+  perception_options.detector = perception::ParseDetectorKind(o.detector);
+  if (!o.models.empty()) {
+    perception_options.learned_slots.model_path = o.models + "/marking_points.onnx";
+    perception_options.learned_ids.model_path = o.models + "/slot_ids.onnx";
+  }
+  if (o.input_size_given) {
+    perception_options.learned_slots.input_size_px = o.input_size;
+  }
+  if (o.flips_given) perception_options.learned_slots.flips = o.flips;
+  if (o.min_confidence > 0.0) {
+    perception_options.learned_slots.min_confidence = o.min_confidence;
+  }
+  perception_options.learned_slots.classical =
+      o.classical_check == "filter"   ? perception::ClassicalCheck::kFilter
+      : o.classical_check == "refine" ? perception::ClassicalCheck::kRefine
+                                      : perception::ClassicalCheck::kNone;
+  return perception_options;
+}
+
+// ps2.0 views: 600 px for 10 m, no footprint mask, no IDs to score.
+void ScorePs2(const Options& o, const perception::PerceptionOptions& perception_options,
+              Scores* scores) {
+  std::unique_ptr<perception::SlotDetector> classical;
+  std::unique_ptr<perception::LearnedSlotDetector> learned;
+  if (perception_options.detector == perception::DetectorKind::kLearned) {
+    perception::LearnedSlotDetectorOptions learned_options = perception_options.learned_slots;
+    if (learned_options.model_path.empty())
+      learned_options.model_path = perception::DefaultModelDir() + "/marking_points.onnx";
+    learned = std::make_unique<perception::LearnedSlotDetector>(learned_options);
+  } else {
+    classical = std::make_unique<perception::SlotDetector>(perception_options.slots);
+  }
+  const auto detect = [&](const cv::Mat& image) {
+    return learned ? learned->Detect(image) : classical->Detect(image);
+  };
+  const std::vector<std::string> names = io::ListPs2Images(o.ps2);
+  if (names.empty()) throw std::runtime_error(o.ps2 + ": no labelled ps2.0 images");
+  for (const std::string& name : names) {
+    const std::filesystem::path image_path = std::filesystem::path(o.ps2) / (name + ".jpg");
+    const io::Ps2Labels labels =
+        io::ReadPs2Labels(std::filesystem::path(image_path).replace_extension(".json").string());
+    const cv::Mat image = ReadImage(image_path.string(), cv::IMREAD_COLOR);
+    const auto start = std::chrono::steady_clock::now();
+    const perception::SlotDetection detection = detect(image);
+    scores->slots_ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count());
+    std::vector<eval::LabelledMarkingPoint> points;
+    for (const io::Ps2MarkingPoint& p : labels.marking_points) {
+      points.push_back({p.px, p.direction_rad, p.is_t});
+    }
+    std::vector<eval::LabelledSlot> slots;
+    for (const io::Ps2Slot& s : labels.slots) slots.push_back({s.a, s.b});
+    ImageTruth truth;
+    truth.points = points;
+    truth.entrances = eval::EntranceLinesOf(points, slots);
+    const bool error = Score(truth, detection, {}, 60.0, scores).any_error();
+    if (error && !o.out_dir.empty()) {
+      WriteImage((std::filesystem::path(o.out_dir) / (name + ".png")).string(),
+                 Overlay(image, points, detection));
+    }
+  }
+}
+
+// Top views rendered along a simulated drive, against the simulator's truth.
+void ScoreDrive(const Options& o, const perception::PerceptionOptions& perception_options,
+                Scores* scores) {
+  const DriveScorer drive(ResolveScenario(o.scenario), o.seed, perception_options);
+  const Trajectory& truth = drive.truth();
+  const TimeNs period = FromSeconds(1.0 / o.rate_hz);
+  int total = static_cast<int>((truth.back().t_ns - truth.front().t_ns) / period) + 1;
+  if (o.max_frames > 0) total = std::min(total, o.max_frames);
+  Progress bar("  scoring", total);
+  for (int k = 0; k < total; ++k) {
+    const DriveScorer::Frame frame = drive.ScoreAt(truth.front().t_ns + period * k, scores);
+    const perception::PerceptionOutput& out = frame.out;
+    scores->fusion_ms.push_back(out.timing.fusion_ms);
+    scores->slots_ms.push_back(out.timing.slots_ms);
+    scores->ids_ms.push_back(out.timing.ids_ms);
+    scores->tags_ms.push_back(out.timing.tags_ms);
+    scores->frame_ms.push_back(out.timing.total_ms());
+    if (frame.score.any_error() && !o.out_dir.empty()) {
+      const std::filesystem::path base = std::filesystem::path(o.out_dir) / std::to_string(k);
+      WriteImage(base.string() + "_overlay.png",
+                 Overlay(out.top_view, frame.truth_points, out.detection));
+      WriteImage(base.string() + "_top.png", out.top_view);
+    }
+    bar.Update(k + 1);
+  }
+  bar.Finish();
+}
+
+void Run(const Options& o) {
+  io::CheckOutputsSpareInputs({{o.out_dir, "--out-dir"}},
+                              {{o.ps2, "--ps2"}, {o.models, "--models"}});
+  Scores scores;
+  if (!o.out_dir.empty()) std::filesystem::create_directories(o.out_dir);
+  const perception::PerceptionOptions perception_options = PerceptionOf(o);
+  if (!o.ps2.empty()) {
+    ScorePs2(o, perception_options, &scores);
+  } else {
+    ScoreDrive(o, perception_options, &scores);
+  }
+  if (o.json) {
+    std::cout << ToJson(scores).dump() << "\n";
+  } else {
+    Print(scores);
+  }
+}
+
+}  // namespace
+
+void AddEvalDetectCommand(CLI::App& app) {
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "eval-detect",
+      "Score the slot detector and ID reader with the DMPR-PS rule (10 px, 30 degrees at 600 px "
+      "for 10 m): on top views rendered along a simulated drive against the simulator's truth, "
+      "or on labelled ps2.0 images (--ps2)");
+  AddFlags(cmd, options.get());
   cmd->callback([options, cmd] {
-    io::CheckOutputsSpareInputs({{options->out_dir, "--out-dir"}},
-                                {{options->ps2, "--ps2"}, {options->models, "--models"}});
-    Scores scores;
-    if (!options->out_dir.empty()) std::filesystem::create_directories(options->out_dir);
-    perception::PerceptionOptions perception_options = options->config.Load().front_end;
-    perception_options.detector = perception::ParseDetectorKind(options->detector);
-    if (!options->models.empty()) {
-      perception_options.learned_slots.model_path = options->models + "/marking_points.onnx";
-      perception_options.learned_ids.model_path = options->models + "/slot_ids.onnx";
-    }
-    if (cmd->count("--input-size") > 0) {
-      perception_options.learned_slots.input_size_px = options->input_size;
-    }
-    if (cmd->count("--flips") > 0) perception_options.learned_slots.flips = options->flips;
-    if (options->min_confidence > 0.0) {
-      perception_options.learned_slots.min_confidence = options->min_confidence;
-    }
-    perception_options.learned_slots.classical =
-        options->classical_check == "filter"   ? perception::ClassicalCheck::kFilter
-        : options->classical_check == "refine" ? perception::ClassicalCheck::kRefine
-                                               : perception::ClassicalCheck::kNone;
-    if (!options->ps2.empty()) {
-      // ps2.0 views: 600 px for 10 m, no footprint mask, no IDs to score.
-      std::unique_ptr<perception::SlotDetector> classical;
-      std::unique_ptr<perception::LearnedSlotDetector> learned;
-      if (perception_options.detector == perception::DetectorKind::kLearned) {
-        perception::LearnedSlotDetectorOptions o = perception_options.learned_slots;
-        if (o.model_path.empty())
-          o.model_path = perception::DefaultModelDir() + "/marking_points.onnx";
-        learned = std::make_unique<perception::LearnedSlotDetector>(o);
-      } else {
-        classical = std::make_unique<perception::SlotDetector>(perception_options.slots);
-      }
-      const auto detect = [&](const cv::Mat& image) {
-        return learned ? learned->Detect(image) : classical->Detect(image);
-      };
-      const std::vector<std::string> names = io::ListPs2Images(options->ps2);
-      if (names.empty()) throw std::runtime_error(options->ps2 + ": no labelled ps2.0 images");
-      for (const std::string& name : names) {
-        const std::filesystem::path image_path =
-            std::filesystem::path(options->ps2) / (name + ".jpg");
-        const io::Ps2Labels labels = io::ReadPs2Labels(
-            std::filesystem::path(image_path).replace_extension(".json").string());
-        const cv::Mat image = ReadImage(image_path.string(), cv::IMREAD_COLOR);
-        const auto start = std::chrono::steady_clock::now();
-        const perception::SlotDetection detection = detect(image);
-        scores.slots_ms.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count());
-        std::vector<eval::LabelledMarkingPoint> points;
-        for (const io::Ps2MarkingPoint& p : labels.marking_points) {
-          points.push_back({p.px, p.direction_rad, p.is_t});
-        }
-        std::vector<eval::LabelledSlot> slots;
-        for (const io::Ps2Slot& s : labels.slots) slots.push_back({s.a, s.b});
-        ImageTruth truth;
-        truth.points = points;
-        truth.entrances = eval::EntranceLinesOf(points, slots);
-        const bool error = Score(truth, detection, {}, 60.0, &scores).any_error();
-        if (error && !options->out_dir.empty()) {
-          WriteImage((std::filesystem::path(options->out_dir) / (name + ".png")).string(),
-                     Overlay(image, points, detection));
-        }
-      }
-    } else {
-      const DriveScorer drive(ResolveScenario(options->scenario), options->seed,
-                              perception_options);
-      const Trajectory& truth = drive.truth();
-      const TimeNs period = FromSeconds(1.0 / options->rate_hz);
-      int total = static_cast<int>((truth.back().t_ns - truth.front().t_ns) / period) + 1;
-      if (options->max_frames > 0) total = std::min(total, options->max_frames);
-      Progress bar("  scoring", total);
-      for (int k = 0; k < total; ++k) {
-        const DriveScorer::Frame frame = drive.ScoreAt(truth.front().t_ns + period * k, &scores);
-        const perception::PerceptionOutput& out = frame.out;
-        scores.fusion_ms.push_back(out.timing.fusion_ms);
-        scores.slots_ms.push_back(out.timing.slots_ms);
-        scores.ids_ms.push_back(out.timing.ids_ms);
-        scores.tags_ms.push_back(out.timing.tags_ms);
-        scores.frame_ms.push_back(out.timing.total_ms());
-        if (frame.score.any_error() && !options->out_dir.empty()) {
-          const std::filesystem::path base =
-              std::filesystem::path(options->out_dir) / std::to_string(k);
-          WriteImage(base.string() + "_overlay.png",
-                     Overlay(out.top_view, frame.truth_points, out.detection));
-          WriteImage(base.string() + "_top.png", out.top_view);
-        }
-        bar.Update(k + 1);
-      }
-      bar.Finish();
-    }
-    if (options->json) {
-      std::cout << ToJson(scores).dump() << "\n";
-    } else {
-      Print(scores);
-    }
+    options->input_size_given = cmd->count("--input-size") > 0;
+    options->flips_given = cmd->count("--flips") > 0;
+    Run(*options);
   });
 }
 
