@@ -17,6 +17,7 @@
 #include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/harness/fault_injection.h"
 #include "parkslam/harness/sensor_stream.h"
+#include "parkslam/localization/localization_run.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper.h"
 #include "parkslam/sim/scenario_config.h"
@@ -86,9 +87,9 @@ LocalizationRun LocalizeWith(const std::vector<SensorFault>& faults) {
   const double end_s = kFaultStart_s + kFaultDuration_s;
   LocalizationRun run;
   int checked = 0;
-  while (const auto event = source.Next()) {
-    const auto estimate = localizer.Process(*event);
-    if (!estimate) continue;
+  const localization::LocalizationRun replay = localization::RunLocalization(source, &localizer);
+  for (const localization::LocalizationEstimate& e : replay.estimates) {
+    const localization::LocalizationEstimate* estimate = &e;
     const double t_s = ToSeconds(estimate->t_ns - truth.front().t_ns);
     if (t_s < end_s + 5.0 || t_s > end_s + 30.0) continue;
     const std::optional<SE2> true_pose = PoseAt(truth, estimate->t_ns);
