@@ -169,104 +169,92 @@ std::string Plot(const std::vector<Minute>& minutes, int total_minutes) {
   return canvas.Finish();
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+struct SoakOptions {
   double minutes = 60.0;
   std::uint64_t seed = 3;
   std::string out;
+};
+
+// The command line into o; an exit code when the program should stop,
+// -1 otherwise.
+int ParseArgs(int argc, char** argv, SoakOptions* o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--minutes" && i + 1 < argc) {
-      minutes = std::atof(argv[++i]);
+      o->minutes = std::atof(argv[++i]);
     } else if (a == "--seed" && i + 1 < argc) {
-      seed = std::strtoull(argv[++i], nullptr, 10);
+      o->seed = std::strtoull(argv[++i], nullptr, 10);
     } else if (a == "--out" && i + 1 < argc) {
-      out = argv[++i];
+      o->out = argv[++i];
     } else {
       std::fprintf(stderr, "usage: parkslam_soak_bench [--minutes 60] [--seed 3] [--out DIR]\n");
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
-  if (!(minutes >= 3.0 && minutes <= 600.0)) {
+  if (!(o->minutes >= 3.0 && o->minutes <= 600.0)) {
     std::fprintf(stderr, "parkslam_soak_bench: --minutes must lie in [3, 600]\n");
     return 2;
   }
-  // The default route: about 120 s before the laps, 103 s a lap.
-  sim::ScenarioConfig scenario = sim::DefaultScenario();
-  scenario.route.laps =
-      std::max(1, static_cast<int>(std::lround((minutes * 60.0 - 120.0) / 103.3)));
-  const auto t0 = std::chrono::steady_clock::now();
-  const sim::Simulation drive = sim::Simulate(scenario, seed);
-  const sim::Simulation second = sim::Simulate(scenario, seed + 1);
-  const SemanticMap truth = sim::ToSemanticMap(drive.world);
-  const odometry::OdometryEkfOptions ekf =
-      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
-  const TimeNs start_ns = drive.states.front().t_ns;
-  const double drive_min = ToSeconds(drive.states.back().t_ns - start_ns) / 60.0;
-  std::printf("%d laps, %.1f min of drive each; simulated in %.1f s; %.1f MB resident\n",
-              scenario.route.laps, drive_min,
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+  return -1;
+}
+
+// Maps the drive, a row of the table per minute of drive.
+void MapDrive(const SensorLog& log, TimeNs start_ns, mapping::Mapper* mapper,
+              std::vector<Minute>* table) {
+  SensorLogSource source(log);
+  int minute = 0;
+  std::size_t first_keyframe = 0;
+  table->push_back(Summarize("mapping", 0, {}));
+  PrintMinute(table->back());
+  while (const auto event = source.Next()) {
+    mapper->Process(*event);
+    const int now = static_cast<int>(ToSeconds(EventTime(*event) - start_ns) / 60.0);
+    if (now > minute) {
+      const std::vector<double>& ms = mapper->stats().keyframe_update_ms;
+      table->push_back(
+          Summarize("mapping", now,
+                    std::vector<double>(ms.begin() + static_cast<long>(first_keyframe), ms.end())));
+      PrintMinute(table->back());
+      first_keyframe = ms.size();
+      minute = now;
+    }
+  }
+  const auto f0 = std::chrono::steady_clock::now();
+  mapper->Finish();
+  std::printf("final solve %.1f s; %.1f MB resident\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count(),
               ResidentMb());
+}
 
-  std::vector<Minute> table;
-  // Mapping.
-  mapping::Mapper mapper(mapping::MapperOptions{}, ekf);
-  {
-    SensorLogSource source(drive.log);
-    int minute = 0;
-    std::size_t first_keyframe = 0;
-    table.push_back(Summarize("mapping", 0, {}));
-    PrintMinute(table.back());
-    while (const auto event = source.Next()) {
-      mapper.Process(*event);
-      const int now = static_cast<int>(ToSeconds(EventTime(*event) - start_ns) / 60.0);
-      if (now > minute) {
-        const std::vector<double>& ms = mapper.stats().keyframe_update_ms;
-        table.push_back(Summarize(
-            "mapping", now,
-            std::vector<double>(ms.begin() + static_cast<long>(first_keyframe), ms.end())));
-        PrintMinute(table.back());
-        first_keyframe = ms.size();
-        minute = now;
-      }
+// Localizes the drive on the map, a row of the table per minute of drive.
+void LocalizeDrive(const SemanticMap& map, const SensorLog& log,
+                   const odometry::OdometryEkfOptions& ekf, TimeNs start_ns,
+                   std::vector<Minute>* table) {
+  localization::Localizer localizer(map, localization::LocalizerOptions{}, ekf);
+  SensorLogSource source(log);
+  int minute = 0;
+  std::vector<double> ms;
+  table->push_back(Summarize("localizing", 0, {}));
+  PrintMinute(table->back());
+  while (const auto event = source.Next()) {
+    const auto s = std::chrono::steady_clock::now();
+    const bool estimated = localizer.Process(*event).has_value();
+    if (estimated) {
+      ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s).count());
     }
-    const auto f0 = std::chrono::steady_clock::now();
-    mapper.Finish();
-    std::printf("final solve %.1f s; %.1f MB resident\n",
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count(),
-                ResidentMb());
-  }
-  const SemanticMap map = mapper.Map();
-  const eval::MapMetrics metrics = eval::EvaluateMap(map, truth);
-  std::printf("map: %d of %d slots, corner RMSE %.3f m; %d keyframes\n", metrics.slots_matched,
-              metrics.slots_true, metrics.slot_corner_rmse_m, mapper.stats().keyframes);
-
-  // Localization of the second drive.
-  {
-    localization::Localizer localizer(map, localization::LocalizerOptions{}, ekf);
-    SensorLogSource source(second.log);
-    int minute = 0;
-    std::vector<double> ms;
-    table.push_back(Summarize("localizing", 0, {}));
-    PrintMinute(table.back());
-    while (const auto event = source.Next()) {
-      const auto s = std::chrono::steady_clock::now();
-      const bool estimated = localizer.Process(*event).has_value();
-      if (estimated) {
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s)
-                         .count());
-      }
-      const int now = static_cast<int>(ToSeconds(EventTime(*event) - start_ns) / 60.0);
-      if (now > minute) {
-        table.push_back(Summarize("localizing", now, ms));
-        PrintMinute(table.back());
-        ms.clear();
-        minute = now;
-      }
+    const int now = static_cast<int>(ToSeconds(EventTime(*event) - start_ns) / 60.0);
+    if (now > minute) {
+      table->push_back(Summarize("localizing", now, ms));
+      PrintMinute(table->back());
+      ms.clear();
+      minute = now;
     }
   }
+}
 
+// Memory growth and update times, first against last ten minutes.
+void PrintSummary(const std::vector<Minute>& table, double drive_min) {
   const int last = static_cast<int>(drive_min);
   std::printf("\nsummary over %d minutes of drive per phase:\n", last);
   for (const char* phase : {"mapping", "localizing"}) {
@@ -287,18 +275,55 @@ int main(int argc, char** argv) {
         phase, first_mb, last_mb, (last_mb - first_mb) / std::max(drive_min, 1.0) * 60.0,
         first_heap, last_heap, early.first, late.first, early.second, late.second);
   }
-  if (!out.empty()) {
-    std::filesystem::create_directories(out);
-    std::string csv = "phase,minute,resident_mb,heap_mb,updates,median_ms,p99_ms,max_ms\n";
-    for (const Minute& m : table) {
-      char line[160];
-      std::snprintf(line, sizeof line, "%s,%d,%.2f,%.2f,%d,%.4f,%.4f,%.3f\n", m.phase.c_str(),
-                    m.minute, m.resident_mb, m.heap_mb, m.updates, m.median_ms, m.p99_ms, m.max_ms);
-      csv += line;
-    }
-    io::WriteFileAtomically(std::filesystem::path(out) / "soak.csv", csv);
-    io::WriteFileAtomically(std::filesystem::path(out) / "soak.svg", Plot(table, last));
-    std::printf("wrote %s/soak.csv and soak.svg\n", out.c_str());
+}
+
+void WriteTable(const std::string& out, const std::vector<Minute>& table, int last) {
+  std::filesystem::create_directories(out);
+  std::string csv = "phase,minute,resident_mb,heap_mb,updates,median_ms,p99_ms,max_ms\n";
+  for (const Minute& m : table) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%s,%d,%.2f,%.2f,%d,%.4f,%.4f,%.3f\n", m.phase.c_str(),
+                  m.minute, m.resident_mb, m.heap_mb, m.updates, m.median_ms, m.p99_ms, m.max_ms);
+    csv += line;
   }
+  io::WriteFileAtomically(std::filesystem::path(out) / "soak.csv", csv);
+  io::WriteFileAtomically(std::filesystem::path(out) / "soak.svg", Plot(table, last));
+  std::printf("wrote %s/soak.csv and soak.svg\n", out.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  SoakOptions options;
+  if (const int code = ParseArgs(argc, argv, &options); code >= 0) return code;
+  // The default route: about 120 s before the laps, 103 s a lap.
+  sim::ScenarioConfig scenario = sim::DefaultScenario();
+  scenario.route.laps =
+      std::max(1, static_cast<int>(std::lround((options.minutes * 60.0 - 120.0) / 103.3)));
+  const auto t0 = std::chrono::steady_clock::now();
+  const sim::Simulation drive = sim::Simulate(scenario, options.seed);
+  const sim::Simulation second = sim::Simulate(scenario, options.seed + 1);
+  const SemanticMap truth = sim::ToSemanticMap(drive.world);
+  const odometry::OdometryEkfOptions ekf =
+      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
+  const TimeNs start_ns = drive.states.front().t_ns;
+  const double drive_min = ToSeconds(drive.states.back().t_ns - start_ns) / 60.0;
+  std::printf("%d laps, %.1f min of drive each; simulated in %.1f s; %.1f MB resident\n",
+              scenario.route.laps, drive_min,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+              ResidentMb());
+
+  std::vector<Minute> table;
+  mapping::Mapper mapper(mapping::MapperOptions{}, ekf);
+  MapDrive(drive.log, start_ns, &mapper, &table);
+  const SemanticMap map = mapper.Map();
+  const eval::MapMetrics metrics = eval::EvaluateMap(map, truth);
+  std::printf("map: %d of %d slots, corner RMSE %.3f m; %d keyframes\n", metrics.slots_matched,
+              metrics.slots_true, metrics.slot_corner_rmse_m, mapper.stats().keyframes);
+
+  // Localization of the second drive.
+  LocalizeDrive(map, second.log, ekf, start_ns, &table);
+  PrintSummary(table, drive_min);
+  if (!options.out.empty()) WriteTable(options.out, table, static_cast<int>(drive_min));
   return 0;
 }

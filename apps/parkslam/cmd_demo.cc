@@ -91,23 +91,304 @@ nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint6
   return j;
 }
 
+struct Options {
+  ScenarioOptions scenario;
+  std::uint64_t seed = 1;
+  std::string out;
+  int consistency_runs = 50;
+  int follow_runs = 3;
+  double follow_speed_kmh = 10.0;
+  double live_images_hz = 5.0;
+  bool observations = false;
+  std::string detector = "classical";
+  int perception_frames = 24;
+  bool no_report = false;
+  ConfigOptions config;
+};
+
+// The EKF on the drive's wheel speed, steering and IMU, from the known
+// start pose; writes odometry.tum.
+Trajectory DeadReckon(const io::Dataset& dataset, const SE2& initial_pose,
+                      const std::filesystem::path& out, nlohmann::json* metrics) {
+  const auto t0 = std::chrono::steady_clock::now();
+  harness::DeadReckoningOptions dr;
+  dr.initial_pose = initial_pose;
+  const harness::DeadReckoningResult odometry = RunOdometry(dataset, dr);
+  (*metrics)["odometry_s"] = SecondsSince(t0);
+  const Trajectory odometry_trajectory = harness::ToTrajectory(odometry.poses);
+  io::WriteTum(out / "odometry.tum", odometry_trajectory);
+  return odometry_trajectory;
+}
+
+// The semantic map of the drive: writes map.json and trajectory.tum;
+// returns the optimized keyframe trajectory.
+Trajectory MapDrive(const io::Dataset& dataset, const AlgorithmOptions& config,
+                    const SE2& initial_pose, const harness::FrameSource& frames,
+                    const perception::PerceptionOptions& perception,
+                    const std::filesystem::path& out, nlohmann::json* metrics) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const mapping::Mapper mapper =
+      BuildMap(dataset, config.mapper, initial_pose, true, {frames, perception, {}});
+  (*metrics)["mapping_s"] = SecondsSince(t0);
+  const Trajectory mapped_trajectory = mapper.KeyframeTrajectory();
+  io::WriteMap(out / "map.json", mapper.Map());
+  io::WriteTum(out / "trajectory.tum", mapped_trajectory);
+  std::printf("%s\n", DescribeMapping(mapper, (*metrics)["mapping_s"].get<double>()).c_str());
+  return mapped_trajectory;
+}
+
+struct Evaluation {
+  eval::TrajectoryMetrics odometry, mapped;
+  eval::MapMetrics map;
+  SemanticMap truth_map;  // as written beside the drive
+};
+
+Evaluation Evaluate(const io::Dataset& dataset, const Trajectory& odometry_trajectory,
+                    const Trajectory& mapped_trajectory, const SemanticMap& map,
+                    const perception::PerceptionOptions& perception,
+                    const std::filesystem::path& out, nlohmann::json* metrics_out) {
+  nlohmann::json& metrics = *metrics_out;
+  Evaluation e;
+  e.odometry = eval::EvaluateTrajectory(dataset.groundtruth_trajectory, odometry_trajectory);
+  metrics["odometry"] = MetricsToJson(e.odometry);
+  e.mapped = eval::EvaluateTrajectory(dataset.groundtruth_trajectory, mapped_trajectory);
+  metrics["mapping_trajectory"] = MetricsToJson(e.mapped);
+  eval::MapMetricsOptions map_options;
+  map_options.truth_slot_mask = PassedSlots(dataset, dataset.groundtruth_map->slots.size(), 3);
+  // The truth as written beside the drive (millimetres), as `eval-map` and
+  // the report read it.
+  e.truth_map = io::ReadMap(out / "dataset" / "groundtruth" / "map.json");
+  e.map = eval::EvaluateMap(map, e.truth_map, map_options);
+  metrics["map"] = MapMetricsToJson(e.map);
+  metrics["dataset"] = dataset.name;
+  metrics["command"] = CommandLine();
+  metrics["version"] = kVersion;
+  metrics["detector"] = perception::ToString(perception.detector);
+  return e;
+}
+
+// A second drive (seed + 500) localized on the map from a global start;
+// writes second_drive/, second_drive_localized.tum and localization.csv.
+// Returns the map's pose in the lot (from the truth).
+SE2 LocalizeSecondDrive(const Options& o, const sim::ScenarioConfig& scenario,
+                        const AlgorithmOptions& config, const SemanticMap& map,
+                        const SemanticMap& truth_map, const harness::FrameSource& frames,
+                        const perception::PerceptionOptions& perception, nlohmann::json* metrics) {
+  const std::filesystem::path out = o.out;
+  const io::Dataset second = SimulateDataset(scenario, o.seed + 500);
+  io::WriteDataset(out / "second_drive", second);
+  const SE2 T_world_map = eval::EvaluateMap(map, truth_map).T_truth_map;
+  localization::Localizer localizer(
+      map, config.localizer,
+      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle));
+  localization::LocalizationRun run;
+  {
+    harness::SensorStream stream(second, {frames, perception, {}});
+    run = localization::RunLocalization(stream.source(), &localizer);
+  }
+  const std::vector<localization::LocalizationEstimate>& estimates = run.estimates;
+  const Trajectory localized = Transformed(T_world_map, run.tracked);
+  io::WriteTum(out / "second_drive_localized.tum", localized);
+  io::WriteNumericCsv(out / "localization.csv",
+                      LocalizationLog(estimates, T_world_map, second.groundtruth_trajectory));
+  eval::TrajectoryMetricsOptions no_align;
+  no_align.align = false;
+  const eval::TrajectoryMetrics loc_m =
+      eval::EvaluateTrajectory(second.groundtruth_trajectory, localized, no_align);
+  (*metrics)["localization"] = MetricsToJson(loc_m);
+  (*metrics)["localization"]["frames_tracked"] = static_cast<int>(localized.size());
+  std::printf(
+      "localization of a second drive: %zu camera frames tracked, RMSE %.3f m, "
+      "%.2f deg (in the lot's frame)\n",
+      localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI);
+  return T_world_map;
+}
+
+// Autonomous runs along the recorded drive (seed + 2000) on the map;
+// writes follow/.
+harness::TraceFollowingResult FollowRecordedDrive(
+    const Options& o, const sim::ScenarioConfig& scenario, const AlgorithmOptions& config,
+    const SemanticMap& map, const SE2& T_world_map, const io::Dataset& dataset,
+    const harness::FrameSource& frames, const perception::PerceptionOptions& perception,
+    nlohmann::json* metrics) {
+  const std::filesystem::path out = o.out;
+  harness::TraceFollowingOptions follow_options;
+  follow_options.runs = o.follow_runs;
+  follow_options.speed_kmh = o.follow_speed_kmh;
+  follow_options.seed = o.seed + 2000;
+  follow_options.frames = frames;
+  follow_options.perception = perception;
+  follow_options.localizer = config.localizer;
+  follow_options.follower = config.follower;
+  Progress progress("  runs", o.follow_runs);
+  const harness::TraceFollowingResult follow =
+      harness::FollowTrace(scenario, map, T_world_map.inverse(), dataset.groundtruth_trajectory,
+                           follow_options, [&progress](int done, int) { progress.Update(done); });
+  progress.Finish();
+  (*metrics)["trace_following"] = TraceFollowingToJson(follow, follow_options);
+  // The runs and their lateral offsets along the trace, for the report.
+  std::filesystem::create_directories(out / "follow");
+  WriteFollowRuns(out / "follow", dataset.groundtruth_trajectory, follow);
+  std::printf(
+      "trace following, %d runs at %.0f km/h: repeated-trace std %.3f m, lateral "
+      "deviation mean %.3f m, max %.3f m, localization RMSE %.3f m\n",
+      o.follow_runs, o.follow_speed_kmh, follow.metrics.repeat_std_m,
+      follow.metrics.lateral_mean_all_m, follow.metrics.lateral_max_all_m,
+      follow.localization_rmse_m);
+  return follow;
+}
+
+// NEES of the dead-reckoning EKF over repeated drives (seed + 1000);
+// writes ekf_nees.csv.
+void EkfConsistency(const Options& o, const sim::ScenarioConfig& scenario,
+                    nlohmann::json* metrics) {
+  const std::filesystem::path out = o.out;
+  Progress progress("  drives", o.consistency_runs);
+  const harness::OdometryConsistency c =
+      harness::EvaluateOdometryConsistency(scenario, o.consistency_runs, o.seed + 1000, 1.0,
+                                           [&progress](int done, int) { progress.Update(done); });
+  progress.Finish();
+  io::NumericTable nees;
+  nees.columns = {"t_s", "anees"};
+  for (size_t k = 0; k < c.times_s.size(); ++k) nees.rows.push_back({c.times_s[k], c.anees[k]});
+  io::WriteNumericCsv(out / "ekf_nees.csv", nees);
+  (*metrics)["odometry_consistency"] = {{"runs", c.runs},
+                                        {"mean_anees", c.mean_anees},
+                                        {"band_95", {c.band_lower, c.band_upper}},
+                                        {"share_inside_band", c.share_inside_band}};
+  std::printf(
+      "EKF consistency: average NEES %.2f (ideal 3; 95 %% band [%.2f, %.2f]), "
+      "inside the band %.1f %% of the time over %d drives\n",
+      c.mean_anees, c.band_lower, c.band_upper, 100 * c.share_inside_band, c.runs);
+}
+
+// map.svg (the map with the three trajectories) and, after trace
+// following, traces.svg.
+void DrawMaps(const Options& o, const io::Dataset& dataset, const SemanticMap& map,
+              const Trajectory& odometry_trajectory, const Trajectory& mapped_trajectory,
+              const SE2& T_world_map, const harness::TraceFollowingResult& follow) {
+  const std::filesystem::path out = o.out;
+  viz::MapSvgOptions svg_options;
+  svg_options.title = "parkslam demo: the map built from " + dataset.name +
+                      " (temporary IDs in orange), with the driven trajectories";
+  const std::string svg =
+      viz::RenderMapSvg(map,
+                        {{"ground truth", "#2a9d2a", dataset.groundtruth_trajectory},
+                         {"dead reckoning (EKF)", "#d62728", odometry_trajectory},
+                         {"mapper (optimized keyframes)", "#1f77b4", mapped_trajectory}},
+                        svg_options);
+  if (o.follow_runs > 0) {
+    std::vector<viz::SvgTrajectory> runs{
+        {"recorded drive (the trace)", "#2a9d2a", dataset.groundtruth_trajectory}};
+    for (size_t i = 0; i < follow.runs.size(); ++i) {
+      runs.push_back({i == 0 ? "autonomous runs (true paths)" : "", "#d62728",
+                      Transformed(T_world_map.inverse(), follow.runs[i].truth_world)});
+    }
+    viz::MapSvgOptions follow_svg;
+    char title[200];
+    std::snprintf(title, sizeof title,
+                  "%d autonomous runs at %.0f km/h on the built map: repeated-trace std %.3f m",
+                  o.follow_runs, o.follow_speed_kmh, follow.metrics.repeat_std_m);
+    follow_svg.title = title;
+    io::WriteFileAtomically(out / "traces.svg", viz::RenderMapSvg(map, runs, follow_svg));
+  }
+  io::WriteFileAtomically(out / "map.svg", svg);
+}
+
+void PrintSummary(const Options& o, const Evaluation& e) {
+  const eval::TrajectoryMetrics& m = e.odometry;
+  std::printf(
+      "dead reckoning over %.0f m: ATE rmse %.2f m, max %.2f m; drift %.2f m per "
+      "100 m (%.2f %%)\n",
+      m.length_m, m.ate_rmse_m, m.ate_max_m, m.drift_per_100m_m, m.drift_percent);
+  std::printf("map: %s\n", DescribeMapMetrics(e.map).c_str());
+  std::printf("mapper trajectory: ATE rmse %.3f m\n", e.mapped.ate_rmse_m);
+  std::printf(
+      "wrote %s/{dataset/, odometry.tum, map.json, trajectory.tum, second_drive/, "
+      "second_drive_localized.tum, localization.csv, metrics.json, map.svg, traces.svg, "
+      "report.html}\n",
+      std::filesystem::path(o.out).string().c_str());
+}
+
+void Run(const Options& o) {
+  const std::filesystem::path out = o.out;
+  const bool on_pixels = !o.observations && o.live_images_hz > 0.0;
+  const harness::FrameSource frames =
+      on_pixels ? harness::FrameSource(harness::FromLiveRendering{o.live_images_hz})
+                : harness::FrameSource(harness::FromObservations{});
+  const AlgorithmOptions config = o.config.Load();
+  perception::PerceptionOptions perception = config.front_end;
+  perception.detector = perception::ParseDetectorKind(o.detector);
+  const sim::ScenarioConfig scenario = ResolveScenario(o.scenario);
+  nlohmann::json metrics;
+  const int steps = 7 + (o.consistency_runs > 0) + (o.follow_runs > 0) + (o.perception_frames > 0) +
+                    !o.no_report - 1;
+  int step = 0;
+  auto header = [&](const char* what) {
+    std::fprintf(stderr, "[%d/%d] %s\n", ++step, steps, what);
+  };
+
+  header("simulating the drive");
+  const auto t0 = std::chrono::steady_clock::now();
+  const io::Dataset dataset = SimulateDataset(scenario, o.seed);
+  metrics["simulate_s"] = SecondsSince(t0);
+  io::WriteDataset(out / "dataset", dataset);
+  std::printf("%s\n", DescribeDataset(dataset).c_str());
+
+  header("dead reckoning (EKF: wheel speed, steering, IMU)");
+  // The car starts at the lot's entrance, a known pose.
+  const SE2 initial_pose = dataset.groundtruth_trajectory.front().T_map_vehicle;
+  const Trajectory odometry_trajectory = DeadReckon(dataset, initial_pose, out, &metrics);
+
+  header(on_pixels ? "semantic mapping on pixels (top view, slots, IDs, tags; Max-Mixture back-end)"
+                   : "semantic mapping (slots, IDs, tags; Max-Mixture back-end)");
+  const Trajectory mapped_trajectory =
+      MapDrive(dataset, config, initial_pose, frames, perception, out, &metrics);
+  // Everything after uses the map as written (millimetres), as a car
+  // would load it, so that the report finds the same figures in the file.
+  const SemanticMap map = io::ReadMap(out / "map.json");
+
+  header("evaluating");
+  const Evaluation evaluation =
+      Evaluate(dataset, odometry_trajectory, mapped_trajectory, map, perception, out, &metrics);
+
+  header("localizing a second drive on the map (global start)");
+  const SE2 T_world_map = LocalizeSecondDrive(o, scenario, config, map, evaluation.truth_map,
+                                              frames, perception, &metrics);
+
+  harness::TraceFollowingResult follow;
+  if (o.follow_runs > 0) {
+    header("following the recorded drive autonomously");
+    follow = FollowRecordedDrive(o, scenario, config, map, T_world_map, dataset, frames, perception,
+                                 &metrics);
+  }
+  if (o.consistency_runs > 0) {
+    header("EKF consistency (NEES over repeated drives)");
+    EkfConsistency(o, scenario, &metrics);
+  }
+  if (o.perception_frames > 0) {
+    header("perception on a handful of frames of the mapping drive");
+    metrics["perception"] =
+        PerceptionSamples(scenario, o.seed, perception, o.perception_frames, out / "perception");
+    const nlohmann::json& p = metrics["perception"];
+    std::printf("perception on %d frames: slots precision %.1f %%, recall %.1f %%\n",
+                p["images"].get<int>(), 100 * p["slots"]["precision"].get<double>(),
+                100 * p["slots"]["recall"].get<double>());
+  }
+
+  header("drawing");
+  DrawMaps(o, dataset, map, odometry_trajectory, mapped_trajectory, T_world_map, follow);
+  io::WriteFileAtomically(out / "metrics.json", metrics.dump(2) + "\n");
+  if (!o.no_report) {
+    header("writing the report");
+    WriteReport(out, {}, out / "report.html");
+  }
+  PrintSummary(o, evaluation);
+}
+
 }  // namespace
 
 void AddDemoCommand(CLI::App& app) {
-  struct Options {
-    ScenarioOptions scenario;
-    std::uint64_t seed = 1;
-    std::string out;
-    int consistency_runs = 50;
-    int follow_runs = 3;
-    double follow_speed_kmh = 10.0;
-    double live_images_hz = 5.0;
-    bool observations = false;
-    std::string detector = "classical";
-    int perception_frames = 24;
-    bool no_report = false;
-    ConfigOptions config;
-  };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "demo",
@@ -146,206 +427,7 @@ void AddDemoCommand(CLI::App& app) {
   AddDetectorOption(cmd, &options->detector);
   AddConfigOptions(cmd, &options->config);
   AddScenarioOptions(cmd, &options->scenario);
-  cmd->callback([options] {
-    const std::filesystem::path out = options->out;
-    const bool on_pixels = !options->observations && options->live_images_hz > 0.0;
-    const harness::FrameSource frames =
-        on_pixels ? harness::FrameSource(harness::FromLiveRendering{options->live_images_hz})
-                  : harness::FrameSource(harness::FromObservations{});
-    const AlgorithmOptions config = options->config.Load();
-    perception::PerceptionOptions perception = config.front_end;
-    perception.detector = perception::ParseDetectorKind(options->detector);
-    const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
-    nlohmann::json metrics;
-    const int steps = 7 + (options->consistency_runs > 0) + (options->follow_runs > 0) +
-                      (options->perception_frames > 0) + !options->no_report - 1;
-    int step = 0;
-    auto header = [&](const char* what) {
-      std::fprintf(stderr, "[%d/%d] %s\n", ++step, steps, what);
-    };
-
-    header("simulating the drive");
-    auto t0 = std::chrono::steady_clock::now();
-    const io::Dataset dataset = SimulateDataset(scenario, options->seed);
-    metrics["simulate_s"] = SecondsSince(t0);
-    io::WriteDataset(out / "dataset", dataset);
-    std::printf("%s\n", DescribeDataset(dataset).c_str());
-
-    header("dead reckoning (EKF: wheel speed, steering, IMU)");
-    t0 = std::chrono::steady_clock::now();
-    harness::DeadReckoningOptions dr;
-    // The car starts at the lot's entrance, a known pose.
-    dr.initial_pose = dataset.groundtruth_trajectory.front().T_map_vehicle;
-    const harness::DeadReckoningResult odometry = RunOdometry(dataset, dr);
-    metrics["odometry_s"] = SecondsSince(t0);
-    const Trajectory odometry_trajectory = harness::ToTrajectory(odometry.poses);
-    io::WriteTum(out / "odometry.tum", odometry_trajectory);
-
-    header(on_pixels
-               ? "semantic mapping on pixels (top view, slots, IDs, tags; Max-Mixture back-end)"
-               : "semantic mapping (slots, IDs, tags; Max-Mixture back-end)");
-    t0 = std::chrono::steady_clock::now();
-    const mapping::Mapper mapper =
-        BuildMap(dataset, config.mapper, dr.initial_pose, true, {frames, perception, {}});
-    metrics["mapping_s"] = SecondsSince(t0);
-    const Trajectory mapped_trajectory = mapper.KeyframeTrajectory();
-    io::WriteMap(out / "map.json", mapper.Map());
-    // Everything after uses the map as written (millimetres), as a car
-    // would load it, so that the report finds the same figures in the file.
-    const SemanticMap map = io::ReadMap(out / "map.json");
-    io::WriteTum(out / "trajectory.tum", mapped_trajectory);
-    std::printf("%s\n", DescribeMapping(mapper, metrics["mapping_s"].get<double>()).c_str());
-
-    header("evaluating");
-    const eval::TrajectoryMetrics m =
-        eval::EvaluateTrajectory(dataset.groundtruth_trajectory, odometry_trajectory);
-    metrics["odometry"] = MetricsToJson(m);
-    const eval::TrajectoryMetrics mapped_m =
-        eval::EvaluateTrajectory(dataset.groundtruth_trajectory, mapped_trajectory);
-    metrics["mapping_trajectory"] = MetricsToJson(mapped_m);
-    eval::MapMetricsOptions map_options;
-    map_options.truth_slot_mask = PassedSlots(dataset, dataset.groundtruth_map->slots.size(), 3);
-    // The truth as written beside the drive (millimetres), as `eval-map` and
-    // the report read it.
-    const SemanticMap truth_map = io::ReadMap(out / "dataset" / "groundtruth" / "map.json");
-    const eval::MapMetrics map_m = eval::EvaluateMap(map, truth_map, map_options);
-    metrics["map"] = MapMetricsToJson(map_m);
-    metrics["dataset"] = dataset.name;
-    metrics["command"] = CommandLine();
-    metrics["version"] = kVersion;
-    metrics["detector"] = perception::ToString(perception.detector);
-
-    header("localizing a second drive on the map (global start)");
-    const io::Dataset second = SimulateDataset(scenario, options->seed + 500);
-    io::WriteDataset(out / "second_drive", second);
-    const SE2 T_world_map = eval::EvaluateMap(map, truth_map).T_truth_map;
-    localization::Localizer localizer(
-        map, config.localizer,
-        odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle));
-    localization::LocalizationRun run;
-    {
-      harness::SensorStream stream(second, {frames, perception, {}});
-      run = localization::RunLocalization(stream.source(), &localizer);
-    }
-    const std::vector<localization::LocalizationEstimate>& estimates = run.estimates;
-    const Trajectory localized = Transformed(T_world_map, run.tracked);
-    io::WriteTum(out / "second_drive_localized.tum", localized);
-    io::WriteNumericCsv(out / "localization.csv",
-                        LocalizationLog(estimates, T_world_map, second.groundtruth_trajectory));
-    eval::TrajectoryMetricsOptions no_align;
-    no_align.align = false;
-    const eval::TrajectoryMetrics loc_m =
-        eval::EvaluateTrajectory(second.groundtruth_trajectory, localized, no_align);
-    metrics["localization"] = MetricsToJson(loc_m);
-    metrics["localization"]["frames_tracked"] = static_cast<int>(localized.size());
-    std::printf(
-        "localization of a second drive: %zu camera frames tracked, RMSE %.3f m, "
-        "%.2f deg (in the lot's frame)\n",
-        localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI);
-
-    harness::TraceFollowingResult follow;
-    if (options->follow_runs > 0) {
-      header("following the recorded drive autonomously");
-      harness::TraceFollowingOptions follow_options;
-      follow_options.runs = options->follow_runs;
-      follow_options.speed_kmh = options->follow_speed_kmh;
-      follow_options.seed = options->seed + 2000;
-      follow_options.frames = frames;
-      follow_options.perception = perception;
-      follow_options.localizer = config.localizer;
-      follow_options.follower = config.follower;
-      Progress progress("  runs", options->follow_runs);
-      follow = harness::FollowTrace(scenario, map, T_world_map.inverse(),
-                                    dataset.groundtruth_trajectory, follow_options,
-                                    [&progress](int done, int) { progress.Update(done); });
-      progress.Finish();
-      metrics["trace_following"] = TraceFollowingToJson(follow, follow_options);
-      // The runs and their lateral offsets along the trace, for the report.
-      std::filesystem::create_directories(out / "follow");
-      WriteFollowRuns(out / "follow", dataset.groundtruth_trajectory, follow);
-      std::printf(
-          "trace following, %d runs at %.0f km/h: repeated-trace std %.3f m, lateral "
-          "deviation mean %.3f m, max %.3f m, localization RMSE %.3f m\n",
-          options->follow_runs, options->follow_speed_kmh, follow.metrics.repeat_std_m,
-          follow.metrics.lateral_mean_all_m, follow.metrics.lateral_max_all_m,
-          follow.localization_rmse_m);
-    }
-
-    if (options->consistency_runs > 0) {
-      header("EKF consistency (NEES over repeated drives)");
-      Progress progress("  drives", options->consistency_runs);
-      const harness::OdometryConsistency c = harness::EvaluateOdometryConsistency(
-          scenario, options->consistency_runs, options->seed + 1000, 1.0,
-          [&progress](int done, int) { progress.Update(done); });
-      progress.Finish();
-      io::NumericTable nees;
-      nees.columns = {"t_s", "anees"};
-      for (size_t k = 0; k < c.times_s.size(); ++k) nees.rows.push_back({c.times_s[k], c.anees[k]});
-      io::WriteNumericCsv(out / "ekf_nees.csv", nees);
-      metrics["odometry_consistency"] = {{"runs", c.runs},
-                                         {"mean_anees", c.mean_anees},
-                                         {"band_95", {c.band_lower, c.band_upper}},
-                                         {"share_inside_band", c.share_inside_band}};
-      std::printf(
-          "EKF consistency: average NEES %.2f (ideal 3; 95 %% band [%.2f, %.2f]), "
-          "inside the band %.1f %% of the time over %d drives\n",
-          c.mean_anees, c.band_lower, c.band_upper, 100 * c.share_inside_band, c.runs);
-    }
-
-    if (options->perception_frames > 0) {
-      header("perception on a handful of frames of the mapping drive");
-      metrics["perception"] = PerceptionSamples(scenario, options->seed, perception,
-                                                options->perception_frames, out / "perception");
-      const nlohmann::json& p = metrics["perception"];
-      std::printf("perception on %d frames: slots precision %.1f %%, recall %.1f %%\n",
-                  p["images"].get<int>(), 100 * p["slots"]["precision"].get<double>(),
-                  100 * p["slots"]["recall"].get<double>());
-    }
-
-    header("drawing");
-    viz::MapSvgOptions svg_options;
-    svg_options.title = "parkslam demo: the map built from " + dataset.name +
-                        " (temporary IDs in orange), with the driven trajectories";
-    const std::string svg =
-        viz::RenderMapSvg(map,
-                          {{"ground truth", "#2a9d2a", dataset.groundtruth_trajectory},
-                           {"dead reckoning (EKF)", "#d62728", odometry_trajectory},
-                           {"mapper (optimized keyframes)", "#1f77b4", mapped_trajectory}},
-                          svg_options);
-    if (options->follow_runs > 0) {
-      std::vector<viz::SvgTrajectory> runs{
-          {"recorded drive (the trace)", "#2a9d2a", dataset.groundtruth_trajectory}};
-      for (size_t i = 0; i < follow.runs.size(); ++i) {
-        runs.push_back({i == 0 ? "autonomous runs (true paths)" : "", "#d62728",
-                        Transformed(T_world_map.inverse(), follow.runs[i].truth_world)});
-      }
-      viz::MapSvgOptions follow_svg;
-      char title[200];
-      std::snprintf(title, sizeof title,
-                    "%d autonomous runs at %.0f km/h on the built map: repeated-trace std %.3f m",
-                    options->follow_runs, options->follow_speed_kmh, follow.metrics.repeat_std_m);
-      follow_svg.title = title;
-      io::WriteFileAtomically(out / "traces.svg", viz::RenderMapSvg(map, runs, follow_svg));
-    }
-    io::WriteFileAtomically(out / "map.svg", svg);
-    io::WriteFileAtomically(out / "metrics.json", metrics.dump(2) + "\n");
-    if (!options->no_report) {
-      header("writing the report");
-      WriteReport(out, {}, out / "report.html");
-    }
-
-    std::printf(
-        "dead reckoning over %.0f m: ATE rmse %.2f m, max %.2f m; drift %.2f m per "
-        "100 m (%.2f %%)\n",
-        m.length_m, m.ate_rmse_m, m.ate_max_m, m.drift_per_100m_m, m.drift_percent);
-    std::printf("map: %s\n", DescribeMapMetrics(map_m).c_str());
-    std::printf("mapper trajectory: ATE rmse %.3f m\n", mapped_m.ate_rmse_m);
-    std::printf(
-        "wrote %s/{dataset/, odometry.tum, map.json, trajectory.tum, second_drive/, "
-        "second_drive_localized.tum, localization.csv, metrics.json, map.svg, traces.svg, "
-        "report.html}\n",
-        out.string().c_str());
-  });
+  cmd->callback([options] { Run(*options); });
 }
 
 }  // namespace parkslam::app

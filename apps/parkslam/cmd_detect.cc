@@ -58,14 +58,120 @@ cv::Mat DrawOverlay(const cv::Mat& image, const perception::SlotDetection& detec
   return overlay;
 }
 
+struct Options {
+  std::string image, out;
+  double pixels_per_m = 60.0;
+  bool json = false, no_ids = false;
+};
+
+// The top view's grey levels; fails on an image too small or of another kind.
+cv::Mat GreyTopView(const cv::Mat& image, const std::string& path) {
+  if (image.cols < 64 || image.rows < 64) {
+    throw std::runtime_error(path + ": an image of " + std::to_string(image.cols) + " x " +
+                             std::to_string(image.rows) +
+                             " pixels; a top view needs at least 64 x 64");
+  }
+  if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
+    throw std::runtime_error(path + ": expected an 8-bit grey or colour image");
+  }
+  cv::Mat grey;
+  if (image.channels() == 3) {
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  } else {
+    grey = image;
+  }
+  return grey;
+}
+
+// The painted ID of every detected slot.
+std::vector<SlotIdReading> ReadIds(const cv::Mat& grey, const perception::SlotDetection& detection,
+                                   double pixels_per_m) {
+  std::vector<SlotIdReading> ids(detection.slots.size());
+  perception::SlotIdReaderOptions reader_options;
+  reader_options.pixels_per_m = pixels_per_m;
+  const perception::SlotIdReader reader(reader_options);
+  for (size_t k = 0; k < detection.slots.size(); ++k) {
+    const perception::DetectedSlot& slot = detection.slots[k];
+    ids[k] = reader.Read(grey, {slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px});
+  }
+  return ids;
+}
+
+nlohmann::json DetectionJson(const perception::SlotDetection& detection,
+                             const std::vector<SlotIdReading>& ids) {
+  nlohmann::json j = {{"marking_points", nlohmann::json::array()},
+                      {"slots", nlohmann::json::array()}};
+  for (const perception::MarkingPoint& p : detection.marking_points) {
+    j["marking_points"].push_back({{"x", p.px.x()},
+                                   {"y", p.px.y()},
+                                   {"direction_rad", p.direction_rad},
+                                   {"shape", perception::ToString(p.shape)},
+                                   {"score", p.score}});
+  }
+  for (size_t k = 0; k < detection.slots.size(); ++k) {
+    const perception::DetectedSlot& slot = detection.slots[k];
+    nlohmann::json corners = nlohmann::json::array();
+    for (const Eigen::Vector2d& c : slot.corners_px) corners.push_back({c.x(), c.y()});
+    const std::string id = ids[k].best();
+    // A partial reading ("3?") is not an ID; it is reported as such.
+    const bool full = !id.empty() && !ids[k].partial();
+    nlohmann::json entry = {{"entrance_px",
+                             {{slot.corners_px[0].x(), slot.corners_px[0].y()},
+                              {slot.corners_px[1].x(), slot.corners_px[1].y()}}},
+                            {"corners_px", corners},
+                            {"corner_observed", slot.corner_observed},
+                            {"confidence", slot.confidence},
+                            {"id", full ? nlohmann::json(id) : nlohmann::json(nullptr)},
+                            {"id_confidence", full ? ids[k].confidence() : 0.0}};
+    if (ids[k].partial()) entry["partial_id"] = id;
+    j["slots"].push_back(entry);
+  }
+  return j;
+}
+
+void PrintDetection(const perception::SlotDetection& detection,
+                    const std::vector<SlotIdReading>& ids) {
+  std::printf("%zu marking points, %zu slots\n", detection.marking_points.size(),
+              detection.slots.size());
+  for (const perception::MarkingPoint& p : detection.marking_points) {
+    std::printf("marking point %s at (%.1f, %.1f) px, direction %.1f deg\n",
+                perception::ToString(p.shape), p.px.x(), p.px.y(), p.direction_rad * 180.0 / M_PI);
+  }
+  for (size_t k = 0; k < detection.slots.size(); ++k) {
+    const perception::DetectedSlot& slot = detection.slots[k];
+    const std::string id = ids[k].best();
+    std::printf("slot: entrance (%.1f, %.1f)-(%.1f, %.1f) px, id %s (%.2f)\n",
+                slot.corners_px[0].x(), slot.corners_px[0].y(), slot.corners_px[1].x(),
+                slot.corners_px[1].y(), id.empty() ? "-" : id.c_str(), ids[k].confidence());
+  }
+}
+
+void Run(const Options& o) {
+  io::CheckOutputsSpareInputs({{o.out, "--out"}}, {{o.image, "--image"}});
+  const cv::Mat image = ReadImage(o.image, cv::IMREAD_UNCHANGED);
+  const cv::Mat grey = GreyTopView(image, o.image);
+  perception::SlotDetectorOptions detector_options;
+  detector_options.pixels_per_m = o.pixels_per_m;
+  const perception::SlotDetector detector(detector_options);
+  const perception::SlotDetection detection = detector.Detect(grey);
+  const std::vector<SlotIdReading> ids = o.no_ids
+                                             ? std::vector<SlotIdReading>(detection.slots.size())
+                                             : ReadIds(grey, detection, o.pixels_per_m);
+
+  if (!o.out.empty()) WriteImage(o.out, DrawOverlay(image, detection, ids));
+
+  const nlohmann::json j = DetectionJson(detection, ids);
+  if (o.json) {
+    std::cout << j.dump() << "\n";
+    return;
+  }
+  PrintDetection(detection, ids);
+  if (!o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
+}
+
 }  // namespace
 
 void AddDetectCommand(CLI::App& app) {
-  struct Options {
-    std::string image, out;
-    double pixels_per_m = 60.0;
-    bool json = false, no_ids = false;
-  };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "detect",
@@ -82,87 +188,7 @@ void AddDetectCommand(CLI::App& app) {
   cmd->add_flag("--json", options->json,
                 "Print one JSON object: marking_points (x, y, direction_rad, shape) and slots "
                 "(entrance_px, corners_px, id, id_confidence), 0-based pixels");
-  cmd->callback([options] {
-    io::CheckOutputsSpareInputs({{options->out, "--out"}}, {{options->image, "--image"}});
-    const cv::Mat image = ReadImage(options->image, cv::IMREAD_UNCHANGED);
-    if (image.cols < 64 || image.rows < 64) {
-      throw std::runtime_error(options->image + ": an image of " + std::to_string(image.cols) +
-                               " x " + std::to_string(image.rows) +
-                               " pixels; a top view needs at least 64 x 64");
-    }
-    if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
-      throw std::runtime_error(options->image + ": expected an 8-bit grey or colour image");
-    }
-    cv::Mat grey;
-    if (image.channels() == 3) {
-      cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
-    } else {
-      grey = image;
-    }
-    perception::SlotDetectorOptions detector_options;
-    detector_options.pixels_per_m = options->pixels_per_m;
-    const perception::SlotDetector detector(detector_options);
-    const perception::SlotDetection detection = detector.Detect(grey);
-    std::vector<SlotIdReading> ids(detection.slots.size());
-    if (!options->no_ids) {
-      perception::SlotIdReaderOptions reader_options;
-      reader_options.pixels_per_m = options->pixels_per_m;
-      const perception::SlotIdReader reader(reader_options);
-      for (size_t k = 0; k < detection.slots.size(); ++k) {
-        const perception::DetectedSlot& slot = detection.slots[k];
-        ids[k] = reader.Read(grey, {slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px});
-      }
-    }
-
-    if (!options->out.empty()) WriteImage(options->out, DrawOverlay(image, detection, ids));
-
-    nlohmann::json j = {{"marking_points", nlohmann::json::array()},
-                        {"slots", nlohmann::json::array()}};
-    for (const perception::MarkingPoint& p : detection.marking_points) {
-      j["marking_points"].push_back({{"x", p.px.x()},
-                                     {"y", p.px.y()},
-                                     {"direction_rad", p.direction_rad},
-                                     {"shape", perception::ToString(p.shape)},
-                                     {"score", p.score}});
-    }
-    for (size_t k = 0; k < detection.slots.size(); ++k) {
-      const perception::DetectedSlot& slot = detection.slots[k];
-      nlohmann::json corners = nlohmann::json::array();
-      for (const Eigen::Vector2d& c : slot.corners_px) corners.push_back({c.x(), c.y()});
-      const std::string id = ids[k].best();
-      // A partial reading ("3?") is not an ID; it is reported as such.
-      const bool full = !id.empty() && !ids[k].partial();
-      nlohmann::json entry = {{"entrance_px",
-                               {{slot.corners_px[0].x(), slot.corners_px[0].y()},
-                                {slot.corners_px[1].x(), slot.corners_px[1].y()}}},
-                              {"corners_px", corners},
-                              {"corner_observed", slot.corner_observed},
-                              {"confidence", slot.confidence},
-                              {"id", full ? nlohmann::json(id) : nlohmann::json(nullptr)},
-                              {"id_confidence", full ? ids[k].confidence() : 0.0}};
-      if (ids[k].partial()) entry["partial_id"] = id;
-      j["slots"].push_back(entry);
-    }
-    if (options->json) {
-      std::cout << j.dump() << "\n";
-      return;
-    }
-    std::printf("%zu marking points, %zu slots\n", detection.marking_points.size(),
-                detection.slots.size());
-    for (const perception::MarkingPoint& p : detection.marking_points) {
-      std::printf("marking point %s at (%.1f, %.1f) px, direction %.1f deg\n",
-                  perception::ToString(p.shape), p.px.x(), p.px.y(),
-                  p.direction_rad * 180.0 / M_PI);
-    }
-    for (size_t k = 0; k < detection.slots.size(); ++k) {
-      const perception::DetectedSlot& slot = detection.slots[k];
-      const std::string id = ids[k].best();
-      std::printf("slot: entrance (%.1f, %.1f)-(%.1f, %.1f) px, id %s (%.2f)\n",
-                  slot.corners_px[0].x(), slot.corners_px[0].y(), slot.corners_px[1].x(),
-                  slot.corners_px[1].y(), id.empty() ? "-" : id.c_str(), ids[k].confidence());
-    }
-    if (!options->out.empty()) std::printf("wrote %s\n", options->out.c_str());
-  });
+  cmd->callback([options] { Run(*options); });
 }
 
 }  // namespace parkslam::app

@@ -89,19 +89,129 @@ void WriteFollowRuns(const std::filesystem::path& dir, const Trajectory& trace_w
   io::WriteNumericCsv(dir / "lateral.csv", lateral);
 }
 
+namespace {
+
+struct Options {
+  ScenarioOptions scenario;
+  std::string map, out, trace;
+  int runs = 10;
+  double speed_kmh = 4.0;
+  std::uint64_t seed = 1;
+  bool odometry_only = false, json = false;
+  double live_images_hz = 0.0;
+  std::string detector = "classical";
+  std::string vehicle = "ideal";
+  ConfigOptions config;
+};
+
+// The map's pose in the simulated lot; fails when the map is not of it.
+SE2 AlignOnLot(const SemanticMap& map, const sim::ScenarioConfig& scenario,
+               const std::string& map_path) {
+  const SemanticMap truth =
+      sim::ToSemanticMap(sim::BuildWorld(scenario.world, scenario.world.seed));
+  const eval::MapMetrics alignment = eval::EvaluateMap(map, truth);
+  if (alignment.slots_matched < 3) {
+    throw std::runtime_error(map_path + ": fewer than 3 slots match the world '" +
+                             scenario.world.name + "'; is it a map of this lot?");
+  }
+  return alignment.T_truth_map;
+}
+
+// The trace in the lot's frame: --trace, or the recorded human drive.
+Trajectory TraceInLot(const Options& o, const sim::ScenarioConfig& scenario,
+                      const SE2& T_world_map) {
+  Trajectory trace_world;
+  if (o.trace.empty()) {
+    const std::vector<sim::VehicleState> drive =
+        sim::DriveRoute(scenario.route, scenario.vehicle, o.seed);
+    for (const sim::VehicleState& s : drive) trace_world.push_back({s.t_ns, s.T_map_vehicle});
+  } else {
+    trace_world = Transformed(T_world_map, io::ReadTum(o.trace));
+  }
+  return trace_world;
+}
+
+harness::TraceFollowingOptions FollowOptionsOf(const Options& o) {
+  const AlgorithmOptions config = o.config.Load();
+  harness::TraceFollowingOptions follow;
+  follow.perception = config.front_end;
+  follow.localizer = config.localizer;
+  follow.follower = config.follower;
+  follow.runs = o.runs;
+  follow.speed_kmh = o.speed_kmh;
+  follow.seed = o.seed;
+  follow.odometry_only = o.odometry_only;
+  if (o.live_images_hz > 0.0) follow.frames = harness::FromLiveRendering{o.live_images_hz};
+  follow.perception.detector = perception::ParseDetectorKind(o.detector);
+  if (o.vehicle == "realistic") follow.vehicle_dynamics = sim::RealisticDynamics();
+  return follow;
+}
+
+// traces.svg: the trace and the runs' true paths on the map.
+void DrawRuns(const Options& o, const SemanticMap& map, const SE2& T_map_world,
+              const Trajectory& trace_world, const harness::TraceFollowingResult& result) {
+  const std::filesystem::path out = o.out;
+  std::vector<viz::SvgTrajectory> drawn{
+      {"trace", "#2a9d2a", Transformed(T_map_world, trace_world)}};
+  for (size_t i = 0; i < result.runs.size(); ++i) {
+    drawn.push_back({i == 0 ? "autonomous runs (true)" : "", kRunColours[i % kRunColours.size()],
+                     Transformed(T_map_world, result.runs[i].truth_world)});
+  }
+  viz::MapSvgOptions svg;
+  char title[256];
+  std::snprintf(title, sizeof title,
+                "%d autonomous runs at %.0f km/h, %s%s: repeated-trace std %.3f m", o.runs,
+                o.speed_kmh, o.vehicle == "realistic" ? "realistic vehicle, " : "",
+                o.odometry_only ? "dead reckoning only" : "localized on the map",
+                result.metrics.repeat_std_m);
+  svg.title = title;
+  io::WriteFileAtomically(out / "traces.svg", viz::RenderMapSvg(map, drawn, svg));
+}
+
+void Run(const Options& o) {
+  std::vector<io::NamedPath> inputs{{o.map, "--map"}, {o.trace, "--trace"}};
+  for (const io::NamedPath& file : ScenarioFiles(o.scenario)) inputs.push_back(file);
+  io::CheckOutputsSpareInputs({{o.out, "--out"}}, inputs);
+  const std::filesystem::path out = o.out;
+  const sim::ScenarioConfig scenario = ResolveScenario(o.scenario);
+  const SemanticMap map = io::ReadMap(o.map);
+  // The map may live in its own frame: align it onto the simulated lot.
+  const SE2 T_world_map = AlignOnLot(map, scenario, o.map);
+  const SE2 T_map_world = T_world_map.inverse();
+  const Trajectory trace_world = TraceInLot(o, scenario, T_world_map);
+
+  const harness::TraceFollowingOptions follow = FollowOptionsOf(o);
+  Progress progress("  runs", o.runs);
+  const harness::TraceFollowingResult result =
+      harness::FollowTrace(scenario, map, T_map_world, trace_world, follow,
+                           [&progress](int done, int) { progress.Update(done); });
+  progress.Finish();
+
+  WriteFollowRuns(out, trace_world, result);
+  DrawRuns(o, map, T_map_world, trace_world, result);
+  nlohmann::json j = TraceFollowingToJson(result, follow);
+  // Where the map was, for `parkslam report` of this folder.
+  j["map"] = std::filesystem::absolute(o.map).string();
+  io::WriteFileAtomically(out / "metrics.json", j.dump(2) + "\n");
+  if (o.json) {
+    std::cout << j.dump() << "\n";
+    return;
+  }
+  std::printf(
+      "%d of %zu runs finished; lateral deviation from the trace: mean %.3f m, max "
+      "%.3f m; repeated-trace std %.3f m (max %.3f m); localization RMSE %.3f m, "
+      "%.2f deg\n",
+      j["runs_finished"].get<int>(), result.runs.size(), result.metrics.lateral_mean_all_m,
+      result.metrics.lateral_max_all_m, result.metrics.repeat_std_m,
+      result.metrics.repeat_std_max_m, result.localization_rmse_m,
+      result.localization_yaw_rmse_rad * 180.0 / M_PI);
+  std::printf("wrote %s/{trace.tum, run_*.tum, estimate_*.tum, metrics.json, traces.svg}\n",
+              out.string().c_str());
+}
+
+}  // namespace
+
 void AddFollowCommand(CLI::App& app) {
-  struct Options {
-    ScenarioOptions scenario;
-    std::string map, out, trace;
-    int runs = 10;
-    double speed_kmh = 4.0;
-    std::uint64_t seed = 1;
-    bool odometry_only = false, json = false;
-    double live_images_hz = 0.0;
-    std::string detector = "classical";
-    std::string vehicle = "ideal";
-    ConfigOptions config;
-  };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "follow",
@@ -140,87 +250,7 @@ void AddFollowCommand(CLI::App& app) {
       ->check(CLI::IsMember({"ideal", "realistic"}))
       ->capture_default_str();
   AddScenarioOptions(cmd, &options->scenario);
-  cmd->callback([options] {
-    std::vector<io::NamedPath> inputs{{options->map, "--map"}, {options->trace, "--trace"}};
-    for (const io::NamedPath& file : ScenarioFiles(options->scenario)) inputs.push_back(file);
-    io::CheckOutputsSpareInputs({{options->out, "--out"}}, inputs);
-    const std::filesystem::path out = options->out;
-    const sim::ScenarioConfig scenario = ResolveScenario(options->scenario);
-    const SemanticMap map = io::ReadMap(options->map);
-    // The map may live in its own frame: align it onto the simulated lot.
-    const SemanticMap truth =
-        sim::ToSemanticMap(sim::BuildWorld(scenario.world, scenario.world.seed));
-    const eval::MapMetrics alignment = eval::EvaluateMap(map, truth);
-    if (alignment.slots_matched < 3) {
-      throw std::runtime_error(options->map + ": fewer than 3 slots match the world '" +
-                               scenario.world.name + "'; is it a map of this lot?");
-    }
-    const SE2 T_world_map = alignment.T_truth_map;
-    const SE2 T_map_world = T_world_map.inverse();
-    Trajectory trace_world;
-    if (options->trace.empty()) {
-      const std::vector<sim::VehicleState> drive =
-          sim::DriveRoute(scenario.route, scenario.vehicle, options->seed);
-      for (const sim::VehicleState& s : drive) trace_world.push_back({s.t_ns, s.T_map_vehicle});
-    } else {
-      trace_world = Transformed(T_world_map, io::ReadTum(options->trace));
-    }
-
-    const AlgorithmOptions config = options->config.Load();
-    harness::TraceFollowingOptions follow;
-    follow.perception = config.front_end;
-    follow.localizer = config.localizer;
-    follow.follower = config.follower;
-    follow.runs = options->runs;
-    follow.speed_kmh = options->speed_kmh;
-    follow.seed = options->seed;
-    follow.odometry_only = options->odometry_only;
-    if (options->live_images_hz > 0.0) {
-      follow.frames = harness::FromLiveRendering{options->live_images_hz};
-    }
-    follow.perception.detector = perception::ParseDetectorKind(options->detector);
-    if (options->vehicle == "realistic") follow.vehicle_dynamics = sim::RealisticDynamics();
-    Progress progress("  runs", options->runs);
-    const harness::TraceFollowingResult result =
-        harness::FollowTrace(scenario, map, T_map_world, trace_world, follow,
-                             [&progress](int done, int) { progress.Update(done); });
-    progress.Finish();
-
-    WriteFollowRuns(out, trace_world, result);
-    std::vector<viz::SvgTrajectory> drawn{
-        {"trace", "#2a9d2a", Transformed(T_map_world, trace_world)}};
-    for (size_t i = 0; i < result.runs.size(); ++i) {
-      drawn.push_back({i == 0 ? "autonomous runs (true)" : "", kRunColours[i % kRunColours.size()],
-                       Transformed(T_map_world, result.runs[i].truth_world)});
-    }
-    viz::MapSvgOptions svg;
-    char title[256];
-    std::snprintf(title, sizeof title,
-                  "%d autonomous runs at %.0f km/h, %s%s: repeated-trace std %.3f m", options->runs,
-                  options->speed_kmh, options->vehicle == "realistic" ? "realistic vehicle, " : "",
-                  options->odometry_only ? "dead reckoning only" : "localized on the map",
-                  result.metrics.repeat_std_m);
-    svg.title = title;
-    io::WriteFileAtomically(out / "traces.svg", viz::RenderMapSvg(map, drawn, svg));
-    nlohmann::json j = TraceFollowingToJson(result, follow);
-    // Where the map was, for `parkslam report` of this folder.
-    j["map"] = std::filesystem::absolute(options->map).string();
-    io::WriteFileAtomically(out / "metrics.json", j.dump(2) + "\n");
-    if (options->json) {
-      std::cout << j.dump() << "\n";
-      return;
-    }
-    std::printf(
-        "%d of %zu runs finished; lateral deviation from the trace: mean %.3f m, max "
-        "%.3f m; repeated-trace std %.3f m (max %.3f m); localization RMSE %.3f m, "
-        "%.2f deg\n",
-        j["runs_finished"].get<int>(), result.runs.size(), result.metrics.lateral_mean_all_m,
-        result.metrics.lateral_max_all_m, result.metrics.repeat_std_m,
-        result.metrics.repeat_std_max_m, result.localization_rmse_m,
-        result.localization_yaw_rmse_rad * 180.0 / M_PI);
-    std::printf("wrote %s/{trace.tum, run_*.tum, estimate_*.tum, metrics.json, traces.svg}\n",
-                out.string().c_str());
-  });
+  cmd->callback([options] { Run(*options); });
 }
 
 }  // namespace parkslam::app

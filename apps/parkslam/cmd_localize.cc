@@ -18,14 +18,102 @@
 
 namespace parkslam::app {
 
+namespace {
+
+struct Options {
+  std::string map, dataset, out, init, log;
+  bool global = false;
+  int kidnap_trials = 0;
+  PixelOptions pixels;
+  ConfigOptions config;
+};
+
+void PrintRun(const localization::LocalizationRun& run, const harness::SensorStream& stream,
+              const localization::Localizer& localizer) {
+  const Trajectory& trajectory = run.tracked;
+  std::vector<double> update_ms = run.update_ms;
+  std::sort(update_ms.begin(), update_ms.end());
+  const int frames = run.frames, tracking = static_cast<int>(trajectory.size());
+  const double duration_s = ToSeconds(trajectory.back().t_ns - trajectory.front().t_ns);
+  std::printf(
+      "%d camera frames, %d tracked (%.1f %%), %.1f Hz; lost %d times, "
+      "(re)localized %d times; update median %.3f ms, max %.3f ms\n",
+      frames, tracking, 100.0 * tracking / std::max(frames, 1),
+      duration_s > 0 ? (trajectory.size() - 1) / duration_s : 0.0, run.lost_events,
+      run.relocalizations, update_ms[update_ms.size() / 2], update_ms.back());
+  const std::string stream_faults = stream.DescribeFaults();
+  if (!stream_faults.empty()) std::printf("%s\n", stream_faults.c_str());
+  const std::string odometry_faults = DescribeOdometryFaults(localizer.odometry_stats());
+  if (!odometry_faults.empty()) std::printf("%s\n", odometry_faults.c_str());
+}
+
+// Kidnapped-robot trials on the drive, against its ground truth.
+void RunKidnapTrials(const Options& o, const AlgorithmOptions& config, const SemanticMap& map,
+                     const io::Dataset& dataset) {
+  if (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map) {
+    throw std::runtime_error(o.dataset + ": --kidnap-trials needs the dataset's ground truth");
+  }
+  // The truth in the map's frame: align the map onto the true lot.
+  const SE2 T_map_world = eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map.inverse();
+  const Trajectory truth_map = Transformed(T_map_world, dataset.groundtruth_trajectory);
+  harness::KidnapOptions kidnap;
+  kidnap.trials = o.kidnap_trials;
+  Progress trials("  kidnap trials", kidnap.trials);
+  const harness::KidnapResult k =
+      harness::RunKidnapTrials(map, dataset.log, truth_map, config.localizer,
+                               odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle),
+                               kidnap, [&trials](int done, int) { trials.Update(done); });
+  trials.Finish();
+  std::vector<double> times = k.recovery_s;
+  std::sort(times.begin(), times.end());
+  std::printf(
+      "kidnapped-robot trials: %d of %d recovered within %.0f s of driving "
+      "(%.1f %%); recovery median %.2f s, max %.2f s\n",
+      k.successes, k.trials, kidnap.max_recovery_s, 100.0 * k.success_rate(),
+      times.empty() ? 0.0 : times[times.size() / 2], times.empty() ? 0.0 : times.back());
+}
+
+void Run(const Options& o) {
+  io::CheckOutputsSpareInputs({{o.out, "--out"}, {o.log, "--log"}},
+                              {{o.dataset, "DIR"}, {o.map, "--map"}});
+  const AlgorithmOptions config = o.config.Load();
+  const SemanticMap map = io::ReadMap(o.map);
+  const io::Dataset dataset = io::ReadDataset(o.dataset);
+  localization::Localizer localizer(
+      map, config.localizer, odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle));
+  if (!o.init.empty()) {
+    const Eigen::Vector3d sigma(0.5, 0.5, 0.1);
+    localizer.SetPose(ParsePose(o.init, "--init"), sigma.cwiseAbs2().asDiagonal());
+  }
+  if (!o.log.empty() && (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map)) {
+    throw std::runtime_error(o.dataset + ": --log needs the dataset's ground truth");
+  }
+  harness::SensorStream stream(dataset, o.pixels.Stream(o.dataset, config.front_end));
+  SensorSource& source = stream.source();
+  const DriveSpan span = SpanOf(dataset.log);
+  Progress progress("  localizing", span.TotalTenths());
+  const localization::LocalizationRun run = localization::RunLocalization(
+      source, &localizer, [&](TimeNs t_ns) { progress.Update(span.Tenths(t_ns)); });
+  progress.Finish();
+  const Trajectory& trajectory = run.tracked;
+  if (trajectory.empty()) {
+    throw std::runtime_error(o.dataset + ": the car was never localized on " + o.map);
+  }
+  io::WriteTum(o.out, trajectory);
+  if (!o.log.empty()) {
+    // The map may live in its own frame: the log is in the truth's.
+    const SE2 T_world_map = eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map;
+    io::WriteNumericCsv(
+        o.log, LocalizationLog(run.estimates, T_world_map, dataset.groundtruth_trajectory));
+  }
+  PrintRun(run, stream, localizer);
+  std::printf("%zu poses written to %s\n", trajectory.size(), o.out.c_str());
+  if (o.kidnap_trials > 0) RunKidnapTrials(o, config, map, dataset);
+}
+
+}  // namespace
+
 void AddLocalizeCommand(CLI::App& app) {
-  struct Options {
-    std::string map, dataset, out, init, log;
-    bool global = false;
-    int kidnap_trials = 0;
-    PixelOptions pixels;
-    ConfigOptions config;
-  };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "localize",
@@ -52,84 +140,7 @@ void AddLocalizeCommand(CLI::App& app) {
                                "Start with an unknown pose and localize globally (the default "
                                "without --init)");
   init->excludes(global);
-  cmd->callback([options] {
-    io::CheckOutputsSpareInputs({{options->out, "--out"}, {options->log, "--log"}},
-                                {{options->dataset, "DIR"}, {options->map, "--map"}});
-    const AlgorithmOptions config = options->config.Load();
-    const SemanticMap map = io::ReadMap(options->map);
-    const io::Dataset dataset = io::ReadDataset(options->dataset);
-    localization::Localizer localizer(
-        map, config.localizer,
-        odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle));
-    if (!options->init.empty()) {
-      const Eigen::Vector3d sigma(0.5, 0.5, 0.1);
-      localizer.SetPose(ParsePose(options->init, "--init"), sigma.cwiseAbs2().asDiagonal());
-    }
-    if (!options->log.empty() &&
-        (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map)) {
-      throw std::runtime_error(options->dataset + ": --log needs the dataset's ground truth");
-    }
-    harness::SensorStream stream(dataset,
-                                 options->pixels.Stream(options->dataset, config.front_end));
-    SensorSource& source = stream.source();
-    const DriveSpan span = SpanOf(dataset.log);
-    Progress progress("  localizing", span.TotalTenths());
-    const localization::LocalizationRun run = localization::RunLocalization(
-        source, &localizer, [&](TimeNs t_ns) { progress.Update(span.Tenths(t_ns)); });
-    progress.Finish();
-    const Trajectory& trajectory = run.tracked;
-    if (trajectory.empty()) {
-      throw std::runtime_error(options->dataset + ": the car was never localized on " +
-                               options->map);
-    }
-    io::WriteTum(options->out, trajectory);
-    if (!options->log.empty()) {
-      // The map may live in its own frame: the log is in the truth's.
-      const SE2 T_world_map = eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map;
-      io::WriteNumericCsv(options->log, LocalizationLog(run.estimates, T_world_map,
-                                                        dataset.groundtruth_trajectory));
-    }
-    std::vector<double> update_ms = run.update_ms;
-    std::sort(update_ms.begin(), update_ms.end());
-    const int frames = run.frames, tracking = static_cast<int>(trajectory.size());
-    const double duration_s = ToSeconds(trajectory.back().t_ns - trajectory.front().t_ns);
-    std::printf(
-        "%d camera frames, %d tracked (%.1f %%), %.1f Hz; lost %d times, "
-        "(re)localized %d times; update median %.3f ms, max %.3f ms\n",
-        frames, tracking, 100.0 * tracking / std::max(frames, 1),
-        duration_s > 0 ? (trajectory.size() - 1) / duration_s : 0.0, run.lost_events,
-        run.relocalizations, update_ms[update_ms.size() / 2], update_ms.back());
-    const std::string stream_faults = stream.DescribeFaults();
-    if (!stream_faults.empty()) std::printf("%s\n", stream_faults.c_str());
-    const std::string odometry_faults = DescribeOdometryFaults(localizer.odometry_stats());
-    if (!odometry_faults.empty()) std::printf("%s\n", odometry_faults.c_str());
-    std::printf("%zu poses written to %s\n", trajectory.size(), options->out.c_str());
-    if (options->kidnap_trials > 0) {
-      if (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map) {
-        throw std::runtime_error(options->dataset +
-                                 ": --kidnap-trials needs the dataset's ground truth");
-      }
-      // The truth in the map's frame: align the map onto the true lot.
-      const SE2 T_map_world =
-          eval::EvaluateMap(map, *dataset.groundtruth_map).T_truth_map.inverse();
-      const Trajectory truth_map = Transformed(T_map_world, dataset.groundtruth_trajectory);
-      harness::KidnapOptions kidnap;
-      kidnap.trials = options->kidnap_trials;
-      Progress trials("  kidnap trials", kidnap.trials);
-      const harness::KidnapResult k = harness::RunKidnapTrials(
-          map, dataset.log, truth_map, config.localizer,
-          odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), kidnap,
-          [&trials](int done, int) { trials.Update(done); });
-      trials.Finish();
-      std::vector<double> times = k.recovery_s;
-      std::sort(times.begin(), times.end());
-      std::printf(
-          "kidnapped-robot trials: %d of %d recovered within %.0f s of driving "
-          "(%.1f %%); recovery median %.2f s, max %.2f s\n",
-          k.successes, k.trials, kidnap.max_recovery_s, 100.0 * k.success_rate(),
-          times.empty() ? 0.0 : times[times.size() / 2], times.empty() ? 0.0 : times.back());
-    }
-  });
+  cmd->callback([options] { Run(*options); });
 }
 
 }  // namespace parkslam::app

@@ -77,7 +77,9 @@ io::Ps2Labels ToPs2(const scene::TopViewLabels& labels) {
   return ps2;
 }
 
-void Run(const Options& o) {
+// --kind checked and the --out folder made: refused when it is a file, or
+// a folder that is not empty unless --force.
+void PrepareOutput(const Options& o) {
   namespace fs = std::filesystem;
   if (o.kind != "top-view" && o.kind != "ids") {
     throw std::invalid_argument("--kind: expected top-view or ids, got '" + o.kind + "'");
@@ -92,15 +94,91 @@ void Run(const Options& o) {
   }
   fs::create_directories(out, ec);
   if (ec) throw std::runtime_error(o.out + ": cannot create the folder: " + ec.message());
+}
 
-  if (!fs::is_directory(o.fonts, ec))
+// The floor's fonts under --fonts (none: OpenCV's stroke fonts, with a word).
+std::vector<std::filesystem::path> FloorFonts(const Options& o) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(o.fonts, ec))
     throw std::runtime_error("--fonts: " + o.fonts + ": not a folder");
-  const std::vector<fs::path> fonts = scene::FindFloorFonts(o.fonts);
+  const std::vector<std::filesystem::path> fonts = scene::FindFloorFonts(o.fonts);
   if (fonts.empty()) {
     std::fprintf(stderr,
                  "make-training-set: no font files under %s; IDs use OpenCV's stroke fonts only\n",
                  o.fonts.c_str());
   }
+  return fonts;
+}
+
+// What each scene gave, by scene index, for the summary and ids/labels.csv.
+struct SceneCounts {
+  std::vector<std::vector<std::string>> id_rows;
+  std::vector<int> mark_counts, slot_counts;
+  explicit SceneCounts(int count)
+      : id_rows(static_cast<size_t>(count)),
+        mark_counts(static_cast<size_t>(count), 0),
+        slot_counts(static_cast<size_t>(count), 0) {}
+};
+
+// Scene i sampled, rendered, labelled and written with what the options ask.
+void WriteScene(const Options& o, const scene::SceneRenderer& renderer, scene::FontBook* book,
+                const scene::RenderRequest& request, int i, SceneCounts* counts) {
+  const std::filesystem::path out = o.out;
+  const bool ids = o.kind == "ids";
+  scene::SceneSamplerOptions sampler;
+  sampler.seven_segment_share = o.seven_segment_share;
+  const scene::Scene s =
+      scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)), sampler);
+  const scene::RenderedScene r = renderer.Render(s, book, request);
+  const scene::TopViewLabels labels = scene::LabelTopView(renderer, s, r);
+  const std::string name = Name(i);
+  counts->mark_counts[static_cast<size_t>(i)] = static_cast<int>(labels.marks.size());
+  counts->slot_counts[static_cast<size_t>(i)] = static_cast<int>(labels.slots.size());
+  if (ids) {
+    for (size_t k = 0; k < labels.ids.size(); ++k) {
+      const std::string file = "ids/" + name + "_" + std::to_string(k) + ".png";
+      WriteImage((out / file).string(), labels.ids[k].image);
+      counts->id_rows[static_cast<size_t>(i)].push_back(file + "," + labels.ids[k].text);
+    }
+  } else {
+    WriteJpeg(out / (name + ".jpg"), r.top_view, s.top_view_jpeg_quality);
+    io::WriteFileAtomically(out / (name + ".json"),
+                            io::Ps2LabelsToJson(ToPs2(labels)).dump() + "\n");
+  }
+  if (o.fisheyes) {
+    const std::vector<std::string>& names = renderer.options().fisheye_names;
+    for (size_t c = 0; c < r.fisheyes.size(); ++c) {
+      WriteJpeg(out / "fisheye" / (name + "_" + names[c] + ".jpg"), r.fisheyes[c], 92);
+    }
+  }
+  if (o.front && !r.front.empty()) WriteJpeg(out / "front" / (name + ".jpg"), r.front, 92);
+  if (o.overlays)
+    WriteJpeg(out / "overlays" / (name + ".jpg"), scene::DrawLabels(r.top_view, labels, s), 90);
+}
+
+void WriteManifest(const Options& o, const std::vector<std::filesystem::path>& fonts, int marks,
+                   int slots, int id_count) {
+  nlohmann::json manifest;
+  manifest["generator"] = "parkslam make-training-set";
+  manifest["version"] = kVersion;
+  manifest["kind"] = o.kind;
+  manifest["seed"] = o.seed;
+  manifest["count"] = o.count;
+  manifest["scene_seed"] = "MixSeed(seed, index) of common/seed_mix.h";
+  manifest["marking_points"] = marks;
+  manifest["slots"] = slots;
+  manifest["id_crops"] = id_count;
+  nlohmann::json font_names = nlohmann::json::array();
+  for (const std::filesystem::path& f : fonts) font_names.push_back(f.filename().string());
+  manifest["fonts"] = font_names;
+  io::WriteFileAtomically(std::filesystem::path(o.out) / "manifest.json", manifest.dump(2) + "\n");
+}
+
+void Run(const Options& o) {
+  namespace fs = std::filesystem;
+  PrepareOutput(o);
+  const fs::path out = o.out;
+  const std::vector<fs::path> fonts = FloorFonts(o);
   // The workers are the parallelism: OpenCV's own threads would only contend.
   cv::setNumThreads(1);
   const auto t_setup = std::chrono::steady_clock::now();
@@ -116,9 +194,7 @@ void Run(const Options& o) {
   if (o.front) fs::create_directories(out / "front");
   if (o.overlays) fs::create_directories(out / "overlays");
 
-  std::vector<std::vector<std::string>> id_rows(static_cast<size_t>(o.count));
-  std::vector<int> mark_counts(static_cast<size_t>(o.count), 0),
-      slot_counts(static_cast<size_t>(o.count), 0);
+  SceneCounts counts(o.count);
   std::atomic<int> next{0}, done{0};
   std::mutex error_mutex;
   std::string error;
@@ -132,36 +208,7 @@ void Run(const Options& o) {
     request.fisheyes = o.fisheyes;
     try {
       for (int i = next++; i < o.count; i = next++) {
-        scene::SceneSamplerOptions sampler;
-        sampler.seven_segment_share = o.seven_segment_share;
-        const scene::Scene s =
-            scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)), sampler);
-        const scene::RenderedScene r = renderer.Render(s, &book, request);
-        const scene::TopViewLabels labels = scene::LabelTopView(renderer, s, r);
-        const std::string name = Name(i);
-        mark_counts[static_cast<size_t>(i)] = static_cast<int>(labels.marks.size());
-        slot_counts[static_cast<size_t>(i)] = static_cast<int>(labels.slots.size());
-        if (ids) {
-          for (size_t k = 0; k < labels.ids.size(); ++k) {
-            const std::string file = "ids/" + name + "_" + std::to_string(k) + ".png";
-            WriteImage((out / file).string(), labels.ids[k].image);
-            id_rows[static_cast<size_t>(i)].push_back(file + "," + labels.ids[k].text);
-          }
-        } else {
-          WriteJpeg(out / (name + ".jpg"), r.top_view, s.top_view_jpeg_quality);
-          io::WriteFileAtomically(out / (name + ".json"),
-                                  io::Ps2LabelsToJson(ToPs2(labels)).dump() + "\n");
-        }
-        if (o.fisheyes) {
-          const std::vector<std::string>& names = renderer.options().fisheye_names;
-          for (size_t c = 0; c < r.fisheyes.size(); ++c) {
-            WriteJpeg(out / "fisheye" / (name + "_" + names[c] + ".jpg"), r.fisheyes[c], 92);
-          }
-        }
-        if (o.front && !r.front.empty()) WriteJpeg(out / "front" / (name + ".jpg"), r.front, 92);
-        if (o.overlays)
-          WriteJpeg(out / "overlays" / (name + ".jpg"), scene::DrawLabels(r.top_view, labels, s),
-                    90);
+        WriteScene(o, renderer, &book, request, i, &counts);
         const int finished = ++done;
         if (finished % 4 == 0 || finished == o.count) {
           std::lock_guard<std::mutex> lock(error_mutex);
@@ -184,32 +231,19 @@ void Run(const Options& o) {
 
   int marks = 0, slots = 0, id_count = 0;
   for (int i = 0; i < o.count; ++i) {
-    marks += mark_counts[static_cast<size_t>(i)];
-    slots += slot_counts[static_cast<size_t>(i)];
-    id_count += static_cast<int>(id_rows[static_cast<size_t>(i)].size());
+    marks += counts.mark_counts[static_cast<size_t>(i)];
+    slots += counts.slot_counts[static_cast<size_t>(i)];
+    id_count += static_cast<int>(counts.id_rows[static_cast<size_t>(i)].size());
   }
   if (ids) {
     std::ostringstream csv;
     csv << "file,text\n";
-    for (const auto& rows : id_rows) {
+    for (const auto& rows : counts.id_rows) {
       for (const std::string& row : rows) csv << row << "\n";
     }
     io::WriteFileAtomically(out / "ids" / "labels.csv", csv.str());
   }
-  nlohmann::json manifest;
-  manifest["generator"] = "parkslam make-training-set";
-  manifest["version"] = kVersion;
-  manifest["kind"] = o.kind;
-  manifest["seed"] = o.seed;
-  manifest["count"] = o.count;
-  manifest["scene_seed"] = "MixSeed(seed, index) of common/seed_mix.h";
-  manifest["marking_points"] = marks;
-  manifest["slots"] = slots;
-  manifest["id_crops"] = id_count;
-  nlohmann::json font_names = nlohmann::json::array();
-  for (const fs::path& f : fonts) font_names.push_back(f.filename().string());
-  manifest["fonts"] = font_names;
-  io::WriteFileAtomically(out / "manifest.json", manifest.dump(2) + "\n");
+  WriteManifest(o, fonts, marks, slots, id_count);
   std::printf(
       "%d %s in %.1f s on %d threads: %.1f images/s, %.1f per thread (setup %.1f s); %d marking "
       "points, %d slots, %d ID crops\n",

@@ -14,14 +14,59 @@
 
 namespace parkslam::app {
 
+namespace {
+
+struct Options {
+  std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init, solver = "lm";
+  double initial_trust_region = 1e8;
+  PixelOptions pixels;
+  ConfigOptions config;
+};
+
+// The mapper's options from --config with the command's choices over them;
+// the initial trust region only where given.
+mapping::MapperOptions MapperOptionsOf(const Options& o, const AlgorithmOptions& config,
+                                       bool initial_trust_region_given) {
+  mapping::MapperOptions mapper_options = config.mapper;
+  mapper_options.robust =
+      o.robust == "none" ? mapping::RobustMode::kNone : mapping::RobustMode::kMaxMixture;
+  mapper_options.mode =
+      o.mode == "online" ? mapping::MappingMode::kOnline : mapping::MappingMode::kBatch;
+  mapper_options.trust_region = o.solver == "dogleg" ? mapping::TrustRegion::kDogleg
+                                                     : mapping::TrustRegion::kLevenbergMarquardt;
+  if (initial_trust_region_given) {
+    mapper_options.initial_trust_region_radius = o.initial_trust_region;
+  }
+  return mapper_options;
+}
+
+void Run(const Options& o, bool initial_trust_region_given) {
+  io::CheckOutputsSpareInputs({{o.out, "--out"}, {o.trajectory_out, "--trajectory-out"}},
+                              {{o.dataset, "DIR"}});
+  const AlgorithmOptions config = o.config.Load();
+  const io::Dataset dataset = io::ReadDataset(o.dataset);
+  const mapping::MapperOptions mapper_options =
+      MapperOptionsOf(o, config, initial_trust_region_given);
+  std::optional<SE2> init;
+  if (!o.init.empty()) init = ParsePose(o.init, "--init");
+  const auto start = std::chrono::steady_clock::now();
+  std::string faults_seen;
+  mapping::Mapper mapper = BuildMap(dataset, mapper_options, init, true,
+                                    o.pixels.Stream(o.dataset, config.front_end), &faults_seen);
+  const double total_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  io::WriteMap(o.out, mapper.Map());
+  if (!o.trajectory_out.empty()) {
+    io::WriteTum(o.trajectory_out, mapper.KeyframeTrajectory());
+  }
+  std::printf("%s\n", DescribeMapping(mapper, total_s).c_str());
+  if (!faults_seen.empty()) std::printf("%s\n", faults_seen.c_str());
+  std::printf("map written to %s\n", o.out.c_str());
+}
+
+}  // namespace
+
 void AddMapCommand(CLI::App& app) {
-  struct Options {
-    std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init,
-                                              solver = "lm";
-    double initial_trust_region = 1e8;
-    PixelOptions pixels;
-    ConfigOptions config;
-  };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "map",
@@ -62,40 +107,7 @@ void AddMapCommand(CLI::App& app) {
   cmd->add_option("--init", options->init,
                   "Known start pose x,y,yaw in the map frame (metres, radians); without it the "
                   "map frame starts at the first pose");
-  cmd->callback([options, cmd] {
-    io::CheckOutputsSpareInputs(
-        {{options->out, "--out"}, {options->trajectory_out, "--trajectory-out"}},
-        {{options->dataset, "DIR"}});
-    const AlgorithmOptions config = options->config.Load();
-    const io::Dataset dataset = io::ReadDataset(options->dataset);
-    mapping::MapperOptions mapper_options = config.mapper;
-    mapper_options.robust =
-        options->robust == "none" ? mapping::RobustMode::kNone : mapping::RobustMode::kMaxMixture;
-    mapper_options.mode =
-        options->mode == "online" ? mapping::MappingMode::kOnline : mapping::MappingMode::kBatch;
-    mapper_options.trust_region = options->solver == "dogleg"
-                                      ? mapping::TrustRegion::kDogleg
-                                      : mapping::TrustRegion::kLevenbergMarquardt;
-    if (cmd->count("--initial-trust-region") > 0) {
-      mapper_options.initial_trust_region_radius = options->initial_trust_region;
-    }
-    std::optional<SE2> init;
-    if (!options->init.empty()) init = ParsePose(options->init, "--init");
-    const auto start = std::chrono::steady_clock::now();
-    std::string faults_seen;
-    mapping::Mapper mapper =
-        BuildMap(dataset, mapper_options, init, true,
-                 options->pixels.Stream(options->dataset, config.front_end), &faults_seen);
-    const double total_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    io::WriteMap(options->out, mapper.Map());
-    if (!options->trajectory_out.empty()) {
-      io::WriteTum(options->trajectory_out, mapper.KeyframeTrajectory());
-    }
-    std::printf("%s\n", DescribeMapping(mapper, total_s).c_str());
-    if (!faults_seen.empty()) std::printf("%s\n", faults_seen.c_str());
-    std::printf("map written to %s\n", options->out.c_str());
-  });
+  cmd->callback([options, cmd] { Run(*options, cmd->count("--initial-trust-region") > 0); });
 }
 
 }  // namespace parkslam::app

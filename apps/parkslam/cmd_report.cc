@@ -106,36 +106,35 @@ void AddFigure(Loaded* r, const std::string& key, const std::string& label, doub
   r->data.figures.push_back({key, label, value, Recorded(r->metrics, key), unit, scale, decimals});
 }
 
-void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
+// The map of the folder: --map, DIR/map.json, or the map a follow
+// folder's metrics name.
+fs::path MapPathOf(const fs::path& dir, const ReportInputs& inputs, const Loaded& r) {
   fs::path map_path = inputs.map.empty() ? dir / "map.json" : inputs.map;
   // A follow folder names the map it ran on.
-  if (inputs.map.empty() && !fs::exists(map_path) && r->metrics.contains("map") &&
-      r->metrics["map"].is_string()) {
-    map_path = r->metrics["map"].get<std::string>();
+  if (inputs.map.empty() && !fs::exists(map_path) && r.metrics.contains("map") &&
+      r.metrics["map"].is_string()) {
+    map_path = r.metrics["map"].get<std::string>();
   }
-  if (!fs::exists(map_path)) return;
-  const SemanticMap map = io::ReadMap(map_path);
-  nlohmann::json& scene = r->data.scene;
-  const fs::path dataset_dir = inputs.dataset.empty() ? dir / "dataset" : inputs.dataset;
-  const bool has_truth = fs::exists(dataset_dir / "groundtruth" / "map.json");
-  if (!has_truth) {
-    nlohmann::json slots = nlohmann::json::array();
-    for (const MapSlot& s : map.slots) {
-      slots.push_back({{"c", Corners(s, SE2())},
-                       {"id", s.id},
-                       {"temporary", s.temporary},
-                       {"verdict", "not_counted"},
-                       {"err_m", 0.0},
-                       {"id_right", true}});
-    }
-    scene["map"]["slots"] = slots;
-    return;
+  return map_path;
+}
+
+// The map's slots as they are, where no truth judges them.
+nlohmann::json UnjudgedSlots(const SemanticMap& map) {
+  nlohmann::json slots = nlohmann::json::array();
+  for (const MapSlot& s : map.slots) {
+    slots.push_back({{"c", Corners(s, SE2())},
+                     {"id", s.id},
+                     {"temporary", s.temporary},
+                     {"verdict", "not_counted"},
+                     {"err_m", 0.0},
+                     {"id_right", true}});
   }
-  const io::Dataset dataset = io::ReadDataset(dataset_dir);
-  const SemanticMap& truth = *dataset.groundtruth_map;
-  eval::MapMetricsOptions options;
-  options.truth_slot_mask = PassedSlots(dataset, truth.slots.size(), 3);
-  const eval::MapMetrics m = eval::EvaluateMap(map, truth, options);
+  return slots;
+}
+
+// The map drawn over the truth, in the truth's frame, with each slot's verdict.
+nlohmann::json JudgedMap(const SemanticMap& map, const SemanticMap& truth,
+                         const eval::MapMetrics& m) {
   nlohmann::json truth_slots = nlohmann::json::array(), slots = nlohmann::json::array();
   for (const MapSlot& s : truth.slots)
     truth_slots.push_back({{"c", Corners(s, SE2())}, {"id", s.id}});
@@ -155,29 +154,38 @@ void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
     const Eigen::Vector2d p = m.T_truth_map * t.p_map;
     tags.push_back({{"p", {p.x(), p.y()}}, {"id", t.tag_id}});
   }
-  scene["map"] = {{"truth_slots", truth_slots},
-                  {"slots", slots},
-                  {"missed", m.missed_truth_slots},
-                  {"truth_tags", truth_tags},
-                  {"tags", tags}};
-  scene["trajectories"].push_back({{"name", "mapping drive: truth"},
-                                   {"colour", "#2a9d2a"},
-                                   {"xy", Polyline(dataset.groundtruth_trajectory)}});
+  return {{"truth_slots", truth_slots},
+          {"slots", slots},
+          {"missed", m.missed_truth_slots},
+          {"truth_tags", truth_tags},
+          {"tags", tags}};
+}
+
+// The mapping drive: its truth, and dead reckoning and the optimized
+// keyframes where the folder has them.
+void AddMappingDrive(const fs::path& dir, const io::Dataset& dataset, const eval::MapMetrics& m,
+                     nlohmann::json* scene) {
+  (*scene)["trajectories"].push_back({{"name", "mapping drive: truth"},
+                                      {"colour", "#2a9d2a"},
+                                      {"xy", Polyline(dataset.groundtruth_trajectory)}});
   if (fs::exists(dir / "odometry.tum")) {
-    scene["trajectories"].push_back({{"name", "mapping drive: dead reckoning"},
-                                     {"colour", "#d62728"},
-                                     {"width", 1.0},
-                                     {"hidden", true},
-                                     {"xy", Polyline(io::ReadTum(dir / "odometry.tum"))}});
+    (*scene)["trajectories"].push_back({{"name", "mapping drive: dead reckoning"},
+                                        {"colour", "#d62728"},
+                                        {"width", 1.0},
+                                        {"hidden", true},
+                                        {"xy", Polyline(io::ReadTum(dir / "odometry.tum"))}});
   }
   if (fs::exists(dir / "trajectory.tum")) {
-    scene["trajectories"].push_back(
+    (*scene)["trajectories"].push_back(
         {{"name", "mapping drive: optimized keyframes"},
          {"colour", "#1f77b4"},
          {"width", 1.0},
          {"hidden", true},
          {"xy", Polyline(Transformed(m.T_truth_map, io::ReadTum(dir / "trajectory.tum")))}});
   }
+}
+
+void AddMapFigures(const eval::MapMetrics& m, Loaded* r) {
   const std::string p = "map.";
   AddFigure(r, p + "slots_matched", "slots matched", m.slots_matched,
             "of " + std::to_string(m.slots_true), 1, 0);
@@ -190,21 +198,45 @@ void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
             "of " + std::to_string(m.tags_true), 1, 0);
 }
 
-void AddLocalization(const fs::path& dir, Loaded* r) {
-  const fs::path path = dir / "localization.csv";
-  if (!fs::exists(path)) return;
-  const io::NumericTable log =
-      io::ReadNumericCsv(path, {"t_s", "x_m", "y_m", "yaw_rad", "state", "slots_used", "tags_used",
-                                "relocalized", "cov_xx", "cov_xy", "cov_xyaw", "cov_yy", "cov_yyaw",
-                                "cov_yawyaw", "true_x_m", "true_y_m", "true_yaw_rad"});
+void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
+  const fs::path map_path = MapPathOf(dir, inputs, *r);
+  if (!fs::exists(map_path)) return;
+  const SemanticMap map = io::ReadMap(map_path);
+  nlohmann::json& scene = r->data.scene;
+  const fs::path dataset_dir = inputs.dataset.empty() ? dir / "dataset" : inputs.dataset;
+  const bool has_truth = fs::exists(dataset_dir / "groundtruth" / "map.json");
+  if (!has_truth) {
+    scene["map"]["slots"] = UnjudgedSlots(map);
+    return;
+  }
+  const io::Dataset dataset = io::ReadDataset(dataset_dir);
+  const SemanticMap& truth = *dataset.groundtruth_map;
+  eval::MapMetricsOptions options;
+  options.truth_slot_mask = PassedSlots(dataset, truth.slots.size(), 3);
+  const eval::MapMetrics m = eval::EvaluateMap(map, truth, options);
+  scene["map"] = JudgedMap(map, truth, m);
+  AddMappingDrive(dir, dataset, m, &scene);
+  AddMapFigures(m, r);
+}
+
+// Sums of squared errors over the frames where the localizer tracked.
+struct TrackedErrors {
+  double sum_sq = 0.0, sum_yaw_sq = 0.0;
+  int tracked = 0;
+};
+
+// The log's series for the plots (rounded), from localization.csv.
+nlohmann::json LocalizationSeries(const io::NumericTable& log, const fs::path& path,
+                                  TrackedErrors* errors) {
   const auto col = [&](const char* name) { return static_cast<size_t>(log.Column(name)); };
   nlohmann::json l;
   std::vector<std::string> names = {"t",     "x",    "y",     "yaw",         "tx",
                                     "ty",    "tyaw", "err_m", "yaw_err_deg", "state",
                                     "slots", "tags", "reloc", "nees"};
   for (const std::string& n : names) l[n] = nlohmann::json::array();
-  double sum_sq = 0.0, sum_yaw_sq = 0.0;
-  int tracked = 0;
+  double& sum_sq = errors->sum_sq;
+  double& sum_yaw_sq = errors->sum_yaw_sq;
+  int& tracked = errors->tracked;
   for (size_t k = 0; k < log.rows.size(); ++k) {
     const std::vector<double>& row = log.rows[k];
     if (k > 0 && !(row[col("t_s")] > log.rows[k - 1][col("t_s")])) {
@@ -247,8 +279,12 @@ void AddLocalization(const fs::path& dir, Loaded* r) {
       l["nees"].push_back(nullptr);
     }
   }
-  r->data.scene["localization"] = l;
-  r->data.scene["nees_band"] = {kNees3Lower, kNees3Upper};
+  return l;
+}
+
+// The second drive's truth and tracked estimate, from the log.
+void AddSecondDrive(const io::NumericTable& log, Loaded* r) {
+  const auto col = [&](const char* name) { return static_cast<size_t>(log.Column(name)); };
   Trajectory truth, estimate;
   for (const std::vector<double>& row : log.rows) {
     const TimeNs t = FromSeconds(row[col("t_s")]);
@@ -264,12 +300,26 @@ void AddLocalization(const fs::path& dir, Loaded* r) {
                                            {"xy", Polyline(truth)}});
   r->data.scene["trajectories"].push_back(
       {{"name", "second drive: localized"}, {"colour", "#1f77b4"}, {"xy", Polyline(estimate)}});
+}
+
+void AddLocalization(const fs::path& dir, Loaded* r) {
+  const fs::path path = dir / "localization.csv";
+  if (!fs::exists(path)) return;
+  const io::NumericTable log =
+      io::ReadNumericCsv(path, {"t_s", "x_m", "y_m", "yaw_rad", "state", "slots_used", "tags_used",
+                                "relocalized", "cov_xx", "cov_xy", "cov_xyaw", "cov_yy", "cov_yyaw",
+                                "cov_yawyaw", "true_x_m", "true_y_m", "true_yaw_rad"});
+  TrackedErrors errors;
+  r->data.scene["localization"] = LocalizationSeries(log, path, &errors);
+  r->data.scene["nees_band"] = {kNees3Lower, kNees3Upper};
+  AddSecondDrive(log, r);
+  const int tracked = errors.tracked;
   if (tracked > 0) {
     AddFigure(r, "localization.frames_tracked", "frames tracked", tracked, "", 1, 0);
-    AddFigure(r, "localization.ate_rmse_m", "localization RMSE", std::sqrt(sum_sq / tracked), "m",
-              1, 3);
+    AddFigure(r, "localization.ate_rmse_m", "localization RMSE", std::sqrt(errors.sum_sq / tracked),
+              "m", 1, 3);
     AddFigure(r, "localization.yaw_rmse_deg", "localization yaw RMSE",
-              std::sqrt(sum_yaw_sq / tracked) * 180 / M_PI, "deg", 1, 3);
+              std::sqrt(errors.sum_yaw_sq / tracked) * 180 / M_PI, "deg", 1, 3);
   }
 }
 

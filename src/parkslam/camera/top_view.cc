@@ -8,6 +8,50 @@
 #include "parkslam/common/random.h"
 
 namespace parkslam::camera {
+namespace {
+
+// The two cameras that see a ground point best, by closeness to their axis
+// plus their priority, with the point's pixel in the stacked input.
+struct CameraPick {
+  double best_w = 0.0, second_w = 0.0;
+  bool has_best = false, has_second = false;
+  cv::Point2f best_px = cv::Point2f(-1, -1), second_px = cv::Point2f(-1, -1);
+  int best_camera = -1, second_camera = -1;
+};
+
+CameraPick PickCameras(const Eigen::Vector2d& g, const std::vector<const CameraConfig*>& cameras,
+                       const std::vector<CameraModel>& models, const std::vector<int>& offsets,
+                       const std::vector<double>& camera_priority_rad) {
+  CameraPick pick;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    const Eigen::Vector3d p_camera =
+        cameras[c]->T_vehicle_camera.inverse() * Eigen::Vector3d(g.x(), g.y(), 0.0);
+    const auto pixel = models[c].Project(p_camera);
+    if (!pixel) continue;
+    const double angle = std::acos(std::clamp(p_camera.normalized().z(), -1.0, 1.0));
+    const double w = -angle + (camera_priority_rad.empty() ? 0.0 : camera_priority_rad[c]);
+    const cv::Point2f stacked(static_cast<float>(pixel->x()),
+                              static_cast<float>(pixel->y() + offsets[c]));
+    if (!pick.has_best || w > pick.best_w) {
+      pick.second_w = pick.best_w;
+      pick.second_px = pick.best_px;
+      pick.second_camera = pick.best_camera;
+      pick.has_second = pick.has_best;
+      pick.best_w = w;
+      pick.best_px = stacked;
+      pick.has_best = true;
+      pick.best_camera = static_cast<int>(c);
+    } else if (!pick.has_second || w > pick.second_w) {
+      pick.second_w = w;
+      pick.second_px = stacked;
+      pick.second_camera = static_cast<int>(c);
+      pick.has_second = true;
+    }
+  }
+  return pick;
+}
+
+}  // namespace
 
 bool TopViewOptions::IsValid(std::string* error) const {
   auto fail = [error](const char* message) {
@@ -76,51 +120,22 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
           g.x() < x_front && std::abs(g.y()) < options_.footprint_width_m / 2) {
         continue;
       }
-      // Each camera that sees the point, weighted by closeness to its axis.
-      double best_w = 0.0, second_w = 0.0;
-      bool has_best = false, has_second = false;
-      cv::Point2f best_px(-1, -1), second_px(-1, -1);
-      int best_camera = -1, second_camera = -1;
-      for (size_t c = 0; c < cameras.size(); ++c) {
-        const Eigen::Vector3d p_camera =
-            cameras[c]->T_vehicle_camera.inverse() * Eigen::Vector3d(g.x(), g.y(), 0.0);
-        const auto pixel = models[c].Project(p_camera);
-        if (!pixel) continue;
-        const double angle = std::acos(std::clamp(p_camera.normalized().z(), -1.0, 1.0));
-        const double w =
-            -angle + (options_.camera_priority_rad.empty() ? 0.0 : options_.camera_priority_rad[c]);
-        const cv::Point2f stacked(static_cast<float>(pixel->x()),
-                                  static_cast<float>(pixel->y() + offsets[c]));
-        if (!has_best || w > best_w) {
-          second_w = best_w;
-          second_px = best_px;
-          second_camera = best_camera;
-          has_second = has_best;
-          best_w = w;
-          best_px = stacked;
-          has_best = true;
-          best_camera = static_cast<int>(c);
-        } else if (!has_second || w > second_w) {
-          second_w = w;
-          second_px = stacked;
-          second_camera = static_cast<int>(c);
-          has_second = true;
-        }
-      }
-      if (!has_best) continue;
+      const CameraPick pick =
+          PickCameras(g, cameras, models, offsets, options_.camera_priority_rad);
+      if (!pick.has_best) continue;
       valid_.at<uint8_t>(v, u) = 255;
-      primary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(best_camera);
-      primary.at<cv::Point2f>(v, u) = best_px;
+      primary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(pick.best_camera);
+      primary.at<cv::Point2f>(v, u) = pick.best_px;
       // Feather: the second camera takes up to half where the two are
       // within blend_angle of each other.
       double alpha = 1.0;
-      if (has_second && options_.blend_angle_rad > 0) {
-        const double gap = best_w - second_w;  // >= 0, radians
+      if (pick.has_second && options_.blend_angle_rad > 0) {
+        const double gap = pick.best_w - pick.second_w;  // >= 0, radians
         alpha = 0.5 + 0.5 * std::min(1.0, gap / options_.blend_angle_rad);
-        secondary.at<cv::Point2f>(v, u) = second_px;
-        secondary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(second_camera);
+        secondary.at<cv::Point2f>(v, u) = pick.second_px;
+        secondary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(pick.second_camera);
       } else {
-        secondary.at<cv::Point2f>(v, u) = best_px;
+        secondary.at<cv::Point2f>(v, u) = pick.best_px;
       }
       primary_weight_.at<uint16_t>(v, u) = static_cast<uint16_t>(std::lround(alpha * 256));
     }

@@ -243,37 +243,32 @@ void AddTagMetrics(const SemanticMap& map, const SemanticMap& truth, MapMetrics*
   }
 }
 
-}  // namespace
+// The map onto the truth: from the slots' shared IDs, then refined on the
+// corners of the slots matched by position.
+SE2 AlignMapOnTruth(const SemanticMap& map, const SemanticMap& truth,
+                    const std::vector<Eigen::Vector2d>& truth_midpoints, double match_radius_m) {
+  SE2 T_truth_map = InitialAlignment(IdentityCorrespondences(map, truth));
+  for (int round = 0; round < kAlignmentIterations; ++round) {
+    const SlotMatching matching =
+        MatchSlots(Midpoints(map, T_truth_map), truth_midpoints, match_radius_m);
+    if (matching.matches == 0) break;
+    T_truth_map = AlignOnMatchedCorners(map, truth, matching);
+  }
+  return T_truth_map;
+}
 
-MapMetrics EvaluateMap(const SemanticMap& map, const SemanticMap& truth,
-                       const MapMetricsOptions& options) {
-  Validate(truth, options);
+// Truth side: matched or missed, corner errors, IDs.
+void AddTruthSlotMetrics(const SemanticMap& map, const SemanticMap& truth,
+                         const MapMetricsOptions& options, const SlotMatching& matching,
+                         MapMetrics* out) {
+  MapMetrics& metrics = *out;
   const auto counts = [&options](std::size_t j) {
     return options.truth_slot_mask.empty() || options.truth_slot_mask[j];
   };
-  const std::vector<Eigen::Vector2d> truth_midpoints = Midpoints(truth, SE2());
-
-  MapMetrics metrics;
-  if (options.align) {
-    SE2 T_truth_map = InitialAlignment(IdentityCorrespondences(map, truth));
-    for (int round = 0; round < kAlignmentIterations; ++round) {
-      const SlotMatching matching =
-          MatchSlots(Midpoints(map, T_truth_map), truth_midpoints, options.match_radius_m);
-      if (matching.matches == 0) break;
-      T_truth_map = AlignOnMatchedCorners(map, truth, matching);
-    }
-    metrics.T_truth_map = T_truth_map;
-  }
   const SE2& T = metrics.T_truth_map;
-  const std::vector<Eigen::Vector2d> map_midpoints_truth = Midpoints(map, T);
-  const SlotMatching matching =
-      MatchSlots(map_midpoints_truth, truth_midpoints, options.match_radius_m);
-
-  // Truth side: matched or missed, corner errors, IDs.
   int ids_right = 0;
   int temporary_ids = 0;
   double corner_squared_sum = 0.0;
-  metrics.map_slots.assign(map.slots.size(), MapSlotVerdict{});
   for (std::size_t j = 0; j < truth.slots.size(); ++j) {
     const int i = matching.map_of_truth[j];
     if (!counts(j)) {
@@ -309,10 +304,19 @@ MapMetrics EvaluateMap(const SemanticMap& map, const SemanticMap& truth,
     metrics.id_accuracy = ids_right / matched;
     metrics.temporary_id_share = temporary_ids / matched;
   }
+}
 
-  // Map side: an unmatched map slot near a truth slot duplicates that slot
-  // (which the greedy matching has necessarily given a nearer map slot);
-  // far from all truth slots it is spurious.
+// Map side: an unmatched map slot near a truth slot duplicates that slot
+// (which the greedy matching has necessarily given a nearer map slot); far
+// from all truth slots it is spurious.
+void AddUnmatchedMapSlots(const SemanticMap& map, const SemanticMap& truth,
+                          const MapMetricsOptions& options, const SlotMatching& matching,
+                          const std::vector<Eigen::Vector2d>& map_midpoints_truth,
+                          const std::vector<Eigen::Vector2d>& truth_midpoints, MapMetrics* out) {
+  MapMetrics& metrics = *out;
+  const auto counts = [&options](std::size_t j) {
+    return options.truth_slot_mask.empty() || options.truth_slot_mask[j];
+  };
   for (std::size_t i = 0; i < map.slots.size(); ++i) {
     if (matching.truth_of_map[i] >= 0) continue;
     int nearest = -1;
@@ -334,7 +338,27 @@ MapMetrics EvaluateMap(const SemanticMap& map, const SemanticMap& truth,
       metrics.map_slots[i] = {SlotVerdict::kNotCounted, nearest, 0.0, false};
     }
   }
+}
 
+}  // namespace
+
+MapMetrics EvaluateMap(const SemanticMap& map, const SemanticMap& truth,
+                       const MapMetricsOptions& options) {
+  Validate(truth, options);
+  const std::vector<Eigen::Vector2d> truth_midpoints = Midpoints(truth, SE2());
+
+  MapMetrics metrics;
+  if (options.align) {
+    metrics.T_truth_map = AlignMapOnTruth(map, truth, truth_midpoints, options.match_radius_m);
+  }
+  const SE2& T = metrics.T_truth_map;
+  const std::vector<Eigen::Vector2d> map_midpoints_truth = Midpoints(map, T);
+  const SlotMatching matching =
+      MatchSlots(map_midpoints_truth, truth_midpoints, options.match_radius_m);
+  metrics.map_slots.assign(map.slots.size(), MapSlotVerdict{});
+  AddTruthSlotMetrics(map, truth, options, matching, &metrics);
+  AddUnmatchedMapSlots(map, truth, options, matching, map_midpoints_truth, truth_midpoints,
+                       &metrics);
   AddTagMetrics(map, truth, &metrics);
   return metrics;
 }

@@ -143,35 +143,33 @@ void Validate(const Polyline& trace, size_t runs, double station_spacing_m, doub
   }
 }
 
-}  // namespace
-
-TraceFollowingMetrics EvaluateTraceFollowing(const Trajectory& trace,
-                                             const std::vector<Trajectory>& runs,
-                                             double station_spacing_m, double skip_start_m,
-                                             double skip_end_m) {
-  const Polyline trace_line(trace);
-  Validate(trace_line, runs.size(), station_spacing_m, skip_start_m, skip_end_m);
-
-  TraceFollowingMetrics metrics;
-  metrics.runs = static_cast<int>(runs.size());
-  metrics.station_spacing_m = station_spacing_m;
-  // The skipped start is still matched, at the same spacing, so that each run's
-  // progress reaches the first reported station in order.
+// The stations along the trace, skip_start_m - k spacing first: the
+// skipped start is still matched, at the same spacing, so that each run's
+// progress reaches the first reported station in order. Sets the reported
+// stations' arc lengths; returns the stations, *skipped of them unreported.
+std::vector<Station> MakeStations(const Polyline& trace_line, double station_spacing_m,
+                                  double skip_start_m, double skip_end_m, size_t* skipped,
+                                  TraceFollowingMetrics* metrics) {
   std::vector<Station> stations;
   for (int k = static_cast<int>(std::floor(skip_start_m / station_spacing_m)); k >= 1; --k) {
     stations.push_back(MakeStation(trace_line, skip_start_m - k * station_spacing_m));
   }
-  const size_t skipped = stations.size();
+  *skipped = stations.size();
   const double last_m = trace_line.length_m() - skip_end_m;
   for (int k = 0;; ++k) {
     const double s_m = skip_start_m + k * station_spacing_m;
     if (s_m > last_m + 1e-9) break;
     stations.push_back(MakeStation(trace_line, std::min(s_m, last_m)));
-    metrics.station_s_m.push_back(stations.back().s_m);
+    metrics->station_s_m.push_back(stations.back().s_m);
   }
-  metrics.stations = static_cast<int>(metrics.station_s_m.size());
+  metrics->stations = static_cast<int>(metrics->station_s_m.size());
+  return stations;
+}
 
-  // Per run: mean and max of |offset| over the stations it covers.
+// Per run: mean and max of |offset| over the stations it covers.
+void AddLateralDeviations(const std::vector<Station>& stations, size_t skipped,
+                          const std::vector<Trajectory>& runs, TraceFollowingMetrics* out) {
+  TraceFollowingMetrics& metrics = *out;
   double mean_sum_m = 0.0;
   int runs_covering = 0;
   metrics.lateral_max_all_m = kNaN;
@@ -200,8 +198,11 @@ TraceFollowingMetrics EvaluateTraceFollowing(const Trajectory& trace,
     metrics.lateral_offset_m.push_back(std::move(offsets_m));
   }
   metrics.lateral_mean_all_m = runs_covering > 0 ? mean_sum_m / runs_covering : kNaN;
+}
 
-  // Per station: the spread of the signed offset across the runs covering it.
+// Per station: the spread of the signed offset across the runs covering it.
+void AddRepeatSpread(TraceFollowingMetrics* out) {
+  TraceFollowingMetrics& metrics = *out;
   double variance_sum_m2 = 0.0;
   metrics.repeat_std_max_m = 0.0;
   for (size_t k = 0; k < metrics.station_s_m.size(); ++k) {
@@ -230,6 +231,25 @@ TraceFollowingMetrics EvaluateTraceFollowing(const Trajectory& trace,
     metrics.repeat_std_m = kNaN;
     metrics.repeat_std_max_m = kNaN;
   }
+}
+
+}  // namespace
+
+TraceFollowingMetrics EvaluateTraceFollowing(const Trajectory& trace,
+                                             const std::vector<Trajectory>& runs,
+                                             double station_spacing_m, double skip_start_m,
+                                             double skip_end_m) {
+  const Polyline trace_line(trace);
+  Validate(trace_line, runs.size(), station_spacing_m, skip_start_m, skip_end_m);
+
+  TraceFollowingMetrics metrics;
+  metrics.runs = static_cast<int>(runs.size());
+  metrics.station_spacing_m = station_spacing_m;
+  size_t skipped = 0;
+  const std::vector<Station> stations =
+      MakeStations(trace_line, station_spacing_m, skip_start_m, skip_end_m, &skipped, &metrics);
+  AddLateralDeviations(stations, skipped, runs, &metrics);
+  AddRepeatSpread(&metrics);
   return metrics;
 }
 

@@ -60,6 +60,225 @@ Schedule MakeSchedule(const PoseGraph& graph) {
   return s;
 }
 
+ceres::Problem::Options ProblemOptions() {
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  return problem_options;
+}
+
+ceres::Solver::Options SolverOptions(const SolveOptions& options) {
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = options.function_tolerance;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  return solver_options;
+}
+
+// One solve of a pose graph, pose by pose in id order: each step adds the
+// poses of the step and the edges that become complete with them, then
+// solves.
+class IncrementalSolve {
+ public:
+  IncrementalSolve(const SolveOptions& options, PoseGraph* graph)
+      : options_(options),
+        graph_(graph),
+        schedule_(MakeSchedule(*graph)),
+        pose_count_(static_cast<int>(schedule_.pose_ids.size())),
+        robust_(options.robust == RobustKernel::kMaxMixture),
+        mixture_of_(graph->pose_edges.size(), nullptr),
+        problem_(ProblemOptions()),
+        solver_options_(SolverOptions(options)),
+        fix_first_(graph->fixed.empty()),
+        drift_(pose_count_, Eigen::Matrix3d::Zero()),
+        anchored_(pose_count_, false),
+        gate_chi2_(MaxMixturePoseEdgeFactor::NullThresholdChi2(options.null_weight,
+                                                               options.null_information_scale)) {}
+
+  int pose_count() const { return pose_count_; }
+
+  // Adds the poses of order [from, until) and their edges, and solves.
+  void Step(int from, int until) {
+    for (int index = from; index < until; ++index) AddPose(index);
+    for (int index = from; index < until; ++index) AddEdges(index);
+    if (problem_.NumResidualBlocks() == 0) return;
+    Solve();
+    if (!on_trial_.empty()) {
+      for (const auto& [i, block] : on_trial_) {
+        problem_.RemoveResidualBlock(block);
+        AddMixture(i);
+      }
+      on_trial_.clear();
+      Solve();
+    }
+    // Kept closures anchor their poses; the drift restarts there.
+    for (int i : new_closures_) {
+      const PoseEdge& e = graph_->pose_edges[i];
+      if (!mixture_of_[i]->NullChosen(poses_.at(e.from).data(), poses_.at(e.to).data())) {
+        anchored_[schedule_.order.at(e.from)] = anchored_[schedule_.order.at(e.to)] = true;
+      }
+    }
+    new_closures_.clear();
+    for (int index = from; index < until; ++index) PropagateDrift(index);
+  }
+
+  // Reads the solution back into the graph, then judges every closure at it.
+  SolveSummary Finish() {
+    PoseGraph* graph = graph_;
+    for (const auto& [id, block] : poses_) graph->poses[id] = FromBlock(block);
+    for (const auto& [id, block] : points_) graph->points[id] = Eigen::Vector2d(block[0], block[1]);
+    summary_.pose_edge_kept.assign(graph->pose_edges.size(), true);
+    for (size_t i = 0; i < graph->pose_edges.size(); ++i) {
+      const PoseEdge& e = graph->pose_edges[i];
+      if (!IsOdometry(e)) ++summary_.loop_closures;
+      if (mixture_of_[i] != nullptr &&
+          mixture_of_[i]->NullChosen(poses_.at(e.from).data(), poses_.at(e.to).data())) {
+        summary_.pose_edge_kept[i] = false;
+        ++summary_.rejected;
+        continue;
+      }
+      summary_.chi2 += PoseEdgeChi2(*graph, e);
+    }
+    for (const PointEdge& e : graph->point_edges) {
+      const Eigen::Vector2d r =
+          graph->poses.at(e.pose).inverse() * graph->points.at(e.point) - e.p_pose;
+      summary_.chi2 += r.dot(e.information * r);
+    }
+    return summary_;
+  }
+
+ private:
+  // Dead-reckoning covariance of each pose since its last anchor (a pose
+  // held fixed or joined by a kept closure), in the world frame, for the
+  // gate of new closures.
+  void PropagateDrift(int index) {
+    if (index == 0 || anchored_[index] || graph_->fixed.contains(schedule_.pose_ids[index])) {
+      drift_[index].setZero();
+      return;
+    }
+    drift_[index] = drift_[index - 1];
+    const int edge = schedule_.odometry_into[index];
+    if (edge < 0) return;
+    // T_i = T_(i-1) (+) u: first-order propagation of the covariance.
+    const PoseEdge& e = graph_->pose_edges[edge];
+    const SE2 previous = FromBlock(poses_.at(schedule_.pose_ids[index - 1]));
+    const SE2 u = e.from == schedule_.pose_ids[index - 1] ? e.T_from_to : e.T_from_to.inverse();
+    const Eigen::Vector2d step_world = previous.rotation() * u.translation();
+    Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+    A(0, 2) = -step_world.y();
+    A(1, 2) = step_world.x();
+    Eigen::Matrix3d B = Eigen::Matrix3d::Identity();
+    B.topLeftCorner<2, 2>() = previous.rotation();
+    drift_[index] =
+        A * drift_[index - 1] * A.transpose() + B * e.information.inverse() * B.transpose();
+  }
+
+  void AddPose(int index) {
+    const int id = schedule_.pose_ids[index];
+    SE2 initial = graph_->poses.at(id);
+    if (index > 0 && !graph_->fixed.contains(id)) {
+      // The correction the predecessor received, applied to this pose.
+      const int previous = schedule_.pose_ids[index - 1];
+      const SE2 correction = FromBlock(poses_.at(previous)) * graph_->poses.at(previous).inverse();
+      initial = correction * initial;
+    }
+    PoseBlock& block = poses_[id] = ToBlock(initial);
+    problem_.AddParameterBlock(block.data(), 3, &pose_manifold_);
+    if (graph_->fixed.contains(id) || (fix_first_ && index == 0)) {
+      problem_.SetParameterBlockConstant(block.data());
+    }
+    PropagateDrift(index);
+  }
+
+  void AddMixture(int i) {
+    const PoseEdge& e = graph_->pose_edges[i];
+    auto* factor = new MaxMixturePoseEdgeFactor(e.T_from_to, e.information, options_.null_weight,
+                                                options_.null_information_scale);
+    mixture_of_[i] = factor;
+    problem_.AddResidualBlock(factor, nullptr, poses_.at(e.from).data(), poses_.at(e.to).data());
+  }
+
+  // A new closure whose error is within the drift of its poses enters as a
+  // plain edge for one solve, so that it can pull the trajectory it corrects;
+  // then it becomes a Max-Mixture edge like every other closure.
+  bool PassesGate(const PoseEdge& e) const {
+    const SE2 a = FromBlock(poses_.at(e.from));
+    const Eigen::Vector3d error = PoseEdgeError(e, a, FromBlock(poses_.at(e.to)));
+    Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
+    G.topLeftCorner<2, 2>() = (a.rotation() * e.T_from_to.rotation()).transpose();
+    const Eigen::Matrix3d covariance =
+        e.information.inverse() +
+        G * (drift_[schedule_.order.at(e.from)] + drift_[schedule_.order.at(e.to)]) * G.transpose();
+    return error.dot(covariance.ldlt().solve(error)) <= gate_chi2_;
+  }
+
+  void AddEdges(int index) {
+    for (int i : schedule_.pose_edges_at[index]) {
+      const PoseEdge& e = graph_->pose_edges[i];
+      double* a = poses_.at(e.from).data();
+      double* b = poses_.at(e.to).data();
+      if (robust_ && !IsOdometry(e)) {
+        new_closures_.push_back(i);
+        if (options_.gate_new_closures && PassesGate(e)) {
+          on_trial_.emplace_back(
+              i, problem_.AddResidualBlock(PoseEdgeFactor::Create(e.T_from_to, e.information),
+                                           nullptr, a, b));
+        } else {
+          AddMixture(i);
+        }
+      } else {
+        problem_.AddResidualBlock(PoseEdgeFactor::Create(e.T_from_to, e.information), nullptr, a,
+                                  b);
+      }
+    }
+    for (int i : schedule_.point_edges_at[index]) {
+      const PointEdge& e = graph_->point_edges[i];
+      double* pose = poses_.at(e.pose).data();
+      auto [it, inserted] = points_.try_emplace(e.point);
+      if (inserted) {
+        // First sight: the measurement from the pose as it stands now.
+        const Eigen::Vector2d p = FromBlock(poses_.at(e.pose)) * e.p_pose;
+        it->second = {p.x(), p.y()};
+        problem_.AddParameterBlock(it->second.data(), 2);
+        if (graph_->fixed.contains(e.point)) problem_.SetParameterBlockConstant(it->second.data());
+      }
+      problem_.AddResidualBlock(PointEdgeFactor::Create(e.p_pose, e.information), nullptr, pose,
+                                it->second.data());
+    }
+  }
+
+  void Solve() {
+    ceres::Solver::Summary solver_summary;
+    ceres::Solve(solver_options_, &problem_, &solver_summary);
+    ++summary_.solves;
+    summary_.iterations +=
+        solver_summary.num_successful_steps + solver_summary.num_unsuccessful_steps;
+    if (solver_summary.termination_type != ceres::CONVERGENCE) summary_.converged = false;
+  }
+
+  const SolveOptions& options_;
+  PoseGraph* graph_;
+  const Schedule schedule_;
+  const int pose_count_;
+  const bool robust_;
+  // Storage with stable addresses (map nodes) for Ceres' parameter blocks.
+  std::map<int, PoseBlock> poses_;
+  std::map<int, PointBlock> points_;
+  std::vector<const MaxMixturePoseEdgeFactor*> mixture_of_;
+  ceres::Problem problem_;
+  mapping::Pose2Manifold pose_manifold_;
+  const ceres::Solver::Options solver_options_;
+  SolveSummary summary_;
+  const bool fix_first_;
+  std::vector<Eigen::Matrix3d> drift_;
+  std::vector<bool> anchored_;
+  const double gate_chi2_;
+  std::vector<std::pair<int, ceres::ResidualBlockId>> on_trial_;
+  std::vector<int> new_closures_;
+};
+
 }  // namespace
 
 std::string ValidateSolveOptions(const SolveOptions& o) {
@@ -83,186 +302,15 @@ SolveSummary SolvePoseGraph(const SolveOptions& options, PoseGraph* graph) {
   }
   CheckPoseGraph(*graph);
   const auto start = std::chrono::steady_clock::now();
-  const Schedule schedule = MakeSchedule(*graph);
-  const int pose_count = static_cast<int>(schedule.pose_ids.size());
-  const bool robust = options.robust == RobustKernel::kMaxMixture;
-
-  // Storage with stable addresses (map nodes) for Ceres' parameter blocks.
-  std::map<int, PoseBlock> poses;
-  std::map<int, PointBlock> points;
-  std::vector<const MaxMixturePoseEdgeFactor*> mixture_of(graph->pose_edges.size(), nullptr);
-
-  ceres::Problem::Options problem_options;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  mapping::Pose2Manifold pose_manifold;
-
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = options.function_tolerance;
-  solver_options.num_threads = 1;
-  solver_options.logging_type = ceres::SILENT;
-
-  SolveSummary summary;
-  const bool fix_first = graph->fixed.empty();
-  // Dead-reckoning covariance of each pose since its last anchor (a pose
-  // held fixed or joined by a kept closure), in the world frame, for the
-  // gate of new closures.
-  std::vector<Eigen::Matrix3d> drift(pose_count, Eigen::Matrix3d::Zero());
-  std::vector<bool> anchored(pose_count, false);
-  auto propagate_drift = [&](int index) {
-    if (index == 0 || anchored[index] || graph->fixed.contains(schedule.pose_ids[index])) {
-      drift[index].setZero();
-      return;
-    }
-    drift[index] = drift[index - 1];
-    const int edge = schedule.odometry_into[index];
-    if (edge < 0) return;
-    // T_i = T_(i-1) (+) u: first-order propagation of the covariance.
-    const PoseEdge& e = graph->pose_edges[edge];
-    const SE2 previous = FromBlock(poses.at(schedule.pose_ids[index - 1]));
-    const SE2 u = e.from == schedule.pose_ids[index - 1] ? e.T_from_to : e.T_from_to.inverse();
-    const Eigen::Vector2d step_world = previous.rotation() * u.translation();
-    Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
-    A(0, 2) = -step_world.y();
-    A(1, 2) = step_world.x();
-    Eigen::Matrix3d B = Eigen::Matrix3d::Identity();
-    B.topLeftCorner<2, 2>() = previous.rotation();
-    drift[index] =
-        A * drift[index - 1] * A.transpose() + B * e.information.inverse() * B.transpose();
-  };
-  auto add_pose = [&](int index) {
-    const int id = schedule.pose_ids[index];
-    SE2 initial = graph->poses.at(id);
-    if (index > 0 && !graph->fixed.contains(id)) {
-      // The correction the predecessor received, applied to this pose.
-      const int previous = schedule.pose_ids[index - 1];
-      const SE2 correction = FromBlock(poses.at(previous)) * graph->poses.at(previous).inverse();
-      initial = correction * initial;
-    }
-    PoseBlock& block = poses[id] = ToBlock(initial);
-    problem.AddParameterBlock(block.data(), 3, &pose_manifold);
-    if (graph->fixed.contains(id) || (fix_first && index == 0)) {
-      problem.SetParameterBlockConstant(block.data());
-    }
-    propagate_drift(index);
-  };
-  auto add_mixture = [&](int i) {
-    const PoseEdge& e = graph->pose_edges[i];
-    auto* factor = new MaxMixturePoseEdgeFactor(e.T_from_to, e.information, options.null_weight,
-                                                options.null_information_scale);
-    mixture_of[i] = factor;
-    problem.AddResidualBlock(factor, nullptr, poses.at(e.from).data(), poses.at(e.to).data());
-  };
-  // A new closure whose error is within the drift of its poses enters as a
-  // plain edge for one solve, so that it can pull the trajectory it corrects;
-  // then it becomes a Max-Mixture edge like every other closure.
-  const double gate_chi2 = MaxMixturePoseEdgeFactor::NullThresholdChi2(
-      options.null_weight, options.null_information_scale);
-  auto passes_gate = [&](const PoseEdge& e) {
-    const SE2 a = FromBlock(poses.at(e.from));
-    const Eigen::Vector3d error = PoseEdgeError(e, a, FromBlock(poses.at(e.to)));
-    Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
-    G.topLeftCorner<2, 2>() = (a.rotation() * e.T_from_to.rotation()).transpose();
-    const Eigen::Matrix3d covariance =
-        e.information.inverse() +
-        G * (drift[schedule.order.at(e.from)] + drift[schedule.order.at(e.to)]) * G.transpose();
-    return error.dot(covariance.ldlt().solve(error)) <= gate_chi2;
-  };
-  std::vector<std::pair<int, ceres::ResidualBlockId>> on_trial;
-  std::vector<int> new_closures;
-  auto add_edges = [&](int index) {
-    for (int i : schedule.pose_edges_at[index]) {
-      const PoseEdge& e = graph->pose_edges[i];
-      double* a = poses.at(e.from).data();
-      double* b = poses.at(e.to).data();
-      if (robust && !IsOdometry(e)) {
-        new_closures.push_back(i);
-        if (options.gate_new_closures && passes_gate(e)) {
-          on_trial.emplace_back(
-              i, problem.AddResidualBlock(PoseEdgeFactor::Create(e.T_from_to, e.information),
-                                          nullptr, a, b));
-        } else {
-          add_mixture(i);
-        }
-      } else {
-        problem.AddResidualBlock(PoseEdgeFactor::Create(e.T_from_to, e.information), nullptr, a, b);
-      }
-    }
-    for (int i : schedule.point_edges_at[index]) {
-      const PointEdge& e = graph->point_edges[i];
-      double* pose = poses.at(e.pose).data();
-      auto [it, inserted] = points.try_emplace(e.point);
-      if (inserted) {
-        // First sight: the measurement from the pose as it stands now.
-        const Eigen::Vector2d p = FromBlock(poses.at(e.pose)) * e.p_pose;
-        it->second = {p.x(), p.y()};
-        problem.AddParameterBlock(it->second.data(), 2);
-        if (graph->fixed.contains(e.point)) problem.SetParameterBlockConstant(it->second.data());
-      }
-      problem.AddResidualBlock(PointEdgeFactor::Create(e.p_pose, e.information), nullptr, pose,
-                               it->second.data());
-    }
-  };
-  auto solve = [&] {
-    ceres::Solver::Summary solver_summary;
-    ceres::Solve(solver_options, &problem, &solver_summary);
-    ++summary.solves;
-    summary.iterations +=
-        solver_summary.num_successful_steps + solver_summary.num_unsuccessful_steps;
-    if (solver_summary.termination_type != ceres::CONVERGENCE) summary.converged = false;
-  };
-
+  IncrementalSolve solve(options, graph);
+  const int pose_count = solve.pose_count();
   const int step = options.incremental_step > 0 ? options.incremental_step : pose_count;
   for (int added = 0; added < pose_count;) {
-    const int from = added;
     const int until = std::min(pose_count, added + step);
-    for (int index = from; index < until; ++index) add_pose(index);
-    for (int index = from; index < until; ++index) add_edges(index);
+    solve.Step(added, until);
     added = until;
-    if (problem.NumResidualBlocks() == 0) continue;
-    solve();
-    if (!on_trial.empty()) {
-      for (const auto& [i, block] : on_trial) {
-        problem.RemoveResidualBlock(block);
-        add_mixture(i);
-      }
-      on_trial.clear();
-      solve();
-    }
-    // Kept closures anchor their poses; the drift restarts there.
-    for (int i : new_closures) {
-      const PoseEdge& e = graph->pose_edges[i];
-      if (!mixture_of[i]->NullChosen(poses.at(e.from).data(), poses.at(e.to).data())) {
-        anchored[schedule.order.at(e.from)] = anchored[schedule.order.at(e.to)] = true;
-      }
-    }
-    new_closures.clear();
-    for (int index = from; index < until; ++index) propagate_drift(index);
   }
-
-  // Read back, then judge every closure at the solution.
-  for (const auto& [id, block] : poses) graph->poses[id] = FromBlock(block);
-  for (const auto& [id, block] : points) graph->points[id] = Eigen::Vector2d(block[0], block[1]);
-  summary.pose_edge_kept.assign(graph->pose_edges.size(), true);
-  for (size_t i = 0; i < graph->pose_edges.size(); ++i) {
-    const PoseEdge& e = graph->pose_edges[i];
-    if (!IsOdometry(e)) ++summary.loop_closures;
-    if (mixture_of[i] != nullptr &&
-        mixture_of[i]->NullChosen(poses.at(e.from).data(), poses.at(e.to).data())) {
-      summary.pose_edge_kept[i] = false;
-      ++summary.rejected;
-      continue;
-    }
-    summary.chi2 += PoseEdgeChi2(*graph, e);
-  }
-  for (const PointEdge& e : graph->point_edges) {
-    const Eigen::Vector2d r =
-        graph->poses.at(e.pose).inverse() * graph->points.at(e.point) - e.p_pose;
-    summary.chi2 += r.dot(e.information * r);
-  }
+  SolveSummary summary = solve.Finish();
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

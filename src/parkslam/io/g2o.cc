@@ -102,103 +102,119 @@ void AppendNumbers(std::string* out, std::initializer_list<double> values) {
   }
 }
 
-}  // namespace
-
-graph::PoseGraph ParseG2o(std::string_view content, const std::string& source_name) {
+// What the lines of a file gave so far, with the line of each element
+// for the messages.
+struct G2oParse {
   graph::PoseGraph graph;
   std::map<int, int> vertex_line;  // id -> line that defined it
   std::vector<int> pose_edge_lines, point_edge_lines, fix_lines;
   std::vector<int> fix_ids;
+};
+
+// One element line into the graph.
+void ParseElement(const Line& line, G2oParse* p) {
+  auto define = [&](int id) {
+    if (const auto it = p->vertex_line.find(id); it != p->vertex_line.end()) {
+      line.Fail("id", "vertex " + std::to_string(id) + " is already defined on line " +
+                          std::to_string(it->second));
+    }
+    p->vertex_line[id] = line.number;
+  };
+  if (line.type == "VERTEX_SE2") {
+    line.ExpectCount(4);
+    const int id = line.Id(0, "id");
+    define(id);
+    p->graph.poses[id] =
+        SE2(line.Number(1, "x", kMaxCoordinate_m, "m"), line.Number(2, "y", kMaxCoordinate_m, "m"),
+            line.Number(3, "theta", kMaxAngle_rad, "rad"));
+  } else if (line.type == "VERTEX_XY") {
+    line.ExpectCount(3);
+    const int id = line.Id(0, "id");
+    define(id);
+    p->graph.points[id] = Eigen::Vector2d(line.Number(1, "x", kMaxCoordinate_m, "m"),
+                                          line.Number(2, "y", kMaxCoordinate_m, "m"));
+  } else if (line.type == "EDGE_SE2") {
+    line.ExpectCount(11);
+    graph::PoseEdge edge;
+    edge.from = line.Id(0, "from");
+    edge.to = line.Id(1, "to");
+    if (edge.from == edge.to) line.Fail("to", "an edge from a vertex to itself");
+    edge.T_from_to = SE2(line.Number(2, "dx", kMaxCoordinate_m, "m"),
+                         line.Number(3, "dy", kMaxCoordinate_m, "m"),
+                         line.Number(4, "dtheta", kMaxAngle_rad, "rad"));
+    edge.information = Information<3>(line, 5);
+    p->graph.pose_edges.push_back(edge);
+    p->pose_edge_lines.push_back(line.number);
+  } else if (line.type == "EDGE_SE2_XY") {
+    line.ExpectCount(7);
+    graph::PointEdge edge;
+    edge.pose = line.Id(0, "pose");
+    edge.point = line.Id(1, "point");
+    edge.p_pose = Eigen::Vector2d(line.Number(2, "dx", kMaxCoordinate_m, "m"),
+                                  line.Number(3, "dy", kMaxCoordinate_m, "m"));
+    edge.information = Information<2>(line, 4);
+    p->graph.point_edges.push_back(edge);
+    p->point_edge_lines.push_back(line.number);
+  } else if (line.type == "FIX") {
+    if (line.count == 0) line.Fail("", "expected at least one vertex id");
+    if (line.count > kMaxFields) line.Fail("", "more than 16 ids on one line");
+    for (std::size_t i = 0; i < line.count; ++i) {
+      p->fix_ids.push_back(line.Id(i, "id"));
+      p->fix_lines.push_back(line.number);
+    }
+  } else {
+    line.Fail("",
+              "unknown element type (this reader takes VERTEX_SE2, VERTEX_XY, EDGE_SE2, "
+              "EDGE_SE2_XY and FIX)");
+  }
+}
+
+// References, once every vertex is known (files may list edges first); the
+// FIX lines into the fixed set.
+void ResolveReferences(const std::string& source_name, G2oParse* p) {
+  for (size_t i = 0; i < p->graph.pose_edges.size(); ++i) {
+    const graph::PoseEdge& e = p->graph.pose_edges[i];
+    for (const auto& [id, field] : {std::pair{e.from, "from"}, std::pair{e.to, "to"}}) {
+      if (!p->graph.poses.contains(id)) {
+        ThrowIoError(source_name, p->pose_edge_lines[i], std::string("EDGE_SE2.") + field,
+                     "no VERTEX_SE2 " + std::to_string(id));
+      }
+    }
+  }
+  for (size_t i = 0; i < p->graph.point_edges.size(); ++i) {
+    const graph::PointEdge& e = p->graph.point_edges[i];
+    if (!p->graph.poses.contains(e.pose)) {
+      ThrowIoError(source_name, p->point_edge_lines[i], "EDGE_SE2_XY.pose",
+                   "no VERTEX_SE2 " + std::to_string(e.pose));
+    }
+    if (!p->graph.points.contains(e.point)) {
+      ThrowIoError(source_name, p->point_edge_lines[i], "EDGE_SE2_XY.point",
+                   "no VERTEX_XY " + std::to_string(e.point));
+    }
+  }
+  for (size_t i = 0; i < p->fix_ids.size(); ++i) {
+    if (!p->vertex_line.contains(p->fix_ids[i])) {
+      ThrowIoError(source_name, p->fix_lines[i], "FIX.id",
+                   "no vertex " + std::to_string(p->fix_ids[i]));
+    }
+    p->graph.fixed.insert(p->fix_ids[i]);
+  }
+}
+
+}  // namespace
+
+graph::PoseGraph ParseG2o(std::string_view content, const std::string& source_name) {
+  G2oParse p;
   text::LineCursor lines(content);
   std::string_view raw;
   while (lines.Next(&raw)) {
     const std::string_view trimmed = text::Trim(raw);
     if (trimmed.empty() || trimmed.front() == '#') continue;
-    const Line line = Tokenize(trimmed, source_name, lines.line_number());
-    auto define = [&](int id) {
-      if (const auto it = vertex_line.find(id); it != vertex_line.end()) {
-        line.Fail("id", "vertex " + std::to_string(id) + " is already defined on line " +
-                            std::to_string(it->second));
-      }
-      vertex_line[id] = line.number;
-    };
-    if (line.type == "VERTEX_SE2") {
-      line.ExpectCount(4);
-      const int id = line.Id(0, "id");
-      define(id);
-      graph.poses[id] = SE2(line.Number(1, "x", kMaxCoordinate_m, "m"),
-                            line.Number(2, "y", kMaxCoordinate_m, "m"),
-                            line.Number(3, "theta", kMaxAngle_rad, "rad"));
-    } else if (line.type == "VERTEX_XY") {
-      line.ExpectCount(3);
-      const int id = line.Id(0, "id");
-      define(id);
-      graph.points[id] = Eigen::Vector2d(line.Number(1, "x", kMaxCoordinate_m, "m"),
-                                         line.Number(2, "y", kMaxCoordinate_m, "m"));
-    } else if (line.type == "EDGE_SE2") {
-      line.ExpectCount(11);
-      graph::PoseEdge edge;
-      edge.from = line.Id(0, "from");
-      edge.to = line.Id(1, "to");
-      if (edge.from == edge.to) line.Fail("to", "an edge from a vertex to itself");
-      edge.T_from_to = SE2(line.Number(2, "dx", kMaxCoordinate_m, "m"),
-                           line.Number(3, "dy", kMaxCoordinate_m, "m"),
-                           line.Number(4, "dtheta", kMaxAngle_rad, "rad"));
-      edge.information = Information<3>(line, 5);
-      graph.pose_edges.push_back(edge);
-      pose_edge_lines.push_back(line.number);
-    } else if (line.type == "EDGE_SE2_XY") {
-      line.ExpectCount(7);
-      graph::PointEdge edge;
-      edge.pose = line.Id(0, "pose");
-      edge.point = line.Id(1, "point");
-      edge.p_pose = Eigen::Vector2d(line.Number(2, "dx", kMaxCoordinate_m, "m"),
-                                    line.Number(3, "dy", kMaxCoordinate_m, "m"));
-      edge.information = Information<2>(line, 4);
-      graph.point_edges.push_back(edge);
-      point_edge_lines.push_back(line.number);
-    } else if (line.type == "FIX") {
-      if (line.count == 0) line.Fail("", "expected at least one vertex id");
-      if (line.count > kMaxFields) line.Fail("", "more than 16 ids on one line");
-      for (std::size_t i = 0; i < line.count; ++i) {
-        fix_ids.push_back(line.Id(i, "id"));
-        fix_lines.push_back(line.number);
-      }
-    } else {
-      line.Fail("",
-                "unknown element type (this reader takes VERTEX_SE2, VERTEX_XY, EDGE_SE2, "
-                "EDGE_SE2_XY and FIX)");
-    }
+    ParseElement(Tokenize(trimmed, source_name, lines.line_number()), &p);
   }
-  // References, once every vertex is known (files may list edges first).
-  for (size_t i = 0; i < graph.pose_edges.size(); ++i) {
-    const graph::PoseEdge& e = graph.pose_edges[i];
-    for (const auto& [id, field] : {std::pair{e.from, "from"}, std::pair{e.to, "to"}}) {
-      if (!graph.poses.contains(id)) {
-        ThrowIoError(source_name, pose_edge_lines[i], std::string("EDGE_SE2.") + field,
-                     "no VERTEX_SE2 " + std::to_string(id));
-      }
-    }
-  }
-  for (size_t i = 0; i < graph.point_edges.size(); ++i) {
-    const graph::PointEdge& e = graph.point_edges[i];
-    if (!graph.poses.contains(e.pose)) {
-      ThrowIoError(source_name, point_edge_lines[i], "EDGE_SE2_XY.pose",
-                   "no VERTEX_SE2 " + std::to_string(e.pose));
-    }
-    if (!graph.points.contains(e.point)) {
-      ThrowIoError(source_name, point_edge_lines[i], "EDGE_SE2_XY.point",
-                   "no VERTEX_XY " + std::to_string(e.point));
-    }
-  }
-  for (size_t i = 0; i < fix_ids.size(); ++i) {
-    if (!vertex_line.contains(fix_ids[i])) {
-      ThrowIoError(source_name, fix_lines[i], "FIX.id", "no vertex " + std::to_string(fix_ids[i]));
-    }
-    graph.fixed.insert(fix_ids[i]);
-  }
-  if (graph.poses.empty()) ThrowIoError(source_name, 0, "", "no VERTEX_SE2");
-  return graph;
+  ResolveReferences(source_name, &p);
+  if (p.graph.poses.empty()) ThrowIoError(source_name, 0, "", "no VERTEX_SE2");
+  return std::move(p.graph);
 }
 
 graph::PoseGraph ReadG2o(const std::filesystem::path& path) {

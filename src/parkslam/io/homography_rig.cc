@@ -52,33 +52,30 @@ Eigen::MatrixXd ReadMatrix(const YAML::Node& root, const YamlReader& r, const ch
   return m;
 }
 
-camera::HomographyCamera LoadCamera(const std::filesystem::path& path, camera::Side side) {
+// An OpenCV YAML file as YAML. OpenCV's own parser is not used on these
+// files: it can loop for ever or allocate what a corrupt header asks (found
+// by fuzz_homography_rig). Its "%YAML:1.0" line is not YAML 1.2; it becomes
+// a comment, which keeps the line numbers.
+YAML::Node LoadOpenCvYaml(const std::filesystem::path& path) {
   const std::string file = path.string();
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) ThrowIoError(file, 0, "", "no such file");
-  // OpenCV's own parser is not used on these files: it can loop for ever or
-  // allocate what a corrupt header asks (found by fuzz_homography_rig).
-  // Its "%YAML:1.0" line is not YAML 1.2; it becomes a comment, which keeps
-  // the line numbers.
   std::string text = ReadTextFile(path);
   if (text.rfind("%YAML:", 0) != 0) {
     ThrowIoError(file, 1, "", "not an OpenCV YAML file (expected the first line %YAML:1.0)");
   }
   text[0] = '#';
-  const YAML::Node root = yaml_util::LoadYaml(text, file);
-  const YamlReader r(file, true);
-  r.ExpectMap(root, "");
-  r.CheckKeys(
-      root, "",
-      {"camera_matrix", "dist_coeffs", "resolution", "project_matrix", "scale_xy", "shift_xy"});
-  const Eigen::MatrixXd K = ReadMatrix(root, r, "camera_matrix", 3, 3);
-  const Eigen::MatrixXd D = ReadMatrix(root, r, "dist_coeffs", 4, 1);
-  const Eigen::MatrixXd resolution = ReadMatrix(root, r, "resolution", 2, 1);
-  const Eigen::MatrixXd H = ReadMatrix(root, r, "project_matrix", 3, 3);
-  const Eigen::MatrixXd scale = ReadMatrix(root, r, "scale_xy", 2, 1);
-  const Eigen::MatrixXd shift = ReadMatrix(root, r, "shift_xy", 2, 1);
-  // The limits of common/plausible_ranges.h, each named by its matrix
-  // element as the file holds it (row by row).
+  return yaml_util::LoadYaml(text, file);
+}
+
+// A camera file's matrices, as read.
+struct CameraMatrices {
+  Eigen::MatrixXd K, D, resolution, H, scale, shift;
+};
+
+// Fails on the first value beyond the limits of common/plausible_ranges.h,
+// each named by its matrix element as the file holds it (row by row).
+void CheckPlausible(const YAML::Node& root, const YamlReader& r, const CameraMatrices& m) {
   const auto check = [&](const char* key, int index, double value, double min, double max,
                          const char* unit) {
     if (!(value >= min && value <= max)) {
@@ -87,11 +84,12 @@ camera::HomographyCamera LoadCamera(const std::filesystem::path& path, camera::S
              text::OutsidePlausible(value, min, max, unit));
     }
   };
+  const Eigen::MatrixXd& K = m.K;
   for (int i = 0; i < 2; ++i) {
-    check("resolution", i, resolution(i, 0), kMinImageSide_px, kMaxImageSide_px, "px");
+    check("resolution", i, m.resolution(i, 0), kMinImageSide_px, kMaxImageSide_px, "px");
   }
-  const auto width = static_cast<int>(resolution(0, 0));
-  const auto height = static_cast<int>(resolution(1, 0));
+  const auto width = static_cast<int>(m.resolution(0, 0));
+  const auto height = static_cast<int>(m.resolution(1, 0));
   if (static_cast<long long>(width) * height > kMaxImagePixels) {
     r.Fail(root["resolution"], "resolution",
            std::to_string(width) + " x " + std::to_string(height) +
@@ -104,13 +102,13 @@ camera::HomographyCamera LoadCamera(const std::filesystem::path& path, camera::S
   check("camera_matrix", 5, K(1, 2), -kPrincipalPointMargin * height,
         (1.0 + kPrincipalPointMargin) * height, "px");
   for (int i = 0; i < 4; ++i) {
-    check("dist_coeffs", i, D(i, 0), -kMaxDistortionCoefficient, kMaxDistortionCoefficient, "");
+    check("dist_coeffs", i, m.D(i, 0), -kMaxDistortionCoefficient, kMaxDistortionCoefficient, "");
   }
   // Singular, the homography maps the undistorted image onto a line or a
   // point: an all-zero or rank-deficient matrix is no calibration. The
   // ratio does not change when H is scaled, as a homography may be.
-  const double norm = H.norm();
-  const double ratio = norm > 0.0 ? std::abs(H.determinant()) / (norm * norm * norm) : 0.0;
+  const double norm = m.H.norm();
+  const double ratio = norm > 0.0 ? std::abs(m.H.determinant()) / (norm * norm * norm) : 0.0;
   if (!(ratio >= kMinHomographyDeterminant)) {
     char what[160];
     std::snprintf(what, sizeof what,
@@ -120,22 +118,41 @@ camera::HomographyCamera LoadCamera(const std::filesystem::path& path, camera::S
     r.Fail(root["project_matrix"], "project_matrix", what);
   }
   for (int i = 0; i < 2; ++i) {
-    check("scale_xy", i, scale(i, 0), kMinUndistortScale, kMaxUndistortScale, "");
-    check("shift_xy", i, shift(i, 0), -kMaxImageSide_px, kMaxImageSide_px, "px");
+    check("scale_xy", i, m.scale(i, 0), kMinUndistortScale, kMaxUndistortScale, "");
+    check("shift_xy", i, m.shift(i, 0), -kMaxImageSide_px, kMaxImageSide_px, "px");
   }
+}
+
+camera::HomographyCamera LoadCamera(const std::filesystem::path& path, camera::Side side) {
+  const std::string file = path.string();
+  const YAML::Node root = LoadOpenCvYaml(path);
+  const YamlReader r(file, true);
+  r.ExpectMap(root, "");
+  r.CheckKeys(
+      root, "",
+      {"camera_matrix", "dist_coeffs", "resolution", "project_matrix", "scale_xy", "shift_xy"});
+  CameraMatrices m;
+  m.K = ReadMatrix(root, r, "camera_matrix", 3, 3);
+  m.D = ReadMatrix(root, r, "dist_coeffs", 4, 1);
+  m.resolution = ReadMatrix(root, r, "resolution", 2, 1);
+  m.H = ReadMatrix(root, r, "project_matrix", 3, 3);
+  m.scale = ReadMatrix(root, r, "scale_xy", 2, 1);
+  m.shift = ReadMatrix(root, r, "shift_xy", 2, 1);
+  CheckPlausible(root, r, m);
+  const Eigen::MatrixXd& K = m.K;
   camera::HomographyCamera cam;
   cam.side = side;
   cam.intrinsics.kind = camera::CameraKind::kFisheye;
-  cam.intrinsics.width = width;
-  cam.intrinsics.height = height;
+  cam.intrinsics.width = static_cast<int>(m.resolution(0, 0));
+  cam.intrinsics.height = static_cast<int>(m.resolution(1, 0));
   cam.intrinsics.fx = K(0, 0);
   cam.intrinsics.fy = K(1, 1);
   cam.intrinsics.cx = K(0, 2);
   cam.intrinsics.cy = K(1, 2);
-  for (int i = 0; i < 4; ++i) cam.intrinsics.distortion[i] = D(i, 0);
-  cam.scale_xy = {scale(0, 0), scale(1, 0)};
-  cam.shift_xy = {shift(0, 0), shift(1, 0)};
-  cam.project_matrix = H;
+  for (int i = 0; i < 4; ++i) cam.intrinsics.distortion[i] = m.D(i, 0);
+  cam.scale_xy = {m.scale(0, 0), m.scale(1, 0)};
+  cam.shift_xy = {m.shift(0, 0), m.shift(1, 0)};
+  cam.project_matrix = m.H;
   return cam;
 }
 

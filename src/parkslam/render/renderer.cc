@@ -217,6 +217,8 @@ double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
   return (a + u * ab - p).norm();
 }
 
+struct FloorMap;  // defined beside the floor sampling
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -239,9 +241,16 @@ struct Renderer::Impl {
 
   void BakeFloor();
   void BuildObstacles(const sim::World& world);
+  // The tags' textures; for each world tag, its patch.
+  std::vector<int> BuildTagPatches(const sim::World& world);
+  void AddWallFaces(const sim::World& world, const std::vector<int>& tag_of_world_tag);
+  void AddPillarFaces(const sim::World& world, const std::vector<int>& tag_of_world_tag);
   CameraLut BuildLut(const camera::CameraConfig& config) const;
+  double EnvironmentHit(const Eigen::Vector3d& d, double slope, double cz, double pixel_angle,
+                        HotRay* hot) const;
   cv::Mat RenderCamera(const CameraLut& lut, size_t camera_index, const SE2& T_map_vehicle,
                        TimeNs t_ns) const;
+  FloorMap FloorMapAt(const SE2& T_map_vehicle) const;
   // Radiance of an obstacle hit by the ray (dx, dy, slope) from the camera.
   float ShadeHit(const Frame& frame, const Candidate& candidate, const Hit& hit, float dx, float dy,
                  float slope, float pixel_angle_rad) const;
@@ -317,8 +326,7 @@ void Renderer::Impl::BakeFloor() {
   for (int l = 1; l < kGroundLevels; ++l) cv::pyrDown(lit_floor[l - 1], lit_floor[l]);
 }
 
-void Renderer::Impl::BuildObstacles(const sim::World& world) {
-  // Tags first: faces refer to them.
+std::vector<int> Renderer::Impl::BuildTagPatches(const sim::World& world) {
   std::vector<int> tag_of_world_tag(world.tags.size(), -1);
   for (size_t i = 0; i < world.tags.size(); ++i) {
     const sim::WorldTag& t = world.tags[i];
@@ -338,12 +346,16 @@ void Renderer::Impl::BuildObstacles(const sim::World& world) {
     tag_of_world_tag[i] = static_cast<int>(tags.size());
     tags.push_back(std::move(patch));
   }
+  return tag_of_world_tag;
+}
+
+// Walls: cut into pieces of at most kMaxWallPieceM, each holding at most
+// one tag, so that the azimuth bins stay short.
+void Renderer::Impl::AddWallFaces(const sim::World& world,
+                                  const std::vector<int>& tag_of_world_tag) {
   const auto tag_half_extent_m = [&](const sim::WorldTag& t) {
     return (kTagTotalCells / 2.0 + options.tag_margin_cells) * t.size_m / kTagBlackCells + 0.05;
   };
-
-  // Walls: cut into pieces of at most kMaxWallPieceM, each holding at most
-  // one tag, so that the azimuth bins stay short.
   for (size_t w = 0; w < world.walls.size(); ++w) {
     const sim::WorldWall& wall = world.walls[w];
     const double length_m = (wall.b_map - wall.a_map).norm();
@@ -376,6 +388,10 @@ void Renderer::Impl::BuildObstacles(const sim::World& world) {
       }
     }
   }
+}
+
+void Renderer::Impl::AddPillarFaces(const sim::World& world,
+                                    const std::vector<int>& tag_of_world_tag) {
   for (size_t p = 0; p < world.pillars.size(); ++p) {
     const sim::WorldPillar& pillar = world.pillars[p];
     for (int side = 0; side < 4; ++side) {
@@ -395,6 +411,13 @@ void Renderer::Impl::BuildObstacles(const sim::World& world) {
       faces.push_back(face);
     }
   }
+}
+
+void Renderer::Impl::BuildObstacles(const sim::World& world) {
+  // Tags first: faces refer to them.
+  const std::vector<int> tag_of_world_tag = BuildTagPatches(world);
+  AddWallFaces(world, tag_of_world_tag);
+  AddPillarFaces(world, tag_of_world_tag);
   // Openings in the walls show daylight (under the entrance glow).
   for (const auto& [a, b] : WallOpenings(world)) {
     const Eigen::Vector2d d = (b - a).normalized();
@@ -415,6 +438,112 @@ void Renderer::Impl::BuildObstacles(const sim::World& world) {
   }
 }
 
+namespace {
+
+// A camera's unit rays (vehicle frame) and their angles off its axis.
+struct LutRays {
+  std::vector<Eigen::Vector3d> rays;
+  std::vector<double> off_axis_rad;
+  std::vector<bool> valid;
+  double max_off_axis_rad = 1e-9;
+};
+
+LutRays UnprojectRays(const camera::CameraModel& model, const Eigen::Matrix3d& R_vehicle_camera,
+                      int width, int height) {
+  const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+  LutRays r;
+  r.rays.assign(n, Eigen::Vector3d::Zero());
+  r.off_axis_rad.assign(n, 0.0);
+  r.valid.assign(n, false);
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {
+      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(width) + static_cast<size_t>(u);
+      const std::optional<Eigen::Vector3d> ray = model.Unproject(Eigen::Vector2d(u, v));
+      if (!ray) continue;
+      r.valid[i] = true;
+      r.rays[i] = R_vehicle_camera * ray->normalized();
+      r.off_axis_rad[i] = std::acos(std::clamp(ray->normalized().z(), -1.0, 1.0));
+      r.max_off_axis_rad = std::max(r.max_off_axis_rad, r.off_axis_rad[i]);
+    }
+  }
+  return r;
+}
+
+// Angular size of pixel (u, v): geometric mean over both image axes of the
+// angle to its neighbours; 1 / fx where it has none.
+double PixelAngle(const LutRays& r, int width, int height, int u, int v, double fx) {
+  const size_t i = static_cast<size_t>(v) * static_cast<size_t>(width) + static_cast<size_t>(u);
+  const auto angle_to = [&](int du, int dv) -> double {
+    const int u2 = u + du, v2 = v + dv;
+    if (u2 < 0 || v2 < 0 || u2 >= width || v2 >= height) return -1.0;
+    const size_t j = static_cast<size_t>(v2) * static_cast<size_t>(width) + static_cast<size_t>(u2);
+    if (!r.valid[j]) return -1.0;
+    return (r.rays[i] - r.rays[j]).norm();  // the chord: the angle, for neighbours
+  };
+  double ax = angle_to(1, 0), ay = angle_to(0, 1);
+  if (ax < 0) ax = angle_to(-1, 0);
+  if (ay < 0) ay = angle_to(0, -1);
+  if (ax < 0) ax = ay;
+  if (ay < 0) ay = ax;
+  return ax > 0 ? std::sqrt(ax * ay) : 1.0 / fx;
+}
+
+// Slab test of the ray d from c against the vehicle's own body (box lo..hi):
+// the axis of the face it enters through when it enters before the
+// horizontal distance env_s; -1 otherwise. A camera on the body's surface
+// sees the body behind it, not along it.
+int EgoBodyEntryAxis(const Eigen::Vector3d& c, const Eigen::Vector3d& d, const Eigen::Vector3d& lo,
+                     const Eigen::Vector3d& hi, double horizontal, double env_s) {
+  double t_in = -1e30, t_out = 1e30;
+  int entry_axis = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(d[k]) < 1e-12) {
+      if (c[k] < lo[k] || c[k] > hi[k]) t_out = -1.0;
+      continue;
+    }
+    double t0 = (lo[k] - c[k]) / d[k];
+    double t1 = (hi[k] - c[k]) / d[k];
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > t_in) {
+      t_in = t0;
+      entry_axis = k;
+    }
+    t_out = std::min(t_out, t1);
+  }
+  if (entry_axis >= 0 && t_in >= -1e-9 && t_in < t_out && t_in * horizontal < env_s) {
+    return entry_axis;
+  }
+  return -1;
+}
+
+}  // namespace
+
+// Where the ray d (slope: rise per horizontal metre) meets the floor or the
+// ceiling within range: sets hot's kind (kFar beyond) and floor level;
+// returns the horizontal distance (the range when beyond).
+double Renderer::Impl::EnvironmentHit(const Eigen::Vector3d& d, double slope, double cz,
+                                      double pixel_angle, HotRay* hot) const {
+  const double top = options.wall_height_m;
+  const double range = options.max_range_m;
+  const double res = ground.resolution_m();
+  double env_s = range;
+  hot->kind = kFar;
+  if (slope < 0 && cz / -slope <= range) {
+    env_s = cz / -slope;
+    hot->kind = kGround;
+    // The floor's footprint of the pixel: geometric mean of its extent
+    // across (t * angle) and along (t * angle / sin(grazing)) the ray.
+    const double t3d = cz / -d.z();
+    const double footprint_m = t3d * pixel_angle / std::sqrt(-d.z());
+    const double level = std::round(std::log2(std::max(footprint_m / res, 1.0)));
+    hot->lod = static_cast<std::uint8_t>(std::min<double>(level, kGroundLevels - 1));
+  } else if (slope > 0 && (top - cz) / slope <= range) {
+    env_s = (top - cz) / slope;
+    hot->kind = kCeiling;
+  }
+  return env_s;
+}
+
 CameraLut Renderer::Impl::BuildLut(const camera::CameraConfig& config) const {
   const camera::CameraModel model(config.intrinsics);
   CameraLut lut;
@@ -424,26 +553,9 @@ CameraLut Renderer::Impl::BuildLut(const camera::CameraConfig& config) const {
   lut.c_vehicle = config.T_vehicle_camera.translation();
   const Eigen::Matrix3d R_vehicle_camera = config.T_vehicle_camera.linear();
   const size_t n = static_cast<size_t>(lut.width) * static_cast<size_t>(lut.height);
-  std::vector<Eigen::Vector3d> rays(n, Eigen::Vector3d::Zero());
-  std::vector<double> off_axis_rad(n, 0.0);
-  std::vector<bool> valid(n, false);
-  double max_off_axis_rad = 1e-9;
-  for (int v = 0; v < lut.height; ++v) {
-    for (int u = 0; u < lut.width; ++u) {
-      const size_t i =
-          static_cast<size_t>(v) * static_cast<size_t>(lut.width) + static_cast<size_t>(u);
-      const std::optional<Eigen::Vector3d> ray = model.Unproject(Eigen::Vector2d(u, v));
-      if (!ray) continue;
-      valid[i] = true;
-      rays[i] = R_vehicle_camera * ray->normalized();
-      off_axis_rad[i] = std::acos(std::clamp(ray->normalized().z(), -1.0, 1.0));
-      max_off_axis_rad = std::max(max_off_axis_rad, off_axis_rad[i]);
-    }
-  }
+  const LutRays rays = UnprojectRays(model, R_vehicle_camera, lut.width, lut.height);
   const double cz = lut.c_vehicle.z();
-  const double top = options.wall_height_m;
   const double range = options.max_range_m;
-  const double res = ground.resolution_m();
   const VehicleParameters& car = options.vehicle;
   const Eigen::Vector3d ego_lo(-car.rear_overhang_m, -car.width_m / 2, kEgoBodyBottomM);
   const Eigen::Vector3d ego_hi(car.length_m - car.rear_overhang_m, car.width_m / 2,
@@ -454,29 +566,16 @@ CameraLut Renderer::Impl::BuildLut(const camera::CameraConfig& config) const {
 
   lut.hot.resize(n);
   lut.cold.resize(n);
-  const auto angle_to = [&](size_t i, int du, int dv, int u, int v) -> double {
-    const int u2 = u + du, v2 = v + dv;
-    if (u2 < 0 || v2 < 0 || u2 >= lut.width || v2 >= lut.height) return -1.0;
-    const size_t j =
-        static_cast<size_t>(v2) * static_cast<size_t>(lut.width) + static_cast<size_t>(u2);
-    if (!valid[j]) return -1.0;
-    return (rays[i] - rays[j]).norm();  // the chord: the angle, for neighbours
-  };
   for (int v = 0; v < lut.height; ++v) {
     for (int u = 0; u < lut.width; ++u) {
       const size_t i =
           static_cast<size_t>(v) * static_cast<size_t>(lut.width) + static_cast<size_t>(u);
       HotRay& hot = lut.hot[i];
       ColdRay& cold = lut.cold[i];
-      if (!valid[i]) continue;
-      const Eigen::Vector3d& d = rays[i];
-      // Angular size of the pixel: geometric mean over both image axes.
-      double ax = angle_to(i, 1, 0, u, v), ay = angle_to(i, 0, 1, u, v);
-      if (ax < 0) ax = angle_to(i, -1, 0, u, v);
-      if (ay < 0) ay = angle_to(i, 0, -1, u, v);
-      if (ax < 0) ax = ay;
-      if (ay < 0) ay = ax;
-      const double pixel_angle = ax > 0 ? std::sqrt(ax * ay) : 1.0 / config.intrinsics.fx;
+      if (!rays.valid[i]) continue;
+      const Eigen::Vector3d& d = rays.rays[i];
+      const double pixel_angle =
+          PixelAngle(rays, lut.width, lut.height, u, v, config.intrinsics.fx);
 
       // A ray straight up or down gets an arbitrary horizontal direction.
       const double horizontal = std::max(std::hypot(d.x(), d.y()), 1e-9);
@@ -487,25 +586,11 @@ CameraLut Renderer::Impl::BuildLut(const camera::CameraConfig& config) const {
       cold.slope = static_cast<float>(slope);
       cold.pixel_angle_rad = static_cast<float>(pixel_angle);
       hot.azimuth = ToTurnUnits(std::atan2(d.y(), d.x()));
-      const double vignette = off_axis_rad[i] / max_off_axis_rad;
+      const double vignette = rays.off_axis_rad[i] / rays.max_off_axis_rad;
       hot.gain =
           static_cast<float>(options.brightness * (1.0 - options.vignetting * vignette * vignette));
 
-      double env_s = range;
-      hot.kind = kFar;
-      if (slope < 0 && cz / -slope <= range) {
-        env_s = cz / -slope;
-        hot.kind = kGround;
-        // The floor's footprint of the pixel: geometric mean of its extent
-        // across (t * angle) and along (t * angle / sin(grazing)) the ray.
-        const double t3d = cz / -d.z();
-        const double footprint_m = t3d * pixel_angle / std::sqrt(-d.z());
-        const double level = std::round(std::log2(std::max(footprint_m / res, 1.0)));
-        hot.lod = static_cast<std::uint8_t>(std::min<double>(level, kGroundLevels - 1));
-      } else if (slope > 0 && (top - cz) / slope <= range) {
-        env_s = (top - cz) / slope;
-        hot.kind = kCeiling;
-      }
+      const double env_s = EnvironmentHit(d, slope, cz, pixel_angle, &hot);
       hot.x_m = static_cast<float>(lut.c_vehicle.x() + env_s * cold.dx);
       hot.y_m = static_cast<float>(lut.c_vehicle.y() + env_s * cold.dy);
       hot.env_s_m = static_cast<float>(env_s);
@@ -514,25 +599,9 @@ CameraLut Renderer::Impl::BuildLut(const camera::CameraConfig& config) const {
       hot.haze = static_cast<std::uint8_t>(std::lround(255 * haze));
 
       if (draw_body) {
-        // Slab test of the ray against the vehicle's own body; a camera on
-        // the body's surface sees the body behind it, not along it.
-        double t_in = -1e30, t_out = 1e30;
-        int entry_axis = -1;
-        for (int k = 0; k < 3; ++k) {
-          if (std::abs(d[k]) < 1e-12) {
-            if (lut.c_vehicle[k] < ego_lo[k] || lut.c_vehicle[k] > ego_hi[k]) t_out = -1.0;
-            continue;
-          }
-          double t0 = (ego_lo[k] - lut.c_vehicle[k]) / d[k];
-          double t1 = (ego_hi[k] - lut.c_vehicle[k]) / d[k];
-          if (t0 > t1) std::swap(t0, t1);
-          if (t0 > t_in) {
-            t_in = t0;
-            entry_axis = k;
-          }
-          t_out = std::min(t_out, t1);
-        }
-        if (entry_axis >= 0 && t_in >= -1e-9 && t_in < t_out && t_in * horizontal < env_s) {
+        const int entry_axis =
+            EgoBodyEntryAxis(lut.c_vehicle, d, ego_lo, ego_hi, horizontal, env_s);
+        if (entry_axis >= 0) {
           hot.kind = kEgo;
           const double facing = 0.6 + 0.4 * std::abs(d[entry_axis]);
           hot.x_m = static_cast<float>(kEgoAlbedo * facing);
@@ -583,11 +652,10 @@ void SetBinsAround(const Eigen::Vector2d& c_map, const Eigen::Vector2d& center,
   SetBins(mid + lo, mid + hi, c);
 }
 
-ObstacleBins BinObstacles(const std::vector<Face>& faces, const std::vector<CarBody>& cars,
-                          const std::vector<Person>& persons, const Eigen::Vector2d& C,
-                          double range_m) {
-  ObstacleBins bins;
-  std::vector<Candidate>& cands = bins.candidates;
+// The faces within range_m of C, with their azimuth bins.
+void AddFaceCandidates(const std::vector<Face>& faces, const Eigen::Vector2d& C, double range_m,
+                       std::vector<Candidate>* candidates) {
+  std::vector<Candidate>& cands = *candidates;
   for (size_t i = 0; i < faces.size(); ++i) {
     const Face& f = faces[i];
     const double dist = SegmentDistance(C, f.a_map, f.b_map);
@@ -607,6 +675,12 @@ ObstacleBins BinObstacles(const std::vector<Face>& faces, const std::vector<CarB
     SetBins(lo, lo + std::abs(diff), &c);
     cands.push_back(c);
   }
+}
+
+// The parked cars within range_m of C, in their own frames.
+void AddCarCandidates(const std::vector<CarBody>& cars, const Eigen::Vector2d& C, double range_m,
+                      std::vector<Candidate>* candidates) {
+  std::vector<Candidate>& cands = *candidates;
   for (size_t i = 0; i < cars.size(); ++i) {
     const CarBody& b = cars[i];
     const Eigen::Vector2d across(-b.axis_map.y(), b.axis_map.x());
@@ -637,6 +711,12 @@ ObstacleBins BinObstacles(const std::vector<Face>& faces, const std::vector<CarB
     }
     cands.push_back(c);
   }
+}
+
+// The pedestrians within range_m of C.
+void AddPersonCandidates(const std::vector<Person>& persons, const Eigen::Vector2d& C,
+                         double range_m, std::vector<Candidate>* candidates) {
+  std::vector<Candidate>& cands = *candidates;
   for (size_t i = 0; i < persons.size(); ++i) {
     const Person& p = persons[i];
     const Eigen::Vector2d o = C - p.center_map;
@@ -661,11 +741,12 @@ ObstacleBins BinObstacles(const std::vector<Face>& faces, const std::vector<CarB
     }
     cands.push_back(c);
   }
-  std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) {
-    if (a.min_dist_m != b.min_dist_m) return a.min_dist_m < b.min_dist_m;
-    if (a.shape != b.shape) return a.shape < b.shape;
-    return a.index < b.index;
-  });
+}
+
+// The candidates (sorted nearest first) into their bins.
+void FillBins(ObstacleBins* obstacle_bins) {
+  ObstacleBins& bins = *obstacle_bins;
+  const std::vector<Candidate>& cands = bins.candidates;
   // Counting sort into the bins keeps every bin's list nearest first.
   bins.start.assign(kBins + 1, 0);
   for (const Candidate& c : cands) {
@@ -687,6 +768,22 @@ ObstacleBins BinObstacles(const std::vector<Face>& faces, const std::vector<CarB
       bins.nearest_m[b] = cands[static_cast<size_t>(bins.items[bins.start[b]])].min_dist_m;
     }
   }
+}
+
+ObstacleBins BinObstacles(const std::vector<Face>& faces, const std::vector<CarBody>& cars,
+                          const std::vector<Person>& persons, const Eigen::Vector2d& C,
+                          double range_m) {
+  ObstacleBins bins;
+  std::vector<Candidate>& cands = bins.candidates;
+  AddFaceCandidates(faces, C, range_m, &cands);
+  AddCarCandidates(cars, C, range_m, &cands);
+  AddPersonCandidates(persons, C, range_m, &cands);
+  std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.min_dist_m != b.min_dist_m) return a.min_dist_m < b.min_dist_m;
+    if (a.shape != b.shape) return a.shape < b.shape;
+    return a.index < b.index;
+  });
+  FillBins(&bins);
   return bins;
 }
 
@@ -771,6 +868,37 @@ inline float SampleFloor(const FloorLevel& level, float x0, float y0) {
   const float bottom = p[level.step] + static_cast<float>(p[level.step + 1] - p[level.step]) * wx;
   return top + (bottom - top) * wy;
 }
+
+// The nearest obstacle of the bin that the ray (dx, dy, slope) from a
+// camera at height cz_m meets before env_s_m; hit.candidate < 0 when none.
+inline Hit NearestObstacle(const ObstacleBins& bins, int bin, float env_s_m, float dx, float dy,
+                           float slope, float cz_m) {
+  Hit hit{env_s_m};
+  for (int k = bins.start[bin]; k < bins.start[bin + 1]; ++k) {
+    const int index = bins.items[static_cast<size_t>(k)];
+    const Candidate& cand = bins.candidates[static_cast<size_t>(index)];
+    if (cand.min_dist_m >= hit.s_m) break;
+    switch (cand.shape) {
+      case Shape::kFace:
+        IntersectFace(cand, dx, dy, index, &hit);
+        break;
+      case Shape::kCar:
+        IntersectCar(cand, dx, dy, slope, cz_m, index, &hit);
+        break;
+      case Shape::kPerson:
+        IntersectPerson(cand, dx, dy, slope, cz_m, index, &hit);
+        break;
+    }
+  }
+  return hit;
+}
+
+// Level-0 floor pixel of a vehicle-frame point (x, y), affine per frame
+// (x: fx0 + fx1 x + fx2 y), and the floor's levels.
+struct FloorMap {
+  float fx0 = 0, fx1 = 0, fx2 = 0, fy0 = 0, fy1 = 0, fy2 = 0;
+  std::array<FloorLevel, kGroundLevels> levels;
+};
 
 inline float Bilinear(const cv::Mat& image, double x, double y) {
   const double cx = std::clamp(x, 0.0, image.cols - 1.001);
@@ -864,6 +992,24 @@ float Renderer::Impl::ShadeHit(const Frame& frame, const Candidate& candidate, c
   return albedo * facing * light.At(p_map.x(), p_map.y());
 }
 
+FloorMap Renderer::Impl::FloorMapAt(const SE2& T_map_vehicle) const {
+  const double cos_yaw = std::cos(T_map_vehicle.yaw()), sin_yaw = std::sin(T_map_vehicle.yaw());
+  const double inv_res = 1.0 / ground.resolution_m();
+  FloorMap f;
+  f.fx0 = static_cast<float>((T_map_vehicle.x() - ground.min_x_m()) * inv_res - 0.5);
+  f.fx1 = static_cast<float>(cos_yaw * inv_res);
+  f.fx2 = static_cast<float>(-sin_yaw * inv_res);
+  f.fy0 = static_cast<float>((ground.max_y_m() - T_map_vehicle.y()) * inv_res - 0.5);
+  f.fy1 = static_cast<float>(-sin_yaw * inv_res);
+  f.fy2 = static_cast<float>(-cos_yaw * inv_res);
+  for (int l = 0; l < kGroundLevels; ++l) {
+    const cv::Mat& m = lit_floor[static_cast<size_t>(l)];
+    f.levels[static_cast<size_t>(l)] = {m.data, m.step[0], m.cols - 1.001f, m.rows - 1.001f,
+                                        1.0f / static_cast<float>(1 << l)};
+  }
+  return f;
+}
+
 cv::Mat Renderer::Impl::RenderCamera(const CameraLut& lut, size_t camera_index,
                                      const SE2& T_map_vehicle, TimeNs t_ns) const {
   cv::Mat image(lut.height, lut.width, CV_8UC1);
@@ -879,20 +1025,10 @@ cv::Mat Renderer::Impl::RenderCamera(const CameraLut& lut, size_t camera_index,
   const ObstacleBins bins =
       BinObstacles(faces, car_bodies, persons, frame.c_map, options.max_range_m);
 
-  // Level-0 floor pixel of a vehicle-frame point (x, y): affine per frame.
-  const double inv_res = 1.0 / ground.resolution_m();
-  const float fx0 = static_cast<float>((T_map_vehicle.x() - ground.min_x_m()) * inv_res - 0.5);
-  const float fx1 = static_cast<float>(cos_yaw * inv_res);
-  const float fx2 = static_cast<float>(-sin_yaw * inv_res);
-  const float fy0 = static_cast<float>((ground.max_y_m() - T_map_vehicle.y()) * inv_res - 0.5);
-  const float fy1 = static_cast<float>(-sin_yaw * inv_res);
-  const float fy2 = static_cast<float>(-cos_yaw * inv_res);
-  std::array<FloorLevel, kGroundLevels> levels;
-  for (int l = 0; l < kGroundLevels; ++l) {
-    const cv::Mat& m = lit_floor[static_cast<size_t>(l)];
-    levels[static_cast<size_t>(l)] = {m.data, m.step[0], m.cols - 1.001f, m.rows - 1.001f,
-                                      1.0f / static_cast<float>(1 << l)};
-  }
+  const FloorMap floor = FloorMapAt(T_map_vehicle);
+  const float fx0 = floor.fx0, fx1 = floor.fx1, fx2 = floor.fx2;
+  const float fy0 = floor.fy0, fy1 = floor.fy1, fy2 = floor.fy2;
+  const std::array<FloorLevel, kGroundLevels>& levels = floor.levels;
 
   const float tx = static_cast<float>(T_map_vehicle.x());
   const float ty = static_cast<float>(T_map_vehicle.y());
@@ -915,23 +1051,7 @@ cv::Mat Renderer::Impl::RenderCamera(const CameraLut& lut, size_t camera_index,
         const ColdRay& c = lut.cold[i];
         const float dx = c.dx * frame.cos_yaw - c.dy * frame.sin_yaw;
         const float dy = c.dx * frame.sin_yaw + c.dy * frame.cos_yaw;
-        Hit hit{h.env_s_m};
-        for (int k = bins.start[bin]; k < bins.start[bin + 1]; ++k) {
-          const int index = bins.items[static_cast<size_t>(k)];
-          const Candidate& cand = bins.candidates[static_cast<size_t>(index)];
-          if (cand.min_dist_m >= hit.s_m) break;
-          switch (cand.shape) {
-            case Shape::kFace:
-              IntersectFace(cand, dx, dy, index, &hit);
-              break;
-            case Shape::kCar:
-              IntersectCar(cand, dx, dy, c.slope, frame.cz_m, index, &hit);
-              break;
-            case Shape::kPerson:
-              IntersectPerson(cand, dx, dy, c.slope, frame.cz_m, index, &hit);
-              break;
-          }
-        }
+        const Hit hit = NearestObstacle(bins, bin, h.env_s_m, dx, dy, c.slope, frame.cz_m);
         if (hit.candidate >= 0) {
           hit_obstacle = true;
           radiance = ShadeHit(frame, bins.candidates[static_cast<size_t>(hit.candidate)], hit, dx,

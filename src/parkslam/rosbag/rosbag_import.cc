@@ -129,6 +129,197 @@ std::size_t SortUnique(std::vector<T>* samples) {
   return dropped;
 }
 
+// What each topic is, from the bag's connections.
+std::map<std::string, Channel> ReadChannels(rosbag::View& view, const std::string& bag_name) {
+  std::map<std::string, Channel> channels;
+  for (const rosbag::ConnectionInfo* c : view.getConnections()) {
+    if (channels.contains(c->topic)) continue;
+    try {
+      channels[c->topic] = {bag_name, c->topic, c->datatype,
+                            io::ros1::ParseDefinition(c->datatype, c->msg_def)};
+    } catch (const std::invalid_argument& e) {
+      ThrowIoError(bag_name, 0, c->topic, e.what());
+    }
+  }
+  return channels;
+}
+
+// Fails unless the bag has the topic (of one of the types, when given).
+void RequireTopic(const std::map<std::string, Channel>& channels, const std::string& bag_name,
+                  const std::string& topic, const std::string& key,
+                  const std::set<std::string>& types) {
+  const auto it = channels.find(topic);
+  if (it == channels.end()) {
+    std::string have;
+    for (const auto& [name, c] : channels) have += (have.empty() ? "" : ", ") + name;
+    ThrowIoError(bag_name, 0, key, "topic " + topic + " is not in the bag (it has " + have + ")");
+  }
+  if (!types.empty() && !types.contains(it->second.datatype)) {
+    ThrowIoError(bag_name, 0, key,
+                 "topic " + topic + " is " + it->second.datatype + ", which is not taken here");
+  }
+}
+
+// What the messages of the used topics gave: the sensor log (absolute
+// times), the image files waiting for their frame sets, the first stamp.
+struct BagContents {
+  std::map<std::string, std::vector<PendingImage>> images;
+  SensorLog log;
+  std::int64_t first_ns = INT64_MAX;
+};
+
+// Reads the bag's messages in order; decoding errors name the topic.
+class MessageReader {
+ public:
+  MessageReader(const TopicsConfig& topics, const std::map<std::string, Channel>& channels,
+                const std::map<std::string, std::string>& camera_of_topic,
+                const std::string& bag_name, const fs::path& out)
+      : topics_(topics),
+        channels_(channels),
+        camera_of_topic_(camera_of_topic),
+        bag_name_(bag_name),
+        out_(out) {}
+
+  BagContents Read(rosbag::View& view,
+                   const std::function<void(std::size_t, std::size_t)>& progress) {
+    const std::size_t total = view.size();
+    std::size_t done = 0;
+    for (const rosbag::MessageInstance& m : view) {
+      if (progress) progress(++done, total);
+      const auto channel = channels_.find(m.getTopic());
+      if (channel == channels_.end()) continue;
+      const Channel& c = channel->second;
+      const bool camera = camera_of_topic_.contains(c.topic);
+      const bool used = camera || c.topic == topics_.imu || c.topic == topics_.wheel_speed.topic ||
+                        c.topic == topics_.steering.topic;
+      if (!used) continue;
+      bytes_.resize(m.size());
+      ros::serialization::OStream stream(bytes_.data(), static_cast<std::uint32_t>(bytes_.size()));
+      m.write(stream);
+      try {
+        if (camera) ReadImage(c, m);
+        if (c.topic == topics_.imu) ReadImu(c, m);
+        if (c.topic == topics_.wheel_speed.topic) {
+          const auto [stamp, value] = Scalar(topics_.wheel_speed, "wheel_speed", c, m);
+          contents_.log.wheel_speeds.push_back({stamp, value});
+          contents_.first_ns = std::min(contents_.first_ns, stamp);
+        }
+        if (c.topic == topics_.steering.topic) {
+          const auto [stamp, value] = Scalar(topics_.steering, "steering", c, m);
+          contents_.log.steering_angles.push_back({stamp, value});
+          contents_.first_ns = std::min(contents_.first_ns, stamp);
+        }
+      } catch (const std::invalid_argument& e) {
+        ThrowIoError(bag_name_, 0, c.topic, e.what());
+      }
+    }
+    return std::move(contents_);
+  }
+
+ private:
+  void ReadImage(const Channel& c, const rosbag::MessageInstance& m) {
+    const auto leaves = io::ros1::DecodeFields(
+        c.spec, bytes_.data(), bytes_.size(),
+        {"header.stamp", "data", "format", "height", "width", "step", "encoding"});
+    const std::int64_t stamp = StampOf(leaves, m);
+    const auto [encoded, extension] = EncodedImage(c, leaves);
+    const std::string& name = camera_of_topic_.at(c.topic);
+    const fs::path file = out_ / "images" / name / ("stamp_" + std::to_string(stamp) + extension);
+    fs::create_directories(file.parent_path());
+    io::WriteFileAtomically(file, encoded);
+    contents_.images[name].push_back({stamp, file, extension});
+    contents_.first_ns = std::min(contents_.first_ns, stamp);
+  }
+
+  void ReadImu(const Channel& c, const rosbag::MessageInstance& m) {
+    const auto f = io::ros1::DecodeFields(c.spec, bytes_.data(), bytes_.size(),
+                                          {"header.stamp", "orientation.x", "orientation.y",
+                                           "orientation.z", "orientation.w", "angular_velocity.z"});
+    const double x = f.at("orientation.x").number, y = f.at("orientation.y").number,
+                 z = f.at("orientation.z").number, w = f.at("orientation.w").number;
+    const std::int64_t stamp = StampOf(f, m);
+    contents_.log.imu_samples.push_back(
+        {stamp, f.at("angular_velocity.z").number,
+         std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))});
+    contents_.first_ns = std::min(contents_.first_ns, stamp);
+  }
+
+  // The stamp and the scaled number of a scalar topic's message.
+  std::pair<std::int64_t, double> Scalar(const ScalarTopic& t, const char* key, const Channel& c,
+                                         const rosbag::MessageInstance& m) const {
+    const auto leaves =
+        io::ros1::DecodeFields(c.spec, bytes_.data(), bytes_.size(), {t.field, "header.stamp"});
+    const auto it = leaves.find(t.field);
+    if (it == leaves.end() || it->second.kind != io::ros1::Leaf::kNumber) {
+      ThrowIoError(bag_name_, 0, std::string(key) + ".field",
+                   "topic " + t.topic + " has no number '" + t.field +
+                       "' (its fields: " + FieldsOf(c.spec, bytes_) + ")");
+    }
+    return std::make_pair(StampOf(leaves, m), it->second.number * t.scale);
+  }
+
+  const TopicsConfig& topics_;
+  const std::map<std::string, Channel>& channels_;
+  const std::map<std::string, std::string>& camera_of_topic_;
+  const std::string& bag_name_;
+  const fs::path& out_;
+  std::vector<std::uint8_t> bytes_;
+  BagContents contents_;
+};
+
+// Frame sets: each front image with the nearest image of every other camera
+// within skew_ns, renamed to its time from first_ns; the images of no set
+// removed. Returns images/index.csv.
+std::string MakeFrameSets(std::map<std::string, std::vector<PendingImage>>& images,
+                          std::int64_t skew_ns, std::int64_t first_ns, const fs::path& out,
+                          ImportSummary* summary) {
+  for (auto& [name, list] : images) {
+    std::sort(list.begin(), list.end(),
+              [](const PendingImage& a, const PendingImage& b) { return a.stamp_ns < b.stamp_ns; });
+  }
+  std::map<std::string, std::set<std::size_t>> taken;
+  std::string index = "t_ns,camera,file\n";
+  std::int64_t last_set_ns = -1;
+  for (const PendingImage& reference : images["front"]) {
+    std::map<std::string, std::size_t> chosen;
+    for (const auto& [name, list] : images) {
+      std::size_t best = list.size();
+      std::int64_t best_dt = skew_ns + 1;
+      const auto lower =
+          std::lower_bound(list.begin(), list.end(), reference.stamp_ns - skew_ns,
+                           [](const PendingImage& p, std::int64_t t) { return p.stamp_ns < t; });
+      for (auto it = lower; it != list.end() && it->stamp_ns <= reference.stamp_ns + skew_ns;
+           ++it) {
+        const std::size_t i = static_cast<std::size_t>(it - list.begin());
+        const std::int64_t dt = std::llabs(it->stamp_ns - reference.stamp_ns);
+        if (dt < best_dt && !taken[name].contains(i)) best = i, best_dt = dt;
+      }
+      if (best == list.size()) break;
+      chosen[name] = best;
+    }
+    const std::int64_t t_ns = reference.stamp_ns - first_ns;
+    if (chosen.size() != images.size() || t_ns <= last_set_ns) continue;
+    last_set_ns = t_ns;
+    for (const std::string& name : camera::AllCameraNames()) {
+      if (!chosen.contains(name)) continue;
+      const PendingImage& image = images[name][chosen[name]];
+      const std::string relative = "images/" + name + "/" + std::to_string(t_ns) + image.extension;
+      fs::rename(image.file, out / relative);
+      taken[name].insert(chosen[name]);
+      index += std::to_string(t_ns) + "," + name + "," + relative + "\n";
+    }
+    ++summary->frame_sets;
+  }
+  for (const auto& [name, list] : images) {
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (taken[name].contains(i)) continue;
+      fs::remove(list[i].file);
+      ++summary->images_unmatched;
+    }
+  }
+  return index;
+}
+
 }  // namespace
 
 TopicsConfig LoadTopicsConfig(const fs::path& path) {
@@ -189,111 +380,22 @@ ImportSummary ImportRosbag(const fs::path& bag_path, const TopicsConfig& topics,
   }
   rosbag::View view(bag);
 
-  // What each topic is, from the bag's connections.
-  std::map<std::string, Channel> channels;
-  for (const rosbag::ConnectionInfo* c : view.getConnections()) {
-    if (channels.contains(c->topic)) continue;
-    try {
-      channels[c->topic] = {bag_name, c->topic, c->datatype,
-                            io::ros1::ParseDefinition(c->datatype, c->msg_def)};
-    } catch (const std::invalid_argument& e) {
-      ThrowIoError(bag_name, 0, c->topic, e.what());
-    }
-  }
-  auto require = [&](const std::string& topic, const std::string& key,
-                     const std::set<std::string>& types) {
-    const auto it = channels.find(topic);
-    if (it == channels.end()) {
-      std::string have;
-      for (const auto& [name, c] : channels) have += (have.empty() ? "" : ", ") + name;
-      ThrowIoError(bag_name, 0, key, "topic " + topic + " is not in the bag (it has " + have + ")");
-    }
-    if (!types.empty() && !types.contains(it->second.datatype)) {
-      ThrowIoError(bag_name, 0, key,
-                   "topic " + topic + " is " + it->second.datatype + ", which is not taken here");
-    }
-  };
+  const std::map<std::string, Channel> channels = ReadChannels(view, bag_name);
   std::map<std::string, std::string> camera_of_topic;
   for (const auto& [name, topic] : topics.cameras) {
-    require(topic, "cameras." + name, {"sensor_msgs/Image", "sensor_msgs/CompressedImage"});
+    RequireTopic(channels, bag_name, topic, "cameras." + name,
+                 {"sensor_msgs/Image", "sensor_msgs/CompressedImage"});
     camera_of_topic[topic] = name;
   }
-  require(topics.imu, "imu", {"sensor_msgs/Imu"});
-  require(topics.wheel_speed.topic, "wheel_speed.topic", {});
-  require(topics.steering.topic, "steering.topic", {});
+  RequireTopic(channels, bag_name, topics.imu, "imu", {"sensor_msgs/Imu"});
+  RequireTopic(channels, bag_name, topics.wheel_speed.topic, "wheel_speed.topic", {});
+  RequireTopic(channels, bag_name, topics.steering.topic, "steering.topic", {});
 
   fs::create_directories(out / "images");
-  std::map<std::string, std::vector<PendingImage>> images;
-  SensorLog log;
-  std::int64_t first_ns = INT64_MAX;
-  std::vector<std::uint8_t> bytes;
-  const std::size_t total = view.size();
-  std::size_t done = 0;
-  auto scalar = [&](const ScalarTopic& t, const char* key, const Channel& c,
-                    const rosbag::MessageInstance& m) {
-    const auto leaves =
-        io::ros1::DecodeFields(c.spec, bytes.data(), bytes.size(), {t.field, "header.stamp"});
-    const auto it = leaves.find(t.field);
-    if (it == leaves.end() || it->second.kind != io::ros1::Leaf::kNumber) {
-      ThrowIoError(bag_name, 0, std::string(key) + ".field",
-                   "topic " + t.topic + " has no number '" + t.field +
-                       "' (its fields: " + FieldsOf(c.spec, bytes) + ")");
-    }
-    return std::make_pair(StampOf(leaves, m), it->second.number * t.scale);
-  };
-  for (const rosbag::MessageInstance& m : view) {
-    if (progress) progress(++done, total);
-    const auto channel = channels.find(m.getTopic());
-    if (channel == channels.end()) continue;
-    const Channel& c = channel->second;
-    const bool camera = camera_of_topic.contains(c.topic);
-    const bool used = camera || c.topic == topics.imu || c.topic == topics.wheel_speed.topic ||
-                      c.topic == topics.steering.topic;
-    if (!used) continue;
-    bytes.resize(m.size());
-    ros::serialization::OStream stream(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
-    m.write(stream);
-    try {
-      if (camera) {
-        const auto leaves = io::ros1::DecodeFields(
-            c.spec, bytes.data(), bytes.size(),
-            {"header.stamp", "data", "format", "height", "width", "step", "encoding"});
-        const std::int64_t stamp = StampOf(leaves, m);
-        const auto [encoded, extension] = EncodedImage(c, leaves);
-        const std::string& name = camera_of_topic.at(c.topic);
-        const fs::path file =
-            out / "images" / name / ("stamp_" + std::to_string(stamp) + extension);
-        fs::create_directories(file.parent_path());
-        io::WriteFileAtomically(file, encoded);
-        images[name].push_back({stamp, file, extension});
-        first_ns = std::min(first_ns, stamp);
-      }
-      if (c.topic == topics.imu) {
-        const auto f =
-            io::ros1::DecodeFields(c.spec, bytes.data(), bytes.size(),
-                                   {"header.stamp", "orientation.x", "orientation.y",
-                                    "orientation.z", "orientation.w", "angular_velocity.z"});
-        const double x = f.at("orientation.x").number, y = f.at("orientation.y").number,
-                     z = f.at("orientation.z").number, w = f.at("orientation.w").number;
-        const std::int64_t stamp = StampOf(f, m);
-        log.imu_samples.push_back({stamp, f.at("angular_velocity.z").number,
-                                   std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))});
-        first_ns = std::min(first_ns, stamp);
-      }
-      if (c.topic == topics.wheel_speed.topic) {
-        const auto [stamp, value] = scalar(topics.wheel_speed, "wheel_speed", c, m);
-        log.wheel_speeds.push_back({stamp, value});
-        first_ns = std::min(first_ns, stamp);
-      }
-      if (c.topic == topics.steering.topic) {
-        const auto [stamp, value] = scalar(topics.steering, "steering", c, m);
-        log.steering_angles.push_back({stamp, value});
-        first_ns = std::min(first_ns, stamp);
-      }
-    } catch (const std::invalid_argument& e) {
-      ThrowIoError(bag_name, 0, c.topic, e.what());
-    }
-  }
+  BagContents contents =
+      MessageReader(topics, channels, camera_of_topic, bag_name, out).Read(view, progress);
+  SensorLog& log = contents.log;
+  const std::int64_t first_ns = contents.first_ns;
   if (log.wheel_speeds.empty() || log.steering_angles.empty() || log.imu_samples.empty()) {
     ThrowIoError(bag_name, 0, "", "no wheel speed, steering or IMU message on the topics given");
   }
@@ -306,56 +408,12 @@ ImportSummary ImportRosbag(const fs::path& bag_path, const TopicsConfig& topics,
   summary.duplicate_times = SortUnique(&log.wheel_speeds) + SortUnique(&log.steering_angles) +
                             SortUnique(&log.imu_samples);
 
+  std::map<std::string, std::vector<PendingImage>>& images = contents.images;
   for (const auto& [name, topic] : topics.cameras) {
     if (images[name].empty()) ThrowIoError(bag_name, 0, "cameras." + name, "no image on " + topic);
   }
-  // Frame sets: each front image with the nearest image of every other
-  // camera within max_set_skew_s.
-  for (auto& [name, list] : images) {
-    std::sort(list.begin(), list.end(),
-              [](const PendingImage& a, const PendingImage& b) { return a.stamp_ns < b.stamp_ns; });
-  }
   const std::int64_t skew_ns = static_cast<std::int64_t>(std::llround(topics.max_set_skew_s * 1e9));
-  std::map<std::string, std::set<std::size_t>> taken;
-  std::string index = "t_ns,camera,file\n";
-  std::int64_t last_set_ns = -1;
-  for (const PendingImage& reference : images["front"]) {
-    std::map<std::string, std::size_t> chosen;
-    for (const auto& [name, list] : images) {
-      std::size_t best = list.size();
-      std::int64_t best_dt = skew_ns + 1;
-      const auto lower =
-          std::lower_bound(list.begin(), list.end(), reference.stamp_ns - skew_ns,
-                           [](const PendingImage& p, std::int64_t t) { return p.stamp_ns < t; });
-      for (auto it = lower; it != list.end() && it->stamp_ns <= reference.stamp_ns + skew_ns;
-           ++it) {
-        const std::size_t i = static_cast<std::size_t>(it - list.begin());
-        const std::int64_t dt = std::llabs(it->stamp_ns - reference.stamp_ns);
-        if (dt < best_dt && !taken[name].contains(i)) best = i, best_dt = dt;
-      }
-      if (best == list.size()) break;
-      chosen[name] = best;
-    }
-    const std::int64_t t_ns = reference.stamp_ns - first_ns;
-    if (chosen.size() != images.size() || t_ns <= last_set_ns) continue;
-    last_set_ns = t_ns;
-    for (const std::string& name : camera::AllCameraNames()) {
-      if (!chosen.contains(name)) continue;
-      const PendingImage& image = images[name][chosen[name]];
-      const std::string relative = "images/" + name + "/" + std::to_string(t_ns) + image.extension;
-      fs::rename(image.file, out / relative);
-      taken[name].insert(chosen[name]);
-      index += std::to_string(t_ns) + "," + name + "," + relative + "\n";
-    }
-    ++summary.frame_sets;
-  }
-  for (const auto& [name, list] : images) {
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      if (taken[name].contains(i)) continue;
-      fs::remove(list[i].file);
-      ++summary.images_unmatched;
-    }
-  }
+  const std::string index = MakeFrameSets(images, skew_ns, first_ns, out, &summary);
   io::WriteFileAtomically(out / "images/index.csv", index);
   io::WriteFileAtomically(out / "images/rig.yaml", io::ReadTextFile(topics.rig));
 

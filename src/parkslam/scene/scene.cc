@@ -234,231 +234,286 @@ void AddCar(Random& rng, const Eigen::Vector2d& center, double yaw, Scene* scene
   }
 }
 
-// One row of slots: junctions along the entrance line, their separating
-// lines, the entrance line (continuous or stubs), an optional back line,
-// painted IDs, parked cars, pillars, wheel stops.
-void AddRow(Random& rng, const SceneSamplerOptions& options, bool left, bool outdoor,
-            double row_yaw, double offset_m, int row_letter, Scene* scene) {
-  const RowStyle s = SampleRowStyle(rng, options, outdoor);
-  const Eigen::Vector2d u = Dir(row_yaw);
-  // Into the slots: away from the car.
-  Eigen::Vector2d n = Rot90(u);
-  if (!left) n = -n;
-  const Eigen::Vector2d origin = Eigen::Vector2d(kViewCenterX, 0.0) + n * offset_m;
+// Where one row of slots lies: its direction u, the normal n into the slots,
+// the junctions along the entrance line (k_first..k_last) and the
+// separating lines from them.
+struct RowLayout {
+  Eigen::Vector2d u, n, origin, sep;
+  double depth = 0.0, step = 0.0, angle_deg = 90.0, sep_length = 0.0, phase = 0.0;
+  int k_first = 0, k_last = 0;
+  bool starts = false, ends = false;  // the row's ends within the lot drawn
 
-  double depth = 0.0, step = 0.0, angle_deg = 90.0;
-  Eigen::Vector2d sep = n;  // separating line direction, into the slot
+  Eigen::Vector2d Junction(int k) const { return Eigen::Vector2d(origin + u * (phase + k * step)); }
+  // Half a line of width w, measured along the row where it meets a
+  // separating line.
+  double HalfAlongRow(double w) const { return w / 2 / std::max(0.3, std::abs(sep.dot(n))); }
+};
+
+RowLayout SampleRowLayout(Random& rng, const RowStyle& s, bool left, double row_yaw,
+                          double offset_m) {
+  RowLayout r;
+  r.u = Dir(row_yaw);
+  // Into the slots: away from the car.
+  r.n = Rot90(r.u);
+  if (!left) r.n = -r.n;
+  r.origin = Eigen::Vector2d(kViewCenterX, 0.0) + r.n * offset_m;
+  r.sep = r.n;  // separating line direction, into the slot
   switch (s.kind) {
     case SlotKind::kPerpendicular:
-      step = rng.Uniform(2.2, 3.0);
-      depth = rng.Uniform(4.6, 5.6);
+      r.step = rng.Uniform(2.2, 3.0);
+      r.depth = rng.Uniform(4.6, 5.6);
       break;
     case SlotKind::kParallel:
-      step = rng.Uniform(5.2, 7.0);
-      depth = rng.Uniform(2.0, 2.6);
+      r.step = rng.Uniform(5.2, 7.0);
+      r.depth = rng.Uniform(2.0, 2.6);
       break;
     case SlotKind::kAngled: {
-      angle_deg = rng.Uniform(40.0, 75.0);
-      const double phi = DegToRad(angle_deg);
+      r.angle_deg = rng.Uniform(40.0, 75.0);
+      const double phi = DegToRad(r.angle_deg);
       const double lean = rng.Bernoulli(0.5) ? 1.0 : -1.0;
-      sep = (n * std::sin(phi) + u * (lean * std::cos(phi))).normalized();
-      step = rng.Uniform(2.3, 2.8) / std::sin(phi);
-      depth = rng.Uniform(4.5, 5.3);
+      r.sep = (r.n * std::sin(phi) + r.u * (lean * std::cos(phi))).normalized();
+      r.step = rng.Uniform(2.3, 2.8) / std::sin(phi);
+      r.depth = rng.Uniform(4.5, 5.3);
       break;
     }
   }
-  const double sep_length = depth / std::max(0.3, std::abs(sep.dot(n)));
-  const double phase = rng.Uniform(0.0, step);
-  int k_first = static_cast<int>(std::floor((-kRowHalfLengthM - phase) / step));
-  int k_last = static_cast<int>(std::ceil((kRowHalfLengthM - phase) / step));
-  bool starts = false, ends = false;  // the row's ends within the lot drawn
+  r.sep_length = r.depth / std::max(0.3, std::abs(r.sep.dot(r.n)));
+  r.phase = rng.Uniform(0.0, r.step);
+  r.k_first = static_cast<int>(std::floor((-kRowHalfLengthM - r.phase) / r.step));
+  r.k_last = static_cast<int>(std::ceil((kRowHalfLengthM - r.phase) / r.step));
   if (rng.Bernoulli(0.25)) {
-    k_first = static_cast<int>(std::floor(rng.Uniform(-5.0, 2.0) / step));
-    starts = true;
+    r.k_first = static_cast<int>(std::floor(rng.Uniform(-5.0, 2.0) / r.step));
+    r.starts = true;
   }
   if (rng.Bernoulli(0.25)) {
-    k_last = std::max(k_first + 1, static_cast<int>(std::ceil(rng.Uniform(-1.0, 6.0) / step)));
-    ends = true;
+    r.k_last =
+        std::max(r.k_first + 1, static_cast<int>(std::ceil(rng.Uniform(-1.0, 6.0) / r.step)));
+    r.ends = true;
   }
-  const auto junction = [&](int k) { return Eigen::Vector2d(origin + u * (phase + k * step)); };
-  const double w = s.line_width_m;
-  Stroke base;
-  base.width_m = w;
-  base.paint = s.paint;
-  base.opacity = s.opacity;
-  base.wear = s.wear;
-  base.slot_line = true;
+  return r;
+}
 
-  std::vector<int> mark_of(static_cast<size_t>(k_last - k_first + 1), -1);
-  for (int k = k_first; k <= k_last; ++k) {
-    const Eigen::Vector2d p = junction(k);
+// The row's paint: separating lines, entrance stubs or line, back line and
+// the ghost of a repainted layout; the marking points at the junctions.
+// Returns each junction's marking point (-1: none), from k_first.
+std::vector<int> PaintRowLines(Random& rng, const RowStyle& s, const RowLayout& r,
+                               const Stroke& base, Scene* scene) {
+  const double w = s.line_width_m;
+  std::vector<int> mark_of(static_cast<size_t>(r.k_last - r.k_first + 1), -1);
+  for (int k = r.k_first; k <= r.k_last; ++k) {
+    const Eigen::Vector2d p = r.Junction(k);
     Stroke line = base;
     // The separating line starts on the entrance line's far edge when one is
     // painted (a T or L), at the junction otherwise.
     line.a = p;
-    line.b = p + sep * sep_length;
+    line.b = p + r.sep * r.sep_length;
     scene->strokes.push_back(line);
     if (s.entrance == 1) {
       Stroke stub = base;
-      const bool first = starts && k == k_first, last = ends && k == k_last;
-      const double half = w / 2 / std::max(0.3, std::abs(sep.dot(n)));
-      stub.a = p - u * (first ? half : s.stub_m);
-      stub.b = p + u * (last ? half : s.stub_m);
+      const bool first = r.starts && k == r.k_first, last = r.ends && k == r.k_last;
+      const double half = r.HalfAlongRow(w);
+      stub.a = p - r.u * (first ? half : s.stub_m);
+      stub.b = p + r.u * (last ? half : s.stub_m);
       scene->strokes.push_back(stub);
     }
     if (s.entrance != 2) {
       MarkingPoint mark;
       mark.p_vehicle = p;
-      mark.direction = sep;
-      mark.is_t = !((starts && k == k_first) || (ends && k == k_last));
-      mark_of[static_cast<size_t>(k - k_first)] = static_cast<int>(scene->marks.size());
+      mark.direction = r.sep;
+      mark.is_t = !((r.starts && k == r.k_first) || (r.ends && k == r.k_last));
+      mark_of[static_cast<size_t>(k - r.k_first)] = static_cast<int>(scene->marks.size());
       scene->marks.push_back(mark);
     }
   }
-  const double half_end = w / 2 / std::max(0.3, std::abs(sep.dot(n)));
+  const double half_end = r.HalfAlongRow(w);
   if (s.entrance == 0) {
     Stroke line = base;
-    line.a = junction(k_first) - u * (starts ? half_end : 1.0);
-    line.b = junction(k_last) + u * (ends ? half_end : 1.0);
+    line.a = r.Junction(r.k_first) - r.u * (r.starts ? half_end : 1.0);
+    line.b = r.Junction(r.k_last) + r.u * (r.ends ? half_end : 1.0);
     scene->strokes.push_back(line);
   }
   if (s.back_line) {
     Stroke line = base;
-    line.a = junction(k_first) + sep * sep_length - u * (starts ? half_end : 1.0);
-    line.b = junction(k_last) + sep * sep_length + u * (ends ? half_end : 1.0);
+    line.a = r.Junction(r.k_first) + r.sep * r.sep_length - r.u * (r.starts ? half_end : 1.0);
+    line.b = r.Junction(r.k_last) + r.sep * r.sep_length + r.u * (r.ends ? half_end : 1.0);
     scene->strokes.push_back(line);
   }
   if (s.repainted) {
     // The ghost of an older layout, shifted along the row.
     const double shift = rng.Uniform(0.2, 0.8) * (rng.Bernoulli(0.5) ? 1 : -1);
-    for (int k = k_first; k <= k_last; ++k) {
+    for (int k = r.k_first; k <= r.k_last; ++k) {
       Stroke ghost = base;
-      ghost.a = junction(k) + u * shift;
-      ghost.b = ghost.a + sep * sep_length;
+      ghost.a = r.Junction(k) + r.u * shift;
+      ghost.b = ghost.a + r.sep * r.sep_length;
       ghost.opacity = rng.Uniform(0.1, 0.3);
       ghost.wear = 0.5;
       ghost.slot_line = false;
       scene->strokes.push_back(ghost);
     }
   }
+  return mark_of;
+}
+
+// The painted ID of the slot whose entrance has its middle at `mid`
+// (slot_index -1: the slot has no marking points).
+void AddSlotId(Random& rng, const RowStyle& s, const RowLayout& r, const Eigen::Vector2d& mid,
+               int number, int row_letter, int slot_index, Scene* scene) {
+  const double w = s.line_width_m;
+  const Eigen::Vector2d& sep = r.sep;
+  const Eigen::Vector2d reading(sep.y(), -sep.x());  // text up along sep, into the slot
+  FloorText text;
+  text.text = SampleId(rng, row_letter, number, s.seven_segment);
+  text.height_m = s.id_height_m * rng.Uniform(0.95, 1.05);
+  text.font = s.font;
+  text.seven_segment = s.seven_segment;
+  text.bold = s.bold;
+  text.stencil = s.stencil;
+  text.stretch = s.stretch;
+  text.paint = s.id_paint;
+  text.opacity = std::min(1.0, s.opacity * rng.Uniform(0.8, 1.2));
+  text.wear = s.wear * rng.Uniform(0.5, 1.5);
+  text.slot = slot_index;
+  const double est_width =
+      0.6 * text.height_m * text.stretch * static_cast<double>(text.text.size());
+  switch (s.id_placement) {
+    case 0:
+      text.center = mid + sep * (s.id_setback_m + text.height_m / 2);
+      text.right = reading;
+      break;
+    case 1:
+      text.center = mid + sep * (s.id_setback_m + text.height_m / 2);
+      text.right = -reading;
+      break;
+    case 2: {
+      const double side = std::min(r.step / 2 - w - 0.1 - text.height_m / 2, r.step / 2 - 0.25);
+      text.center = mid + sep * (s.id_setback_m + est_width / 2) - r.u * side;
+      text.right = rng.Bernoulli(0.5) ? sep : Eigen::Vector2d(-sep);
+      break;
+    }
+    default:
+      text.center = mid - sep * (0.25 + text.height_m / 2);
+      text.right = reading;
+      break;
+  }
+  if (slot_index >= 0) {
+    Slot& slot = scene->slots[static_cast<size_t>(slot_index)];
+    slot.id = text.text;
+    slot.id_legible = text.opacity > 0.35 && text.wear < 0.5;
+  }
+  scene->texts.push_back(text);
+}
+
+// The slot between junctions k and k + 1: the slot itself when both have
+// marking points, its ID, a parked car, a wheel stop.
+void AddRowSlot(Random& rng, const SceneSamplerOptions& options, const RowStyle& s,
+                const RowLayout& r, const std::vector<int>& mark_of, int k, int first_number,
+                int row_letter, Scene* scene) {
+  const Eigen::Vector2d& u = r.u;
+  const Eigen::Vector2d& sep = r.sep;
+  const bool a_first = Rot90(u).dot(r.n) > 0;  // slot left of a->b in the vehicle frame
+  const Eigen::Vector2d p0 = r.Junction(k), p1 = r.Junction(k + 1);
+  const Eigen::Vector2d mid = (p0 + p1) / 2;
+  const int m0 = mark_of[static_cast<size_t>(k - r.k_first)];
+  const int m1 = mark_of[static_cast<size_t>(k + 1 - r.k_first)];
+  int slot_index = -1;
+  if (m0 >= 0 && m1 >= 0) {
+    Slot slot;
+    slot.a = a_first ? m0 : m1;
+    slot.b = a_first ? m1 : m0;
+    slot.kind = s.kind;
+    slot.angle_deg = r.angle_deg;
+    slot.depth_m = r.sep_length;
+    slot_index = static_cast<int>(scene->slots.size());
+    scene->slots.push_back(slot);
+  }
+  const Eigen::Vector2d reading(sep.y(), -sep.x());  // text up along sep, into the slot
+  const bool has_id = s.ids && rng.Bernoulli(0.9);
+  if (has_id) {
+    AddSlotId(rng, s, r, mid, first_number + (k - r.k_first), row_letter, slot_index, scene);
+  }
+  const Eigen::Vector2d slot_center = mid + sep * (r.sep_length / 2);
+  if (rng.Bernoulli(s.car_probability)) {
+    const double car_yaw = std::atan2(s.kind == SlotKind::kParallel ? u.y() : sep.y(),
+                                      s.kind == SlotKind::kParallel ? u.x() : sep.x()) +
+                           rng.Gaussian(0.04) + (rng.Bernoulli(0.5) ? kPi : 0.0);
+    const Eigen::Vector2d center = slot_center + sep * rng.Gaussian(0.15) + u * rng.Gaussian(0.1);
+    if (!BoxNearEgo(center, car_yaw, 2.6, 1.0, options, 0.4)) AddCar(rng, center, car_yaw, scene);
+  }
+  if (s.wheel_stops && s.kind != SlotKind::kParallel) {
+    Decal stop;
+    stop.kind = DecalKind::kWheelStop;
+    stop.center = mid + sep * (r.sep_length - 0.7);
+    stop.yaw_rad = std::atan2(reading.y(), reading.x());
+    stop.length_m = rng.Uniform(1.4, 1.9);
+    stop.width_m = rng.Uniform(0.12, 0.2);
+    stop.seed = rng.Index(1u << 30);
+    scene->decals.push_back(stop);
+  }
+}
+
+// Pillars behind every second or third junction.
+void AddRowPillars(Random& rng, const SceneSamplerOptions& options, const RowLayout& r,
+                   double row_yaw, Scene* scene) {
+  const int every = 2 + static_cast<int>(rng.Index(2));
+  const double size = rng.Uniform(0.5, 0.8);
+  const Colour colour = Tinted(rng, rng.Uniform(150, 230), 0.05);
+  for (int k = r.k_first; k <= r.k_last; ++k) {
+    if (((k % every) + every) % every != 0) continue;
+    Solid pillar;
+    pillar.shape = SolidShape::kBox;
+    pillar.center = r.Junction(k) + r.sep * (r.sep_length + size / 2 + 0.1);
+    pillar.yaw_rad = row_yaw;
+    pillar.half_x = pillar.half_y = size / 2;
+    pillar.z0 = 0;
+    pillar.z1 = 3.0;
+    pillar.colour = colour;
+    pillar.stripes = rng.Bernoulli(0.6);
+    if (!BoxNearEgo(pillar.center, pillar.yaw_rad, size / 2, size / 2, options, 0.3)) {
+      scene->solids.push_back(pillar);
+    }
+  }
+}
+
+// A wall behind the row's slots.
+void AddRowWall(Random& rng, const SceneSamplerOptions& options, const RowLayout& r, double row_yaw,
+                Scene* scene) {
+  Solid wall;
+  wall.shape = SolidShape::kBox;
+  wall.center = r.origin + r.n * (r.depth + rng.Uniform(0.4, 1.2));
+  wall.yaw_rad = row_yaw;
+  wall.half_x = 20.0;
+  wall.half_y = 0.1;
+  wall.z0 = 0;
+  wall.z1 = 3.0;
+  wall.colour = Tinted(rng, rng.Uniform(140, 220), 0.08);
+  wall.stripes = rng.Bernoulli(0.3);
+  if (!BoxNearEgo(wall.center, wall.yaw_rad, wall.half_x, wall.half_y, options, 0.5)) {
+    scene->solids.push_back(wall);
+  }
+}
+
+// One row of slots: junctions along the entrance line, their separating
+// lines, the entrance line (continuous or stubs), an optional back line,
+// painted IDs, parked cars, pillars, wheel stops.
+void AddRow(Random& rng, const SceneSamplerOptions& options, bool left, bool outdoor,
+            double row_yaw, double offset_m, int row_letter, Scene* scene) {
+  const RowStyle s = SampleRowStyle(rng, options, outdoor);
+  const RowLayout r = SampleRowLayout(rng, s, left, row_yaw, offset_m);
+  Stroke base;
+  base.width_m = s.line_width_m;
+  base.paint = s.paint;
+  base.opacity = s.opacity;
+  base.wear = s.wear;
+  base.slot_line = true;
+  const std::vector<int> mark_of = PaintRowLines(rng, s, r, base, scene);
 
   // Slots between consecutive junctions, with their IDs and cars.
-  const bool a_first = Rot90(u).dot(n) > 0;  // slot left of a->b in the vehicle frame
   const int first_number = static_cast<int>(rng.Index(300)) + 1;
-  for (int k = k_first; k < k_last; ++k) {
-    const Eigen::Vector2d p0 = junction(k), p1 = junction(k + 1);
-    const Eigen::Vector2d mid = (p0 + p1) / 2;
-    const int m0 = mark_of[static_cast<size_t>(k - k_first)];
-    const int m1 = mark_of[static_cast<size_t>(k + 1 - k_first)];
-    int slot_index = -1;
-    if (m0 >= 0 && m1 >= 0) {
-      Slot slot;
-      slot.a = a_first ? m0 : m1;
-      slot.b = a_first ? m1 : m0;
-      slot.kind = s.kind;
-      slot.angle_deg = angle_deg;
-      slot.depth_m = sep_length;
-      slot_index = static_cast<int>(scene->slots.size());
-      scene->slots.push_back(slot);
-    }
-    const Eigen::Vector2d reading(sep.y(), -sep.x());  // text up along sep, into the slot
-    const bool has_id = s.ids && rng.Bernoulli(0.9);
-    if (has_id) {
-      FloorText text;
-      text.text = SampleId(rng, row_letter, first_number + (k - k_first), s.seven_segment);
-      text.height_m = s.id_height_m * rng.Uniform(0.95, 1.05);
-      text.font = s.font;
-      text.seven_segment = s.seven_segment;
-      text.bold = s.bold;
-      text.stencil = s.stencil;
-      text.stretch = s.stretch;
-      text.paint = s.id_paint;
-      text.opacity = std::min(1.0, s.opacity * rng.Uniform(0.8, 1.2));
-      text.wear = s.wear * rng.Uniform(0.5, 1.5);
-      text.slot = slot_index;
-      const double est_width =
-          0.6 * text.height_m * text.stretch * static_cast<double>(text.text.size());
-      switch (s.id_placement) {
-        case 0:
-          text.center = mid + sep * (s.id_setback_m + text.height_m / 2);
-          text.right = reading;
-          break;
-        case 1:
-          text.center = mid + sep * (s.id_setback_m + text.height_m / 2);
-          text.right = -reading;
-          break;
-        case 2: {
-          const double side = std::min(step / 2 - w - 0.1 - text.height_m / 2, step / 2 - 0.25);
-          text.center = mid + sep * (s.id_setback_m + est_width / 2) - u * side;
-          text.right = rng.Bernoulli(0.5) ? sep : Eigen::Vector2d(-sep);
-          break;
-        }
-        default:
-          text.center = mid - sep * (0.25 + text.height_m / 2);
-          text.right = reading;
-          break;
-      }
-      if (slot_index >= 0) {
-        Slot& slot = scene->slots[static_cast<size_t>(slot_index)];
-        slot.id = text.text;
-        slot.id_legible = text.opacity > 0.35 && text.wear < 0.5;
-      }
-      scene->texts.push_back(text);
-    }
-    const Eigen::Vector2d slot_center = mid + sep * (sep_length / 2);
-    if (rng.Bernoulli(s.car_probability)) {
-      const double car_yaw = std::atan2(s.kind == SlotKind::kParallel ? u.y() : sep.y(),
-                                        s.kind == SlotKind::kParallel ? u.x() : sep.x()) +
-                             rng.Gaussian(0.04) + (rng.Bernoulli(0.5) ? kPi : 0.0);
-      const Eigen::Vector2d center = slot_center + sep * rng.Gaussian(0.15) + u * rng.Gaussian(0.1);
-      if (!BoxNearEgo(center, car_yaw, 2.6, 1.0, options, 0.4)) AddCar(rng, center, car_yaw, scene);
-    }
-    if (s.wheel_stops && s.kind != SlotKind::kParallel) {
-      Decal stop;
-      stop.kind = DecalKind::kWheelStop;
-      stop.center = mid + sep * (sep_length - 0.7);
-      stop.yaw_rad = std::atan2(reading.y(), reading.x());
-      stop.length_m = rng.Uniform(1.4, 1.9);
-      stop.width_m = rng.Uniform(0.12, 0.2);
-      stop.seed = rng.Index(1u << 30);
-      scene->decals.push_back(stop);
-    }
+  for (int k = r.k_first; k < r.k_last; ++k) {
+    AddRowSlot(rng, options, s, r, mark_of, k, first_number, row_letter, scene);
   }
-  if (s.pillars) {
-    const int every = 2 + static_cast<int>(rng.Index(2));
-    const double size = rng.Uniform(0.5, 0.8);
-    const Colour colour = Tinted(rng, rng.Uniform(150, 230), 0.05);
-    for (int k = k_first; k <= k_last; ++k) {
-      if (((k % every) + every) % every != 0) continue;
-      Solid pillar;
-      pillar.shape = SolidShape::kBox;
-      pillar.center = junction(k) + sep * (sep_length + size / 2 + 0.1);
-      pillar.yaw_rad = row_yaw;
-      pillar.half_x = pillar.half_y = size / 2;
-      pillar.z0 = 0;
-      pillar.z1 = 3.0;
-      pillar.colour = colour;
-      pillar.stripes = rng.Bernoulli(0.6);
-      if (!BoxNearEgo(pillar.center, pillar.yaw_rad, size / 2, size / 2, options, 0.3)) {
-        scene->solids.push_back(pillar);
-      }
-    }
-  }
-  if (s.wall) {
-    Solid wall;
-    wall.shape = SolidShape::kBox;
-    wall.center = origin + n * (depth + rng.Uniform(0.4, 1.2));
-    wall.yaw_rad = row_yaw;
-    wall.half_x = 20.0;
-    wall.half_y = 0.1;
-    wall.z0 = 0;
-    wall.z1 = 3.0;
-    wall.colour = Tinted(rng, rng.Uniform(140, 220), 0.08);
-    wall.stripes = rng.Bernoulli(0.3);
-    if (!BoxNearEgo(wall.center, wall.yaw_rad, wall.half_x, wall.half_y, options, 0.5)) {
-      scene->solids.push_back(wall);
-    }
-  }
+  if (s.pillars) AddRowPillars(rng, options, r, row_yaw, scene);
+  if (s.wall) AddRowWall(rng, options, r, row_yaw, scene);
 }
 
 void SampleFloor(Random& rng, bool outdoor, Scene* scene) {

@@ -73,49 +73,52 @@ struct SolidHit {
   bool top = false;
 };
 
-// Ray (origin o, unit direction d) against a solid; the nearest hit beyond
-// a millimetre, if any.
-bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o,
-               const Eigen::Vector3f& d, SolidHit* hit) {
+// A ray (origin o, unit direction d) against a box solid whose yaw has
+// cosine cy and sine sy: slabs in the box's frame.
+bool IntersectBox(const Solid& s, double cy, double sy, const Eigen::Vector3d& o,
+                  const Eigen::Vector3f& d, SolidHit* hit) {
   const double ox = o.x() - s.center.x(), oy = o.y() - s.center.y();
-  if (s.shape == SolidShape::kBox) {
-    // Slabs in the box's frame.
-    const double lo[3] = {-s.half_x, -s.half_y, s.z0}, hi[3] = {s.half_x, s.half_y, s.z1};
-    const double lo_o[3] = {cy * ox + sy * oy, -sy * ox + cy * oy, o.z()};
-    const double ld[3] = {cy * d.x() + sy * d.y(), -sy * d.x() + cy * d.y(), d.z()};
-    double enter = -1e30, leave = 1e30;
-    int axis = -1;
-    double sign = 1;
-    for (int k = 0; k < 3; ++k) {
-      if (std::abs(ld[k]) < 1e-12) {
-        if (lo_o[k] < lo[k] || lo_o[k] > hi[k]) return false;
-        continue;
-      }
-      double t0 = (lo[k] - lo_o[k]) / ld[k], t1 = (hi[k] - lo_o[k]) / ld[k];
-      double face_sign = -1;
-      if (t0 > t1) {
-        std::swap(t0, t1);
-        face_sign = 1;
-      }
-      if (t0 > enter) {
-        enter = t0;
-        axis = k;
-        sign = face_sign;
-      }
-      leave = std::min(leave, t1);
+  const double lo[3] = {-s.half_x, -s.half_y, s.z0}, hi[3] = {s.half_x, s.half_y, s.z1};
+  const double lo_o[3] = {cy * ox + sy * oy, -sy * ox + cy * oy, o.z()};
+  const double ld[3] = {cy * d.x() + sy * d.y(), -sy * d.x() + cy * d.y(), d.z()};
+  double enter = -1e30, leave = 1e30;
+  int axis = -1;
+  double sign = 1;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(ld[k]) < 1e-12) {
+      if (lo_o[k] < lo[k] || lo_o[k] > hi[k]) return false;
+      continue;
     }
-    if (axis < 0 || enter > leave || enter < 1e-3 || enter >= hit->t) return false;
-    hit->t = static_cast<float>(enter);
-    Eigen::Vector3f n = Eigen::Vector3f::Zero();
-    if (axis == 0)
-      n = Eigen::Vector3f(static_cast<float>(sign * cy), static_cast<float>(sign * sy), 0);
-    if (axis == 1)
-      n = Eigen::Vector3f(static_cast<float>(-sign * sy), static_cast<float>(sign * cy), 0);
-    if (axis == 2) n = Eigen::Vector3f(0, 0, static_cast<float>(sign));
-    hit->normal = n;
-    hit->top = axis == 2 && sign > 0;
-    return true;
+    double t0 = (lo[k] - lo_o[k]) / ld[k], t1 = (hi[k] - lo_o[k]) / ld[k];
+    double face_sign = -1;
+    if (t0 > t1) {
+      std::swap(t0, t1);
+      face_sign = 1;
+    }
+    if (t0 > enter) {
+      enter = t0;
+      axis = k;
+      sign = face_sign;
+    }
+    leave = std::min(leave, t1);
   }
+  if (axis < 0 || enter > leave || enter < 1e-3 || enter >= hit->t) return false;
+  hit->t = static_cast<float>(enter);
+  Eigen::Vector3f n = Eigen::Vector3f::Zero();
+  if (axis == 0)
+    n = Eigen::Vector3f(static_cast<float>(sign * cy), static_cast<float>(sign * sy), 0);
+  if (axis == 1)
+    n = Eigen::Vector3f(static_cast<float>(-sign * sy), static_cast<float>(sign * cy), 0);
+  if (axis == 2) n = Eigen::Vector3f(0, 0, static_cast<float>(sign));
+  hit->normal = n;
+  hit->top = axis == 2 && sign > 0;
+  return true;
+}
+
+// A ray against a vertical cylinder or cone.
+bool IntersectRound(const Solid& s, const Eigen::Vector3d& o, const Eigen::Vector3f& d,
+                    SolidHit* hit) {
+  const double ox = o.x() - s.center.x(), oy = o.y() - s.center.y();
   // Vertical cylinder or cone: radius(z) = r0 - k (z - z0).
   const double r0 = s.half_x;
   const double k = s.shape == SolidShape::kCone ? r0 / std::max(1e-6, s.z1 - s.z0) : 0.0;
@@ -162,6 +165,14 @@ bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o,
   hit->normal = normal;
   hit->top = top;
   return true;
+}
+
+// Ray (origin o, unit direction d) against a solid; the nearest hit beyond
+// a millimetre, if any.
+bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o,
+               const Eigen::Vector3f& d, SolidHit* hit) {
+  if (s.shape == SolidShape::kBox) return IntersectBox(s, cy, sy, o, d, hit);
+  return IntersectRound(s, o, d, hit);
 }
 
 // A solid's own horizontal frame: x along its yaw.
@@ -239,12 +250,30 @@ struct SceneRenderer::Impl {
 
   Impl(const camera::CameraRig& r, const SceneRendererOptions& o);
   CameraTable BuildTable(const camera::CameraConfig& config) const;
+  cv::Point2f AtlasPixel(const Eigen::Vector2d& g, double footprint) const;
   // full: every pixel; otherwise only those the top view needs (the rest black).
   cv::Mat RenderCamera(const CameraTable& table, const Scene& scene, const CameraLook& look,
                        const cv::Mat& atlas_bgr, const LightMap& light, const Colour& ego_colour,
                        bool full, cv::Mat* solid_mask) const;
+  void ShadeBackground(const CameraTable& t, const Scene& scene, const LightMap& light,
+                       const Colour& ego_colour, const cv::Mat& ground, const cv::Mat& specular,
+                       const std::uint8_t* need, const cv::Range& rows, cv::Mat* radiance) const;
+  void ShadeSolids(const CameraTable& t, const Scene& scene, const LightMap& light,
+                   const std::uint8_t* need, cv::Mat* radiance, cv::Mat* solid_mask) const;
   void ApplyLook(const CameraLook& look, const CameraTable& table, float gain, bool full,
                  cv::Mat* radiance, cv::Mat* out8) const;
+  // What a pass from radiance to 8 bits applies: gains per channel,
+  // vignetting, the noise bank's offsets and sigma; masked: only the pixels
+  // the top view needs.
+  struct DevelopParams {
+    float gain[3] = {1.0f, 1.0f, 1.0f};
+    float vignetting = 0.0f;
+    int ox0 = 0, oy0 = 0, ox1 = 0, ox2 = 0;
+    float sigma = 0.0f;
+    bool masked = false;
+  };
+  void Develop(const cv::Mat& img, const CameraTable& table, const DevelopParams& params,
+               bool light, bool noise, cv::Mat* out8) const;
   void MarkNeeded();
   // The floor's three levels side by side: near, near halved, far.
   cv::Mat Stack(const cv::Mat& near, const cv::Mat& far) const {
@@ -367,6 +396,106 @@ void SceneRenderer::Impl::MarkNeeded() {
   }
 }
 
+namespace {
+
+// The car's own body: bumpers and sills a little beyond the footprint the
+// fusion masks (below the cameras, so that they hide the floor next to the
+// car, as a real car's do), the body, and a cabin. A camera on a part's
+// surface sees that part behind it, not along it.
+std::vector<Solid> EgoBody() {
+  std::vector<Solid> body(3);
+  body[0].center = Eigen::Vector2d(1.35, 0.0);
+  body[0].half_x = 2.35 + 0.04;
+  body[0].half_y = 0.925 + 0.04;
+  body[0].z0 = 0.25;
+  body[0].z1 = 0.45;
+  body[1].center = Eigen::Vector2d(1.35, 0.0);
+  body[1].half_x = 2.35;
+  body[1].half_y = 0.925;
+  body[1].z0 = 0.45;
+  body[1].z1 = 0.9;
+  body[2].center = Eigen::Vector2d(1.4, 0.0);
+  body[2].half_x = 1.25;
+  body[2].half_y = 0.8;
+  body[2].z0 = 0.9;
+  body[2].z1 = 1.45;
+  return body;
+}
+
+// A camera's pixels within its image circle: their unit rays (camera
+// frame) and angles off the axis.
+struct PixelRays {
+  std::vector<Eigen::Vector3d> rays;
+  std::vector<double> off_axis;
+  std::vector<bool> valid;
+  double max_off = 1e-6;
+};
+
+PixelRays UnprojectPixels(const camera::CameraModel& model, int width, int height) {
+  const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
+  PixelRays r;
+  r.off_axis.assign(n, 0.0);
+  r.rays.resize(n);
+  r.valid.assign(n, false);
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {
+      const size_t i = static_cast<size_t>(v) * static_cast<size_t>(width) + static_cast<size_t>(u);
+      const auto ray = model.Unproject(Eigen::Vector2d(u, v));
+      if (!ray) continue;
+      const double angle = std::acos(std::clamp(ray->normalized().z(), -1.0, 1.0));
+      // A real fisheye's image circle ends at its field of view: black beyond.
+      if (angle > kMaxOffAxisRad) continue;
+      r.valid[i] = true;
+      r.rays[i] = ray->normalized();
+      r.off_axis[i] = angle;
+      r.max_off = std::max(r.max_off, r.off_axis[i]);
+    }
+  }
+  return r;
+}
+
+// The valid pixels sorted by the azimuth of their ray, with their reach.
+void IndexByAzimuth(const std::vector<bool>& valid, CameraTable* t) {
+  const size_t n = valid.size();
+  std::vector<std::pair<float, int>> az;
+  az.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (!valid[i]) continue;
+    az.emplace_back(std::atan2(t->rays[i].y(), t->rays[i].x()), static_cast<int>(i));
+  }
+  std::sort(az.begin(), az.end());
+  for (const auto& [a, i] : az) {
+    const size_t k = static_cast<size_t>(i);
+    t->all_pixels.Add(a, i, t->kind.data[k] == kEgo ? -1.0f : t->ground_t[k] * t->horizontal[k]);
+  }
+}
+
+}  // namespace
+
+// Where the floor point g (vehicle frame) lies in the atlas, at the level
+// that suits a footprint of that size; (-10, -10) beyond the floor.
+cv::Point2f SceneRenderer::Impl::AtlasPixel(const Eigen::Vector2d& g, double footprint) const {
+  const double near_res = options.near_resolution_m;
+  cv::Point2f atlas_px(-10, -10);
+  const double nx = (g.x() - options.near_min_x_m) / near_res - 0.5;
+  const double ny = (options.near_half_width_m - g.y()) / near_res - 0.5;
+  const bool in_near = nx > 1 && ny > 1 && nx < atlas.near.width - 2 && ny < atlas.near.height - 2;
+  const double fx = (g.x() + options.far_half_extent_m) / options.far_resolution_m - 0.5;
+  const double fy = (options.far_half_extent_m - g.y()) / options.far_resolution_m - 0.5;
+  const bool in_far = fx > 1 && fy > 1 && fx < atlas.far.width - 2 && fy < atlas.far.height - 2;
+  if (in_near && footprint < kMaxFootprintNearM) {
+    atlas_px =
+        cv::Point2f(static_cast<float>(atlas.near.x + nx), static_cast<float>(atlas.near.y + ny));
+  } else if (in_near) {
+    atlas_px = cv::Point2f(static_cast<float>(atlas.mid.x + (nx + 0.5) / 2 - 0.5),
+                           static_cast<float>(atlas.mid.y + (ny + 0.5) / 2 - 0.5));
+  } else if (in_far) {
+    atlas_px =
+        cv::Point2f(static_cast<float>(atlas.far.x + fx), static_cast<float>(atlas.far.y + fy));
+  }
+  return atlas_px;
+}
+
 CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) const {
   const camera::CameraModel model(config.intrinsics);
   CameraTable t;
@@ -384,56 +513,18 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
   t.vignette = cv::Mat(t.height, t.width, CV_32F, cv::Scalar(0));
   t.ego_shade = cv::Mat(t.height, t.width, CV_32F, cv::Scalar(0));
   cv::Mat map(t.height, t.width, CV_32FC2, cv::Scalar(-10, -10));
-  std::vector<double> off_axis(n, 0.0);
-  double max_off = 1e-6;
-  std::vector<Eigen::Vector3d> cam_rays(n);
-  std::vector<bool> valid(n, false);
-  for (int v = 0; v < t.height; ++v) {
-    for (int u = 0; u < t.width; ++u) {
-      const size_t i =
-          static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
-      const auto ray = model.Unproject(Eigen::Vector2d(u, v));
-      if (!ray) continue;
-      const double angle = std::acos(std::clamp(ray->normalized().z(), -1.0, 1.0));
-      // A real fisheye's image circle ends at its field of view: black beyond.
-      if (angle > kMaxOffAxisRad) continue;
-      valid[i] = true;
-      cam_rays[i] = ray->normalized();
-      off_axis[i] = angle;
-      max_off = std::max(max_off, off_axis[i]);
-    }
-  }
+  const PixelRays pixels = UnprojectPixels(model, t.width, t.height);
   const double cz = t.c_vehicle.z();
-  // The car's own body: bumpers and sills a little beyond the footprint
-  // the fusion masks (below the cameras, so that they hide the floor next
-  // to the car, as a real car's do), the body, and a cabin. A camera on a
-  // part's surface sees that part behind it, not along it.
-  std::vector<Solid> body(3);
-  body[0].center = Eigen::Vector2d(1.35, 0.0);
-  body[0].half_x = 2.35 + 0.04;
-  body[0].half_y = 0.925 + 0.04;
-  body[0].z0 = 0.25;
-  body[0].z1 = 0.45;
-  body[1].center = Eigen::Vector2d(1.35, 0.0);
-  body[1].half_x = 2.35;
-  body[1].half_y = 0.925;
-  body[1].z0 = 0.45;
-  body[1].z1 = 0.9;
-  body[2].center = Eigen::Vector2d(1.4, 0.0);
-  body[2].half_x = 1.25;
-  body[2].half_y = 0.8;
-  body[2].z0 = 0.9;
-  body[2].z1 = 1.45;
-  const double near_res = options.near_resolution_m;
+  const std::vector<Solid> body = EgoBody();
   for (int v = 0; v < t.height; ++v) {
     for (int u = 0; u < t.width; ++u) {
       const size_t i =
           static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
-      if (!valid[i]) continue;
-      const Eigen::Vector3d d = R * cam_rays[i];
+      if (!pixels.valid[i]) continue;
+      const Eigen::Vector3d d = R * pixels.rays[i];
       t.rays[i] = d.cast<float>();
       t.horizontal[i] = static_cast<float>(std::hypot(d.x(), d.y()));
-      const double vig = off_axis[i] / max_off;
+      const double vig = pixels.off_axis[i] / pixels.max_off;
       t.vignette.at<float>(v, u) = static_cast<float>(vig * vig);
       std::uint8_t kind = kUp;
       if (d.z() < -1e-6) {
@@ -443,25 +534,7 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
         // stretched by the grazing angle.
         const double pixel_angle = 1.0 / std::max(1.0, config.intrinsics.fx);
         const double footprint = s * pixel_angle / std::sqrt(std::max(1e-3, -d.z()));
-        cv::Point2f atlas_px(-10, -10);
-        const double nx = (g.x() - options.near_min_x_m) / near_res - 0.5;
-        const double ny = (options.near_half_width_m - g.y()) / near_res - 0.5;
-        const bool in_near =
-            nx > 1 && ny > 1 && nx < atlas.near.width - 2 && ny < atlas.near.height - 2;
-        const double fx = (g.x() + options.far_half_extent_m) / options.far_resolution_m - 0.5;
-        const double fy = (options.far_half_extent_m - g.y()) / options.far_resolution_m - 0.5;
-        const bool in_far =
-            fx > 1 && fy > 1 && fx < atlas.far.width - 2 && fy < atlas.far.height - 2;
-        if (in_near && footprint < kMaxFootprintNearM) {
-          atlas_px = cv::Point2f(static_cast<float>(atlas.near.x + nx),
-                                 static_cast<float>(atlas.near.y + ny));
-        } else if (in_near) {
-          atlas_px = cv::Point2f(static_cast<float>(atlas.mid.x + (nx + 0.5) / 2 - 0.5),
-                                 static_cast<float>(atlas.mid.y + (ny + 0.5) / 2 - 0.5));
-        } else if (in_far) {
-          atlas_px = cv::Point2f(static_cast<float>(atlas.far.x + fx),
-                                 static_cast<float>(atlas.far.y + fy));
-        }
+        const cv::Point2f atlas_px = AtlasPixel(g, footprint);
         if (atlas_px.x >= 0) {
           kind = kGround;
           map.at<cv::Point2f>(v, u) = atlas_px;
@@ -482,98 +555,294 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
     }
   }
   cv::convertMaps(map, cv::noArray(), t.map_xy, t.map_frac, CV_16SC2);
-  std::vector<std::pair<float, int>> az;
-  az.reserve(n);
-  for (size_t i = 0; i < n; ++i) {
-    if (!valid[i]) continue;
-    az.emplace_back(std::atan2(t.rays[i].y(), t.rays[i].x()), static_cast<int>(i));
-  }
-  std::sort(az.begin(), az.end());
-  for (const auto& [a, i] : az) {
-    const size_t k = static_cast<size_t>(i);
-    t.all_pixels.Add(a, i, t.kind.data[k] == kEgo ? -1.0f : t.ground_t[k] * t.horizontal[k]);
-  }
+  IndexByAzimuth(pixels.valid, &t);
   return t;
 }
 
-cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& scene,
-                                          const CameraLook& look, const cv::Mat& atlas_bgr,
-                                          const LightMap& light, const Colour& ego_colour,
-                                          bool full, cv::Mat* solid_mask) const {
-  const std::uint8_t* need = full || t.needed.empty() ? nullptr : t.needed.data;
-  cv::Mat ground;
-  const cv::Range rows = need != nullptr ? t.needed_rows : cv::Range(0, t.height);
-  ground = cv::Mat(t.height, t.width, CV_8UC3);  // read only within rows
-  if (rows.size() > 0) {
-    cv::Mat band = ground.rowRange(rows);
-    cv::remap(atlas_bgr, band, t.map_xy.rowRange(rows), t.map_frac.rowRange(rows), cv::INTER_LINEAR,
-              cv::BORDER_CONSTANT);
-  }
-  const Lighting& l = scene.light;
-  const float light_here = light.At(t.c_vehicle.x(), t.c_vehicle.y());
-  const Colour tint = l.tint;
+namespace {
 
-  // Lamps mirrored in a glossy floor: where the reflection of each lamp
-  // meets the floor for this camera, an elongated highlight.
+// Lamps mirrored in a glossy floor: where the reflection of each lamp meets
+// the floor for this camera, an elongated highlight. A grid of
+// kSpecularCellM cells centred on the camera; empty without gloss.
+cv::Mat SpecularMap(const CameraTable& t, const Scene& scene, const LightMap& light) {
+  const Lighting& l = scene.light;
   cv::Mat specular;
   const int spec_n = static_cast<int>(2 * kSpecularHalfExtentM / kSpecularCellM);
-  if (!l.outdoor && scene.floor.gloss > 0.05) {
-    specular = cv::Mat(spec_n, spec_n, CV_32F, cv::Scalar(0));
-    const double cz = t.c_vehicle.z(), h = l.lamp_height_m;
-    const Eigen::Vector2d c = t.c_vehicle.head<2>();
-    const double s = l.lamp_spacing_m;
-    constexpr double kReachM = 9.0;  // lamps farther mirror beyond the top view
-    for (double gx = std::floor((c.x() - kReachM - l.lamp_offset.x()) / s);
-         gx <= (c.x() + kReachM - l.lamp_offset.x()) / s; gx += 1) {
-      for (double gy = std::floor((c.y() - kReachM - l.lamp_offset.y()) / s);
-           gy <= (c.y() + kReachM - l.lamp_offset.y()) / s; gy += 1) {
-        const Eigen::Vector2d lamp_centre = l.lamp_offset + Eigen::Vector2d(gx, gy) * s;
-        const double strength =
-            35.0 * scene.floor.gloss * light.At(lamp_centre.x(), lamp_centre.y());
-        // A tube 1.2 m along x: its reflection, three blobs along it, each
-        // stretched towards the camera by the grazing view.
-        for (const double along_tube : {-0.45, 0.0, 0.45}) {
-          const Eigen::Vector2d lamp = lamp_centre + Eigen::Vector2d(along_tube, 0.0);
-          const Eigen::Vector2d r = c + (lamp - c) * (cz / (cz + h));
-          const double dist = (r - c).norm();
-          const Eigen::Vector2d away =
-              dist > 1e-3 ? Eigen::Vector2d((r - c) / dist) : Eigen::Vector2d::UnitX();
-          const double along = std::min(1.5, 0.25 + 0.35 * dist),
-                       across = std::min(0.3, 0.08 + 0.04 * dist);
-          const int cx = static_cast<int>((r.x() - c.x() + kSpecularHalfExtentM) / kSpecularCellM);
-          const int cy =
-              static_cast<int>((kSpecularHalfExtentM - (r.y() - c.y())) / kSpecularCellM);
-          const int rad = static_cast<int>(std::ceil(3 * along / kSpecularCellM));
-          for (int y = std::max(0, cy - rad); y < std::min(spec_n, cy + rad); ++y) {
-            for (int x = std::max(0, cx - rad); x < std::min(spec_n, cx + rad); ++x) {
-              const Eigen::Vector2d p(c.x() - kSpecularHalfExtentM + (x + 0.5) * kSpecularCellM,
-                                      c.y() + kSpecularHalfExtentM - (y + 0.5) * kSpecularCellM);
-              const Eigen::Vector2d dp = p - r;
-              const double a = dp.dot(away) / along,
-                           b = (dp.x() * away.y() - dp.y() * away.x()) / across;
-              const double q = a * a + b * b;
-              if (q < 16.0)
-                specular.at<float>(y, x) += static_cast<float>(strength * std::exp(-0.5 * q));
-            }
+  if (l.outdoor || !(scene.floor.gloss > 0.05)) return specular;
+  specular = cv::Mat(spec_n, spec_n, CV_32F, cv::Scalar(0));
+  const double cz = t.c_vehicle.z(), h = l.lamp_height_m;
+  const Eigen::Vector2d c = t.c_vehicle.head<2>();
+  const double s = l.lamp_spacing_m;
+  constexpr double kReachM = 9.0;  // lamps farther mirror beyond the top view
+  for (double gx = std::floor((c.x() - kReachM - l.lamp_offset.x()) / s);
+       gx <= (c.x() + kReachM - l.lamp_offset.x()) / s; gx += 1) {
+    for (double gy = std::floor((c.y() - kReachM - l.lamp_offset.y()) / s);
+         gy <= (c.y() + kReachM - l.lamp_offset.y()) / s; gy += 1) {
+      const Eigen::Vector2d lamp_centre = l.lamp_offset + Eigen::Vector2d(gx, gy) * s;
+      const double strength = 35.0 * scene.floor.gloss * light.At(lamp_centre.x(), lamp_centre.y());
+      // A tube 1.2 m along x: its reflection, three blobs along it, each
+      // stretched towards the camera by the grazing view.
+      for (const double along_tube : {-0.45, 0.0, 0.45}) {
+        const Eigen::Vector2d lamp = lamp_centre + Eigen::Vector2d(along_tube, 0.0);
+        const Eigen::Vector2d r = c + (lamp - c) * (cz / (cz + h));
+        const double dist = (r - c).norm();
+        const Eigen::Vector2d away =
+            dist > 1e-3 ? Eigen::Vector2d((r - c) / dist) : Eigen::Vector2d::UnitX();
+        const double along = std::min(1.5, 0.25 + 0.35 * dist),
+                     across = std::min(0.3, 0.08 + 0.04 * dist);
+        const int cx = static_cast<int>((r.x() - c.x() + kSpecularHalfExtentM) / kSpecularCellM);
+        const int cy = static_cast<int>((kSpecularHalfExtentM - (r.y() - c.y())) / kSpecularCellM);
+        const int rad = static_cast<int>(std::ceil(3 * along / kSpecularCellM));
+        for (int y = std::max(0, cy - rad); y < std::min(spec_n, cy + rad); ++y) {
+          for (int x = std::max(0, cx - rad); x < std::min(spec_n, cx + rad); ++x) {
+            const Eigen::Vector2d p(c.x() - kSpecularHalfExtentM + (x + 0.5) * kSpecularCellM,
+                                    c.y() + kSpecularHalfExtentM - (y + 0.5) * kSpecularCellM);
+            const Eigen::Vector2d dp = p - r;
+            const double a = dp.dot(away) / along,
+                         b = (dp.x() * away.y() - dp.y() * away.x()) / across;
+            const double q = a * a + b * b;
+            if (q < 16.0)
+              specular.at<float>(y, x) += static_cast<float>(strength * std::exp(-0.5 * q));
           }
         }
       }
     }
   }
+  return specular;
+}
 
-  // Every pixel within rows is written below; only the others need zeros.
-  cv::Mat radiance(t.height, t.width, CV_32FC3);
-  radiance.rowRange(0, rows.start).setTo(cv::Scalar::all(0));
-  radiance.rowRange(rows.end, t.height).setTo(cv::Scalar::all(0));
+// What a ray that meets no floor sees: outdoors the sky, trees or a
+// building; indoors the ceiling with its lamps, or the dark below the
+// horizon.
+inline cv::Vec3f SkyOrCeiling(const Eigen::Vector3f& d, const Lighting& l, const LightMap& light,
+                              double ceiling, const Eigen::Vector3d& c_vehicle, float light_here) {
+  const Colour tint = l.tint;
+  cv::Vec3f p;
+  if (l.outdoor) {
+    const float up = std::max(0.0f, d.z());
+    const float azimuth = std::atan2(d.y(), d.x());
+    const float skyline = SkylineElevation(l.seed, azimuth);
+    if (std::asin(std::clamp(d.z(), -1.0f, 1.0f)) < std::abs(skyline)) {
+      // Trees (skyline > 0) or a building (< 0) against the sky.
+      const std::uint64_t leaf =
+          MixSeed(static_cast<std::uint64_t>(std::lround(azimuth * 150.0f)) * 1000 +
+                      static_cast<std::uint64_t>(std::lround(up * 150.0f)),
+                  l.seed);
+      const float foliage = 0.6f + 0.8f * static_cast<float>(leaf % 1000) / 1000.0f;
+      p = skyline > 0 ? cv::Vec3f(45, 85, 60) * foliage
+                      : cv::Vec3f(150, 155, 160) * (std::sin(60.0f * up) > 0.6f ? 0.6f : 1.0f);
+      p *= static_cast<float>(l.gain);
+    } else {
+      p = cv::Vec3f(250 - 30 * up, 235 - 40 * up, 225 - 60 * up) * static_cast<float>(l.gain);
+    }
+  } else if (d.z() > 0.02f) {
+    const float s = static_cast<float>((ceiling - c_vehicle.z()) / d.z());
+    const float x = static_cast<float>(c_vehicle.x()) + s * d.x();
+    const float y = static_cast<float>(c_vehicle.y()) + s * d.y();
+    const double ls = l.lamp_spacing_m;
+    const double lx = x - l.lamp_offset.x() - std::round((x - l.lamp_offset.x()) / ls) * ls;
+    const double ly = y - l.lamp_offset.y() - std::round((y - l.lamp_offset.y()) / ls) * ls;
+    const bool lamp = std::abs(lx) < 0.6 && std::abs(ly) < 0.08;
+    const float level = lamp ? 480.0f : 55.0f * light.At(x, y);
+    p = cv::Vec3f(level * tint[0], level * tint[1], level * tint[2]);
+  } else {
+    const float level = 45.0f * light_here;
+    p = cv::Vec3f(level, level, level);
+  }
+  return p;
+}
+
+// Where a solid can appear from a camera at c2: the wedge of azimuths
+// [lo, hi] (every azimuth when `all`) and the nearest horizontal distance,
+// inside which no ray meets it.
+struct SolidWedge {
+  float lo = 0.0f, hi = 0.0f, near_xy = 0.0f;
+  bool all = false;
+};
+
+SolidWedge WedgeOf(const Solid& solid, const SolidFrame& frame, const Eigen::Vector2d& c2) {
+  // The solid's footprint corners (or its circle's bounding square) seen
+  // from the camera.
+  std::vector<Eigen::Vector2d> corners;
+  if (solid.shape == SolidShape::kBox) {
+    const Eigen::Vector2d ax(frame.cos_yaw, frame.sin_yaw), ay(-ax.y(), ax.x());
+    for (int sx = -1; sx <= 1; sx += 2) {
+      for (int sy = -1; sy <= 1; sy += 2)
+        corners.push_back(solid.center + ax * (sx * solid.half_x) + ay * (sy * solid.half_y));
+    }
+  } else {
+    for (int sx = -1; sx <= 1; sx += 2) {
+      for (int sy = -1; sy <= 1; sy += 2)
+        corners.push_back(solid.center + Eigen::Vector2d(sx, sy) * solid.half_x);
+    }
+  }
+  const Eigen::Vector2d to = solid.center - c2;
+  const double centre = std::atan2(to.y(), to.x());
+  double spread_lo = 0.0, spread_hi = 0.0, nearest = 1e9;
+  bool all = false;
+  for (size_t k = 0; k < corners.size(); ++k) {
+    const Eigen::Vector2d a = corners[k] - c2, b = corners[(k + 1) % corners.size()] - c2;
+    const double rel = AngleDiff(std::atan2(a.y(), a.x()), centre);
+    spread_lo = std::min(spread_lo, rel);
+    spread_hi = std::max(spread_hi, rel);
+    // Distance from the camera to the edge a-b.
+    const Eigen::Vector2d ab = b - a;
+    const double u = std::clamp(-a.dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
+    nearest = std::min(nearest, (a + u * ab).norm());
+  }
+  // Inside the footprint, or a wedge of half a turn or more: every azimuth.
+  const Eigen::Vector2d camera_local = frame.Local(solid, c2);
+  if (spread_hi - spread_lo > 0.95 * kPi ||
+      (solid.shape == SolidShape::kBox && std::abs(camera_local.x()) < solid.half_x &&
+       std::abs(camera_local.y()) < solid.half_y)) {
+    all = true;
+    nearest = 0.0;
+  }
+  SolidWedge w;
+  w.lo = static_cast<float>(centre + spread_lo - 0.01);
+  w.hi = static_cast<float>(centre + spread_hi + 0.01);
+  w.near_xy = static_cast<float>(nearest);
+  w.all = all;
+  return w;
+}
+
+// Solid s against the pixels of `index` in its azimuth wedge: where it is
+// nearer than depth, depth becomes its distance and which becomes s.
+void TraceSolid(const CameraTable& t, const AzimuthIndex& index, const Solid& solid,
+                const SolidFrame& frame, size_t s, std::vector<float>* depth_out,
+                std::vector<std::int16_t>* which_out) {
+  std::vector<float>& depth = *depth_out;
+  std::vector<std::int16_t>& which = *which_out;
+  const SolidWedge wedge = WedgeOf(solid, frame, t.c_vehicle.head<2>());
+  const float lo = wedge.lo, hi = wedge.hi;
+  const float near_xy = wedge.near_xy;
+  const auto scan = [&](float a0, float a1) {
+    const auto first = std::lower_bound(index.azimuth.begin(), index.azimuth.end(), a0);
+    const auto last = std::upper_bound(index.azimuth.begin(), index.azimuth.end(), a1);
+    const size_t k0 = static_cast<size_t>(first - index.azimuth.begin());
+    const size_t k1 = static_cast<size_t>(last - index.azimuth.begin());
+    for (size_t k = k0; k < k1; ++k) {
+      // Rays that meet the floor (or the car) before the solid's nearest
+      // point cannot meet it: read in azimuth order, contiguous.
+      if (index.reach[k] < near_xy) continue;
+      const size_t i = static_cast<size_t>(index.pixel[k]);
+      if (depth[i] * t.horizontal[i] < near_xy) continue;
+      SolidHit hit;
+      hit.t = depth[i];
+      if (Intersect(solid, frame.cos_yaw, frame.sin_yaw, t.c_vehicle, t.rays[i], &hit)) {
+        depth[i] = hit.t;
+        which[i] = static_cast<std::int16_t>(s);
+      }
+    }
+  };
+  if (wedge.all) {
+    scan(-static_cast<float>(kPi) - 1, static_cast<float>(kPi) + 1);
+  } else {
+    const float pi = static_cast<float>(kPi);
+    if (lo < -pi) {
+      scan(lo + 2 * pi, pi + 1);
+      scan(-pi - 1, hi);
+    } else if (hi > pi) {
+      scan(lo, pi + 1);
+      scan(-pi - 1, hi - 2 * pi);
+    } else {
+      scan(lo, hi);
+    }
+  }
+}
+
+// A solid's colour where a ray hit it (p, local: the point in the map and
+// in the solid's frame; facing: |cos| of the angle to the normal).
+Colour SolidAlbedo(const Solid& solid, const SolidFrame& frame, const SolidHit& hit,
+                   const Eigen::Vector3f& p, const Eigen::Vector2d& local, float facing) {
+  Colour albedo = solid.colour;
+  switch (solid.material) {
+    case SolidMaterial::kPaint: {
+      // A car body: a sill in shadow, a highlight along the shoulder,
+      // lamps at the corners of its ends, a sheen at grazing angles.
+      albedo *= 0.6f + 0.4f * facing + (hit.top ? 0.15f : 0.0f);
+      // Sides darken downwards (they face the floor's dark, not the sky).
+      if (!hit.top)
+        albedo *= 0.75f + 0.35f * static_cast<float>((p.z() - solid.z0) / (solid.z1 - solid.z0));
+      const double lx = local.x(), ly = local.y();
+      if (!hit.top) {
+        if (p.z() < solid.z0 + 0.15) albedo *= 0.55f;
+        if (p.z() > solid.z1 - 0.07) albedo *= 1.25f;
+        const bool end = std::abs(std::abs(lx) - solid.half_x) < 0.02;
+        if (end && std::abs(ly) > solid.half_y - 0.35 && p.z() > solid.z1 - 0.25) {
+          albedo = lx > 0 ? Colour(215, 225, 230) : Colour(40, 40, 190);
+        }
+      }
+      albedo += Colour(35, 35, 35) * (1.0f - facing);
+      break;
+    }
+    case SolidMaterial::kGlass:
+      // Glass mirrors the bright sky or ceiling above at grazing angles.
+      if (!hit.top) {
+        const float up = static_cast<float>((p.z() - solid.z0) / (solid.z1 - solid.z0));
+        albedo = Colour(45, 42, 40) * (1.0f + 1.2f * (1.0f - facing)) + Colour(30, 30, 28) * up;
+      }
+      break;
+    case SolidMaterial::kTyre: {
+      // A rim on each sidewall.
+      const bool sidewall =
+          std::abs(hit.normal.x() * -frame.sin_yaw + hit.normal.y() * frame.cos_yaw) > 0.9;
+      const double r = std::hypot(local.x(), p.z() - (solid.z0 + solid.z1) / 2);
+      if (sidewall && r < 0.19) albedo = r < 0.05 ? Colour(90, 90, 95) : Colour(165, 168, 172);
+      albedo *= 0.7f + 0.3f * facing;
+      break;
+    }
+    case SolidMaterial::kMatt:
+    case SolidMaterial::kSkin:
+      albedo *= 0.65f + 0.35f * facing;
+      break;
+  }
+  if (solid.stripes) {
+    if (solid.shape == SolidShape::kCone) {
+      const double f = (p.z() - solid.z0) / (solid.z1 - solid.z0);
+      if (f > 0.45 && f < 0.7) albedo = Colour(235, 235, 235);
+    } else if (p.z() < 1.0 && !hit.top) {
+      const bool dark = static_cast<int>(std::floor((p.x() + p.y() + p.z()) / 0.2)) % 2 == 0;
+      albedo = dark ? Colour(35, 35, 35) : Colour(30, 190, 230);
+    }
+  }
+  return albedo;
+}
+
+// Auto exposure: each camera meters its own image (every 7th pixel), so the
+// four differ where they see different things (visible seams).
+float AutoGain(const CameraTable& t, const cv::Mat& radiance) {
+  const size_t n = t.rays.size();
+  double sum = 0.0;
+  int count = 0;
+  const cv::Vec3f* px = radiance.ptr<cv::Vec3f>(0);
+  for (size_t i = 0; i < n; i += 7) {
+    if (t.kind.data[i] == kNone || (!t.metered.empty() && t.metered.data[i] == 0)) continue;
+    sum += Luma(px[i]);
+    ++count;
+  }
+  const float metered = count > 0 ? static_cast<float>(sum / count) : kAutoExposureTarget;
+  return std::clamp(kAutoExposureTarget / std::max(1.0f, metered), 0.3f, 4.0f);
+}
+
+}  // namespace
+
+// The floor, the sky or ceiling, and the car's body, within rows (the
+// pixels the top view does not need black when need is given).
+void SceneRenderer::Impl::ShadeBackground(const CameraTable& t, const Scene& scene,
+                                          const LightMap& light, const Colour& ego_colour,
+                                          const cv::Mat& ground, const cv::Mat& specular,
+                                          const std::uint8_t* need, const cv::Range& rows,
+                                          cv::Mat* radiance) const {
+  const Lighting& l = scene.light;
+  const float light_here = light.At(t.c_vehicle.x(), t.c_vehicle.y());
+  const Colour tint = l.tint;
+  const int spec_n = static_cast<int>(2 * kSpecularHalfExtentM / kSpecularCellM);
   const double ceiling = options.ceiling_height_m;
-  const Eigen::Vector3f sun(
-      static_cast<float>(std::cos(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
-      static_cast<float>(std::sin(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
-      static_cast<float>(std::sin(l.sun_elevation_rad)));
   for (int v = rows.start; v < rows.end; ++v) {
     const std::uint8_t* kind = t.kind.ptr<std::uint8_t>(v);
     const cv::Vec3b* g = ground.ptr<cv::Vec3b>(v);
-    cv::Vec3f* out = radiance.ptr<cv::Vec3f>(v);
+    cv::Vec3f* out = radiance->ptr<cv::Vec3f>(v);
     const float* ego = t.ego_shade.ptr<float>(v);
     for (int u = 0; u < t.width; ++u) {
       const size_t i =
@@ -599,43 +868,9 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
           }
           break;
         }
-        case kUp: {
-          const Eigen::Vector3f& d = t.rays[i];
-          if (l.outdoor) {
-            const float up = std::max(0.0f, d.z());
-            const float azimuth = std::atan2(d.y(), d.x());
-            const float skyline = SkylineElevation(l.seed, azimuth);
-            if (std::asin(std::clamp(d.z(), -1.0f, 1.0f)) < std::abs(skyline)) {
-              // Trees (skyline > 0) or a building (< 0) against the sky.
-              const std::uint64_t leaf =
-                  MixSeed(static_cast<std::uint64_t>(std::lround(azimuth * 150.0f)) * 1000 +
-                              static_cast<std::uint64_t>(std::lround(up * 150.0f)),
-                          l.seed);
-              const float foliage = 0.6f + 0.8f * static_cast<float>(leaf % 1000) / 1000.0f;
-              p = skyline > 0
-                      ? cv::Vec3f(45, 85, 60) * foliage
-                      : cv::Vec3f(150, 155, 160) * (std::sin(60.0f * up) > 0.6f ? 0.6f : 1.0f);
-              p *= static_cast<float>(l.gain);
-            } else {
-              p = cv::Vec3f(250 - 30 * up, 235 - 40 * up, 225 - 60 * up) *
-                  static_cast<float>(l.gain);
-            }
-          } else if (d.z() > 0.02f) {
-            const float s = static_cast<float>((ceiling - t.c_vehicle.z()) / d.z());
-            const float x = static_cast<float>(t.c_vehicle.x()) + s * d.x();
-            const float y = static_cast<float>(t.c_vehicle.y()) + s * d.y();
-            const double ls = l.lamp_spacing_m;
-            const double lx = x - l.lamp_offset.x() - std::round((x - l.lamp_offset.x()) / ls) * ls;
-            const double ly = y - l.lamp_offset.y() - std::round((y - l.lamp_offset.y()) / ls) * ls;
-            const bool lamp = std::abs(lx) < 0.6 && std::abs(ly) < 0.08;
-            const float level = lamp ? 480.0f : 55.0f * light.At(x, y);
-            p = cv::Vec3f(level * tint[0], level * tint[1], level * tint[2]);
-          } else {
-            const float level = 45.0f * light_here;
-            p = cv::Vec3f(level, level, level);
-          }
+        case kUp:
+          p = SkyOrCeiling(t.rays[i], l, light, ceiling, t.c_vehicle, light_here);
           break;
-        }
         case kEgo: {
           const float shade = ego[u] * light_here;
           for (int k = 0; k < 3; ++k) p[k] = ego_colour[k] * shade * tint[k];
@@ -646,93 +881,27 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
       }
     }
   }
+}
 
-  // Solids, each in the azimuth wedge it covers.
+// The solids, each in the azimuth wedge it covers, over the background.
+void SceneRenderer::Impl::ShadeSolids(const CameraTable& t, const Scene& scene,
+                                      const LightMap& light, const std::uint8_t* need,
+                                      cv::Mat* radiance, cv::Mat* solid_mask) const {
+  const Lighting& l = scene.light;
+  const Colour tint = l.tint;
+  const Eigen::Vector3f sun(
+      static_cast<float>(std::cos(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
+      static_cast<float>(std::sin(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
+      static_cast<float>(std::sin(l.sun_elevation_rad)));
   const size_t n = t.rays.size();
   std::vector<float> depth(t.ground_t);
   std::vector<std::int16_t> which(n, -1);
-  const Eigen::Vector2d c2 = t.c_vehicle.head<2>();
   std::vector<SolidFrame> frames;
   frames.reserve(scene.solids.size());
   for (const Solid& solid : scene.solids) frames.emplace_back(solid);
+  const AzimuthIndex& index = need != nullptr ? t.needed_pixels : t.all_pixels;
   for (size_t s = 0; s < scene.solids.size(); ++s) {
-    const Solid& solid = scene.solids[s];
-    const SolidFrame& frame = frames[s];
-    // The solid's footprint corners (or its circle's bounding square) seen
-    // from the camera: the wedge of azimuths, and the nearest horizontal
-    // distance, inside which no ray meets it.
-    std::vector<Eigen::Vector2d> corners;
-    if (solid.shape == SolidShape::kBox) {
-      const Eigen::Vector2d ax(frame.cos_yaw, frame.sin_yaw), ay(-ax.y(), ax.x());
-      for (int sx = -1; sx <= 1; sx += 2) {
-        for (int sy = -1; sy <= 1; sy += 2)
-          corners.push_back(solid.center + ax * (sx * solid.half_x) + ay * (sy * solid.half_y));
-      }
-    } else {
-      for (int sx = -1; sx <= 1; sx += 2) {
-        for (int sy = -1; sy <= 1; sy += 2)
-          corners.push_back(solid.center + Eigen::Vector2d(sx, sy) * solid.half_x);
-      }
-    }
-    const Eigen::Vector2d to = solid.center - c2;
-    const double centre = std::atan2(to.y(), to.x());
-    double spread_lo = 0.0, spread_hi = 0.0, nearest = 1e9;
-    bool all = false;
-    for (size_t k = 0; k < corners.size(); ++k) {
-      const Eigen::Vector2d a = corners[k] - c2, b = corners[(k + 1) % corners.size()] - c2;
-      const double rel = AngleDiff(std::atan2(a.y(), a.x()), centre);
-      spread_lo = std::min(spread_lo, rel);
-      spread_hi = std::max(spread_hi, rel);
-      // Distance from the camera to the edge a-b.
-      const Eigen::Vector2d ab = b - a;
-      const double u = std::clamp(-a.dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
-      nearest = std::min(nearest, (a + u * ab).norm());
-    }
-    // Inside the footprint, or a wedge of half a turn or more: every azimuth.
-    const Eigen::Vector2d camera_local = frame.Local(solid, c2);
-    if (spread_hi - spread_lo > 0.95 * kPi ||
-        (solid.shape == SolidShape::kBox && std::abs(camera_local.x()) < solid.half_x &&
-         std::abs(camera_local.y()) < solid.half_y)) {
-      all = true;
-      nearest = 0.0;
-    }
-    float lo = static_cast<float>(centre + spread_lo - 0.01),
-          hi = static_cast<float>(centre + spread_hi + 0.01);
-    const float near_xy = static_cast<float>(nearest);
-    const auto scan = [&](float a0, float a1) {
-      const AzimuthIndex& index = need != nullptr ? t.needed_pixels : t.all_pixels;
-      const auto first = std::lower_bound(index.azimuth.begin(), index.azimuth.end(), a0);
-      const auto last = std::upper_bound(index.azimuth.begin(), index.azimuth.end(), a1);
-      const size_t k0 = static_cast<size_t>(first - index.azimuth.begin());
-      const size_t k1 = static_cast<size_t>(last - index.azimuth.begin());
-      for (size_t k = k0; k < k1; ++k) {
-        // Rays that meet the floor (or the car) before the solid's nearest
-        // point cannot meet it: read in azimuth order, contiguous.
-        if (index.reach[k] < near_xy) continue;
-        const size_t i = static_cast<size_t>(index.pixel[k]);
-        if (depth[i] * t.horizontal[i] < near_xy) continue;
-        SolidHit hit;
-        hit.t = depth[i];
-        if (Intersect(solid, frame.cos_yaw, frame.sin_yaw, t.c_vehicle, t.rays[i], &hit)) {
-          depth[i] = hit.t;
-          which[i] = static_cast<std::int16_t>(s);
-        }
-      }
-    };
-    if (all) {
-      scan(-static_cast<float>(kPi) - 1, static_cast<float>(kPi) + 1);
-    } else {
-      const float pi = static_cast<float>(kPi);
-      if (lo < -pi) {
-        scan(lo + 2 * pi, pi + 1);
-        scan(-pi - 1, hi);
-      } else if (hi > pi) {
-        scan(lo, pi + 1);
-        scan(-pi - 1, hi - 2 * pi);
-      } else {
-        scan(lo, hi);
-      }
-    }
+    TraceSolid(t, index, scene.solids[s], frames[s], s, &depth, &which);
   }
   if (solid_mask != nullptr) *solid_mask = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(0));
   for (size_t i = 0; i < n; ++i) {
@@ -746,87 +915,46 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
     const float facing = std::abs(hit.normal.dot(t.rays[i]));
     float lit = light.At(p.x(), p.y());
     if (l.outdoor) lit *= 0.55f + 0.6f * std::max(0.0f, hit.normal.dot(sun));
-    Colour albedo = solid.colour;
-    switch (solid.material) {
-      case SolidMaterial::kPaint: {
-        // A car body: a sill in shadow, a highlight along the shoulder,
-        // lamps at the corners of its ends, a sheen at grazing angles.
-        albedo *= 0.6f + 0.4f * facing + (hit.top ? 0.15f : 0.0f);
-        // Sides darken downwards (they face the floor's dark, not the sky).
-        if (!hit.top)
-          albedo *= 0.75f + 0.35f * static_cast<float>((p.z() - solid.z0) / (solid.z1 - solid.z0));
-        const double lx = local.x(), ly = local.y();
-        if (!hit.top) {
-          if (p.z() < solid.z0 + 0.15) albedo *= 0.55f;
-          if (p.z() > solid.z1 - 0.07) albedo *= 1.25f;
-          const bool end = std::abs(std::abs(lx) - solid.half_x) < 0.02;
-          if (end && std::abs(ly) > solid.half_y - 0.35 && p.z() > solid.z1 - 0.25) {
-            albedo = lx > 0 ? Colour(215, 225, 230) : Colour(40, 40, 190);
-          }
-        }
-        albedo += Colour(35, 35, 35) * (1.0f - facing);
-        break;
-      }
-      case SolidMaterial::kGlass:
-        // Glass mirrors the bright sky or ceiling above at grazing angles.
-        if (!hit.top) {
-          const float up = static_cast<float>((p.z() - solid.z0) / (solid.z1 - solid.z0));
-          albedo = Colour(45, 42, 40) * (1.0f + 1.2f * (1.0f - facing)) + Colour(30, 30, 28) * up;
-        }
-        break;
-      case SolidMaterial::kTyre: {
-        // A rim on each sidewall.
-        const bool sidewall =
-            std::abs(hit.normal.x() * -frame.sin_yaw + hit.normal.y() * frame.cos_yaw) > 0.9;
-        const double r = std::hypot(local.x(), p.z() - (solid.z0 + solid.z1) / 2);
-        if (sidewall && r < 0.19) albedo = r < 0.05 ? Colour(90, 90, 95) : Colour(165, 168, 172);
-        albedo *= 0.7f + 0.3f * facing;
-        break;
-      }
-      case SolidMaterial::kMatt:
-      case SolidMaterial::kSkin:
-        albedo *= 0.65f + 0.35f * facing;
-        break;
-    }
-    if (solid.stripes) {
-      if (solid.shape == SolidShape::kCone) {
-        const double f = (p.z() - solid.z0) / (solid.z1 - solid.z0);
-        if (f > 0.45 && f < 0.7) albedo = Colour(235, 235, 235);
-      } else if (p.z() < 1.0 && !hit.top) {
-        const bool dark = static_cast<int>(std::floor((p.x() + p.y() + p.z()) / 0.2)) % 2 == 0;
-        albedo = dark ? Colour(35, 35, 35) : Colour(30, 190, 230);
-      }
-    }
+    const Colour albedo = SolidAlbedo(solid, frame, hit, p, local, facing);
     cv::Vec3f& out =
-        radiance.at<cv::Vec3f>(static_cast<int>(i) / t.width, static_cast<int>(i) % t.width);
+        radiance->at<cv::Vec3f>(static_cast<int>(i) / t.width, static_cast<int>(i) % t.width);
     for (int k = 0; k < 3; ++k) out[k] = albedo[k] * lit * tint[k];
     if (solid_mask != nullptr) solid_mask->data[i] = 255;
   }
+}
 
-  // Auto exposure: each camera meters its own image (every 7th pixel), so
-  // the four differ where they see different things (visible seams).
-  double sum = 0.0;
-  int count = 0;
-  const cv::Vec3f* px = radiance.ptr<cv::Vec3f>(0);
-  for (size_t i = 0; i < n; i += 7) {
-    if (t.kind.data[i] == kNone || (!t.metered.empty() && t.metered.data[i] == 0)) continue;
-    sum += Luma(px[i]);
-    ++count;
+cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& scene,
+                                          const CameraLook& look, const cv::Mat& atlas_bgr,
+                                          const LightMap& light, const Colour& ego_colour,
+                                          bool full, cv::Mat* solid_mask) const {
+  const std::uint8_t* need = full || t.needed.empty() ? nullptr : t.needed.data;
+  cv::Mat ground;
+  const cv::Range rows = need != nullptr ? t.needed_rows : cv::Range(0, t.height);
+  ground = cv::Mat(t.height, t.width, CV_8UC3);  // read only within rows
+  if (rows.size() > 0) {
+    cv::Mat band = ground.rowRange(rows);
+    cv::remap(atlas_bgr, band, t.map_xy.rowRange(rows), t.map_frac.rowRange(rows), cv::INTER_LINEAR,
+              cv::BORDER_CONSTANT);
   }
-  const float metered = count > 0 ? static_cast<float>(sum / count) : kAutoExposureTarget;
-  const float auto_gain = std::clamp(kAutoExposureTarget / std::max(1.0f, metered), 0.3f, 4.0f);
+  const cv::Mat specular = SpecularMap(t, scene, light);
+
+  // Every pixel within rows is written below; only the others need zeros.
+  cv::Mat radiance(t.height, t.width, CV_32FC3);
+  radiance.rowRange(0, rows.start).setTo(cv::Scalar::all(0));
+  radiance.rowRange(rows.end, t.height).setTo(cv::Scalar::all(0));
+  ShadeBackground(t, scene, light, ego_colour, ground, specular, need, rows, &radiance);
+  ShadeSolids(t, scene, light, need, &radiance, solid_mask);
+  const float auto_gain = AutoGain(t, radiance);
   cv::Mat out8;
   ApplyLook(look, t, auto_gain, full, &radiance, &out8);
   return out8;
 }
 
-// The camera: exposure, white balance, vignetting, defocus, motion blur,
-// glare, a dirty lens, noise, and compression.
-void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& table,
-                                    float auto_gain, bool full, cv::Mat* radiance,
-                                    cv::Mat* out8) const {
-  cv::Mat& img = *radiance;
-  cv::RNG rng(MixSeed(look.seed, 0xca));
+namespace {
+
+// Dirt on the lens: blurred, brownish spots.
+void AddDirt(const CameraLook& look, cv::RNG& rng, cv::Mat* image) {
+  cv::Mat& img = *image;
   for (int s = 0; s < look.dirt_spots; ++s) {
     const int radius = static_cast<int>(rng.uniform(20.0, 70.0));
     const cv::Point centre(rng.uniform(0, img.cols), rng.uniform(0, img.rows));
@@ -848,69 +976,27 @@ void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& t
       }
     }
   }
-  if (look.glare > 0) {
-    const cv::Point2f centre(static_cast<float>(rng.uniform(0.2, 0.8) * img.cols),
-                             static_cast<float>(rng.uniform(0.0, 0.3) * img.rows));
-    const float radius = static_cast<float>(0.35 * img.cols);
-    for (int r = 0; r < img.rows; ++r) {
-      cv::Vec3f* row = img.ptr<cv::Vec3f>(r);
-      for (int c = 0; c < img.cols; ++c) {
-        const float dx = c - centre.x, dy = r - centre.y;
-        const float add = static_cast<float>(look.glare) *
-                          (220.0f * std::exp(-(dx * dx + dy * dy) / (radius * radius)) + 25.0f);
-        row[c] += cv::Vec3f(add * 0.9f, add * 0.97f, add);
-      }
+}
+
+// Glare from a light source in the upper part of the image.
+void AddGlare(const CameraLook& look, cv::RNG& rng, cv::Mat* image) {
+  cv::Mat& img = *image;
+  const cv::Point2f centre(static_cast<float>(rng.uniform(0.2, 0.8) * img.cols),
+                           static_cast<float>(rng.uniform(0.0, 0.3) * img.rows));
+  const float radius = static_cast<float>(0.35 * img.cols);
+  for (int r = 0; r < img.rows; ++r) {
+    cv::Vec3f* row = img.ptr<cv::Vec3f>(r);
+    for (int c = 0; c < img.cols; ++c) {
+      const float dx = c - centre.x, dy = r - centre.y;
+      const float add = static_cast<float>(look.glare) *
+                        (220.0f * std::exp(-(dx * dx + dy * dy) / (radius * radius)) + 25.0f);
+      row[c] += cv::Vec3f(add * 0.9f, add * 0.97f, add);
     }
   }
-  // Exposure, white balance and vignetting into 8 bits; the optics' blur
-  // (on 8 bits: four times cheaper than on radiance); then sensor noise.
-  const float gain[3] = {static_cast<float>(auto_gain * look.exposure * look.white_balance[0]),
-                         static_cast<float>(auto_gain * look.exposure * look.white_balance[1]),
-                         static_cast<float>(auto_gain * look.exposure * look.white_balance[2])};
-  const float vig = static_cast<float>(look.vignetting);
-  const int ox0 = rng.uniform(0, kNoiseBankSize), oy0 = rng.uniform(0, kNoiseBankSize);
-  const int ox1 = rng.uniform(0, kNoiseBankSize), ox2 = rng.uniform(0, kNoiseBankSize);
-  const float sigma = static_cast<float>(look.noise_sigma);
-  const bool masked = !full && !table.needed.empty();
-  const bool blurred =
-      look.defocus_px > 0.3 || look.motion_blur_px >= 1.0 || look.sensor_scale < 0.98;
-  // Without blur, one pass does all; with it, the noise comes after.
-  const auto pass = [&](bool light, bool noise) {
-    for (int r = 0; r < img.rows; ++r) {
-      const cv::Vec3f* in = img.ptr<cv::Vec3f>(r);
-      const float* vrow = table.vignette.ptr<float>(r);
-      cv::Vec3b* o = out8->ptr<cv::Vec3b>(r);
-      const std::uint8_t* kind = table.kind.ptr<std::uint8_t>(r);
-      const std::uint8_t* need = masked ? table.needed.ptr<std::uint8_t>(r) : nullptr;
-      const float* n0 = noise_bank.ptr<float>((r + oy0) % kNoiseBankSize);
-      int i0 = ox0, i1 = ox1, i2 = ox2;
-      for (int c = 0; c < img.cols; ++c) {
-        if (++i0 == kNoiseBankSize) i0 = 0;
-        if (++i1 == kNoiseBankSize) i1 = 0;
-        if (++i2 == kNoiseBankSize) i2 = 0;
-        if (kind[c] == kNone || (need != nullptr && need[c] == 0)) {
-          o[c] = cv::Vec3b(0, 0, 0);
-          continue;
-        }
-        float v[3];
-        if (light) {
-          const float fall = 1.0f - vig * vrow[c];
-          for (int k = 0; k < 3; ++k) v[k] = in[c][k] * gain[k] * fall;
-        } else {
-          for (int k = 0; k < 3; ++k) v[k] = o[c][k];
-        }
-        if (noise) {
-          const float lum = sigma * n0[i0];
-          v[0] += lum + 0.5f * sigma * n0[i1];
-          v[1] += lum;
-          v[2] += lum + 0.5f * sigma * n0[i2];
-        }
-        for (int k = 0; k < 3; ++k) o[c][k] = cv::saturate_cast<std::uint8_t>(v[k]);
-      }
-    }
-  };
-  *out8 = cv::Mat(img.size(), CV_8UC3);
-  pass(true, !blurred);
+}
+
+// The optics' blur on the 8-bit image: defocus, a coarser sensor, motion.
+void BlurOptics(const CameraLook& look, cv::Mat* out8) {
   if (look.defocus_px > 0.3) cv::GaussianBlur(*out8, *out8, cv::Size(), look.defocus_px);
   if (look.sensor_scale < 0.98) {
     cv::Mat coarse;
@@ -927,7 +1013,83 @@ void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& t
     kernel /= std::max(1e-6, cv::sum(kernel)[0]);
     cv::filter2D(*out8, *out8, -1, kernel);
   }
-  if (blurred) pass(false, true);
+}
+
+}  // namespace
+
+// Exposure, white balance and vignetting into 8 bits (light), and sensor
+// noise from the noise bank (noise); either or both in one pass.
+void SceneRenderer::Impl::Develop(const cv::Mat& img, const CameraTable& table,
+                                  const DevelopParams& params, bool light, bool noise,
+                                  cv::Mat* out8) const {
+  const float gain[3] = {params.gain[0], params.gain[1], params.gain[2]};
+  const float vig = params.vignetting;
+  const int ox0 = params.ox0, oy0 = params.oy0, ox1 = params.ox1, ox2 = params.ox2;
+  const float sigma = params.sigma;
+  const bool masked = params.masked;
+  for (int r = 0; r < img.rows; ++r) {
+    const cv::Vec3f* in = img.ptr<cv::Vec3f>(r);
+    const float* vrow = table.vignette.ptr<float>(r);
+    cv::Vec3b* o = out8->ptr<cv::Vec3b>(r);
+    const std::uint8_t* kind = table.kind.ptr<std::uint8_t>(r);
+    const std::uint8_t* need = masked ? table.needed.ptr<std::uint8_t>(r) : nullptr;
+    const float* n0 = noise_bank.ptr<float>((r + oy0) % kNoiseBankSize);
+    int i0 = ox0, i1 = ox1, i2 = ox2;
+    for (int c = 0; c < img.cols; ++c) {
+      if (++i0 == kNoiseBankSize) i0 = 0;
+      if (++i1 == kNoiseBankSize) i1 = 0;
+      if (++i2 == kNoiseBankSize) i2 = 0;
+      if (kind[c] == kNone || (need != nullptr && need[c] == 0)) {
+        o[c] = cv::Vec3b(0, 0, 0);
+        continue;
+      }
+      float v[3];
+      if (light) {
+        const float fall = 1.0f - vig * vrow[c];
+        for (int k = 0; k < 3; ++k) v[k] = in[c][k] * gain[k] * fall;
+      } else {
+        for (int k = 0; k < 3; ++k) v[k] = o[c][k];
+      }
+      if (noise) {
+        const float lum = sigma * n0[i0];
+        v[0] += lum + 0.5f * sigma * n0[i1];
+        v[1] += lum;
+        v[2] += lum + 0.5f * sigma * n0[i2];
+      }
+      for (int k = 0; k < 3; ++k) o[c][k] = cv::saturate_cast<std::uint8_t>(v[k]);
+    }
+  }
+}
+
+// The camera: exposure, white balance, vignetting, defocus, motion blur,
+// glare, a dirty lens, noise, and compression.
+void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& table,
+                                    float auto_gain, bool full, cv::Mat* radiance,
+                                    cv::Mat* out8) const {
+  cv::Mat& img = *radiance;
+  cv::RNG rng(MixSeed(look.seed, 0xca));
+  AddDirt(look, rng, &img);
+  if (look.glare > 0) AddGlare(look, rng, &img);
+  // Exposure, white balance and vignetting into 8 bits; the optics' blur
+  // (on 8 bits: four times cheaper than on radiance); then sensor noise.
+  DevelopParams params;
+  params.gain[0] = static_cast<float>(auto_gain * look.exposure * look.white_balance[0]);
+  params.gain[1] = static_cast<float>(auto_gain * look.exposure * look.white_balance[1]);
+  params.gain[2] = static_cast<float>(auto_gain * look.exposure * look.white_balance[2]);
+  params.vignetting = static_cast<float>(look.vignetting);
+  params.ox0 = rng.uniform(0, kNoiseBankSize);
+  params.oy0 = rng.uniform(0, kNoiseBankSize);
+  params.ox1 = rng.uniform(0, kNoiseBankSize);
+  params.ox2 = rng.uniform(0, kNoiseBankSize);
+  params.sigma = static_cast<float>(look.noise_sigma);
+  params.masked = !full && !table.needed.empty();
+  const bool blurred =
+      look.defocus_px > 0.3 || look.motion_blur_px >= 1.0 || look.sensor_scale < 0.98;
+  // Without blur, one pass does all; with it, the noise comes after.
+  *out8 = cv::Mat(img.size(), CV_8UC3);
+  Develop(img, table, params, true, !blurred, out8);
+  BlurOptics(look, out8);
+  if (blurred) Develop(img, table, params, false, true, out8);
   if (look.jpeg_quality < 95) {
     std::vector<std::uint8_t> bytes;
     cv::imencode(".jpg", *out8, bytes, {cv::IMWRITE_JPEG_QUALITY, look.jpeg_quality});

@@ -190,11 +190,7 @@ void CheckRoute(const RouteConfig& r, Checker& c) {
             "Hz");
 }
 
-void CheckSensors(const SensorConfig& s, Checker& c) {
-  std::string odometry_error;
-  c.Require(s.odometry.IsValid(&odometry_error), odometry_error);
-
-  const SlotSensorConfig& sl = s.slots;
+void CheckSlotSensor(const SlotSensorConfig& sl, Checker& c) {
   c.InRange(sl.rate_hz, kMinSensorRate_hz, kMaxCameraRate_hz, "sensors.slots.rate_hz", "Hz");
   c.InRange(sl.view_length_m, kMinTopViewSide_m, kMaxTopViewSide_m, "sensors.slots.view_length_m",
             "m");
@@ -222,16 +218,18 @@ void CheckSensors(const SensorConfig& s, Checker& c) {
             "m");
   c.InRange(sl.far_direction_sigma_deg, 0.0, RadToDeg(kMaxAngleSigma_rad),
             "sensors.slots.far_direction_sigma_deg", "deg");
+}
 
-  const IdSensorConfig& id = s.ids;
+void CheckIdSensor(const IdSensorConfig& id, Checker& c) {
   c.Rate(id.confusion_rate, "sensors.ids.confusion_rate");
   c.Rate(id.partial_rate, "sensors.ids.partial_rate");
   c.Rate(id.unreadable_rate, "sensors.ids.unreadable_rate");
   c.Require(id.confusion_rate + id.partial_rate + id.unreadable_rate <= 1.0, "sensors.ids",
             "confusion_rate + partial_rate + unreadable_rate must not exceed 1");
   c.Rate(id.true_digit_second_rate, "sensors.ids.true_digit_second_rate");
+}
 
-  const TagSensorConfig& t = s.tags;
+void CheckTagSensor(const TagSensorConfig& t, Checker& c) {
   c.InRange(t.rate_hz, kMinSensorRate_hz, kMaxCameraRate_hz, "sensors.tags.rate_hz", "Hz");
   c.Magnitude(t.camera_x_m, kMaxCameraOffset_m, "sensors.tags.camera_x_m", "m");
   c.Magnitude(t.camera_y_m, kMaxCameraOffset_m, "sensors.tags.camera_y_m", "m");
@@ -270,6 +268,14 @@ void CheckSensors(const SensorConfig& s, Checker& c) {
   c.Require(yaw_sigma_rad <= kMaxAngleSigma_rad, "sensors.tags.yaw_sigma_rad",
             "grows beyond " + Limit(kMaxAngleSigma_rad) +
                 " rad at max_range_m (yaw_sigma_rad + yaw_sigma_per_m * max_range_m)");
+}
+
+void CheckSensors(const SensorConfig& s, Checker& c) {
+  std::string odometry_error;
+  c.Require(s.odometry.IsValid(&odometry_error), odometry_error);
+  CheckSlotSensor(s.slots, c);
+  CheckIdSensor(s.ids, c);
+  CheckTagSensor(s.tags, c);
 }
 
 SlotRowConfig Row(const char* kind, double x, double y, bool far_side_left, int count, int first_id,

@@ -120,22 +120,12 @@ std::vector<std::pair<std::string, std::string>> FlattenMetrics(const nlohmann::
   return out;
 }
 
-std::string RenderReportHtml(const ReportData& data) {
-  for (const ReportFigure& f : data.figures) {
-    if (f.key.empty())
-      throw std::invalid_argument("RenderReportHtml: a figure without a metrics key");
-  }
-  const nlohmann::json& scene = data.scene;
-  std::string h;
-  h.reserve(1 << 20);
-  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>";
-  h += XmlEscape(data.title);
-  h += "</title>\n<style>";
-  h += kStyle;
-  h += "</style></head><body>\n<h1>" + XmlEscape(data.title) + "</h1>\n";
-  h += "<p>Made by <code>" + XmlEscape(data.command) + "</code>, parkslam " +
-       XmlEscape(data.version) + ".</p>\n";
+namespace {
 
+// The figures computed from the run's files, each checked against
+// metrics.json where the run recorded it.
+void AppendFigures(const ReportData& data, std::string* out) {
+  std::string& h = *out;
   if (!data.figures.empty()) {
     h += "<h2>Figures</h2>\n<p>Each figure is computed from the run's files and, where the run "
          "recorded it, compared with <code>metrics.json</code> (&#x2713;: they agree).</p>\n"
@@ -170,7 +160,12 @@ std::string RenderReportHtml(const ReportData& data) {
     }
     h += "</table>\n";
   }
+}
 
+// Headings, captions and the places the page's script draws into, for
+// the parts the scene holds.
+void AppendPlotPlaces(const nlohmann::json& scene, std::string* out) {
+  std::string& h = *out;
   if (scene.contains("map") || scene.contains("trajectories")) {
     h += "<h2>Map</h2>\n<p>Slots filled by their corner error (green 0 cm, red 10 cm or more), "
          "outlined grey where the truth has one; <span style=\"color:#d62728\">red dashed: missed; "
@@ -197,6 +192,11 @@ std::string RenderReportHtml(const ReportData& data) {
          "Signed lateral offset of each run's true path from the trace (left positive); the runs' "
          "paths are on the map.</p>\n";
   }
+}
+
+// The perception table and the sample pictures, inline.
+void AppendPerception(const ReportData& data, std::string* out) {
+  std::string& h = *out;
   if (!data.pictures.empty() || !data.perception_table.empty()) {
     h += "<h2>Perception</h2>\n";
     if (!data.perception_table.empty()) {
@@ -219,6 +219,11 @@ std::string RenderReportHtml(const ReportData& data) {
     }
     h += "</div>\n";
   }
+}
+
+// Every figure of metrics.json, flattened.
+void AppendMetrics(const ReportData& data, std::string* out) {
+  std::string& h = *out;
   if (!data.metrics.empty()) {
     h += "<h2>metrics.json</h2>\n<table>\n";
     for (const auto& [key, value] : data.metrics) {
@@ -227,6 +232,30 @@ std::string RenderReportHtml(const ReportData& data) {
     }
     h += "</table>\n";
   }
+}
+
+}  // namespace
+
+std::string RenderReportHtml(const ReportData& data) {
+  for (const ReportFigure& f : data.figures) {
+    if (f.key.empty())
+      throw std::invalid_argument("RenderReportHtml: a figure without a metrics key");
+  }
+  const nlohmann::json& scene = data.scene;
+  std::string h;
+  h.reserve(1 << 20);
+  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>";
+  h += XmlEscape(data.title);
+  h += "</title>\n<style>";
+  h += kStyle;
+  h += "</style></head><body>\n<h1>" + XmlEscape(data.title) + "</h1>\n";
+  h += "<p>Made by <code>" + XmlEscape(data.command) + "</code>, parkslam " +
+       XmlEscape(data.version) + ".</p>\n";
+
+  AppendFigures(data, &h);
+  AppendPlotPlaces(scene, &h);
+  AppendPerception(data, &h);
+  AppendMetrics(data, &h);
   h += "<pre id=\"selftest-result\"></pre>\n<script type=\"application/json\" id=\"report-data\">";
   h += ScriptSafe(scene.dump());
   h += "</script>\n<script>";
