@@ -58,30 +58,36 @@ PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
                                 options_.tag_camera + "' for tags");
   }
   tag_camera_ = *tag_camera;
-  {
-    const camera::CameraIntrinsics& k = tag_camera_.intrinsics;
-    const double camera_z = tag_camera_.T_vehicle_camera.translation().z();
-    // The band only holds for a camera looking level and upright.
-    const Eigen::Vector3d z_axis = tag_camera_.T_vehicle_camera.rotation().col(2);
-    const Eigen::Vector3d y_axis = tag_camera_.T_vehicle_camera.rotation().col(1);
-    int first = 0, last = k.height - 1;
-    if (options_.tag_max_height_m > options_.tag_min_height_m && options_.tag_min_range_m > 0.0 &&
-        std::abs(z_axis.z()) < 0.02 && y_axis.z() < -0.999) {
-      const double d = options_.tag_min_range_m;
-      first =
-          static_cast<int>(std::floor(k.cy - k.fy * (options_.tag_max_height_m - camera_z) / d));
-      last = static_cast<int>(std::ceil(k.cy + k.fy * (camera_z - options_.tag_min_height_m) / d));
-      first = std::clamp(first, 0, k.height - 1);
-      last = std::clamp(last, first, k.height - 1);
-    }
-    tag_first_row_ = first;
-    tag_rows_ = last - first + 1;
-    tag_band_intrinsics_ = k;
-    tag_band_intrinsics_.height = tag_rows_;
-    tag_band_intrinsics_.cy = k.cy - first;
-  }
+  SetTagBand();
   fusion_ =
       std::make_unique<camera::TopViewFusion>(rig, options_.fisheye_cameras, options_.top_view);
+  MakeDetectors();
+  MakeMasks();
+}
+
+void PerceptionFrontEnd::SetTagBand() {
+  const camera::CameraIntrinsics& k = tag_camera_.intrinsics;
+  const double camera_z = tag_camera_.T_vehicle_camera.translation().z();
+  // The band only holds for a camera looking level and upright.
+  const Eigen::Vector3d z_axis = tag_camera_.T_vehicle_camera.rotation().col(2);
+  const Eigen::Vector3d y_axis = tag_camera_.T_vehicle_camera.rotation().col(1);
+  int first = 0, last = k.height - 1;
+  if (options_.tag_max_height_m > options_.tag_min_height_m && options_.tag_min_range_m > 0.0 &&
+      std::abs(z_axis.z()) < 0.02 && y_axis.z() < -0.999) {
+    const double d = options_.tag_min_range_m;
+    first = static_cast<int>(std::floor(k.cy - k.fy * (options_.tag_max_height_m - camera_z) / d));
+    last = static_cast<int>(std::ceil(k.cy + k.fy * (camera_z - options_.tag_min_height_m) / d));
+    first = std::clamp(first, 0, k.height - 1);
+    last = std::clamp(last, first, k.height - 1);
+  }
+  tag_first_row_ = first;
+  tag_rows_ = last - first + 1;
+  tag_band_intrinsics_ = k;
+  tag_band_intrinsics_.height = tag_rows_;
+  tag_band_intrinsics_.cy = k.cy - first;
+}
+
+void PerceptionFrontEnd::MakeDetectors() {
   // The detector's scale follows the top view.
   const double pixels_per_m = options_.top_view.size_px / options_.top_view.extent_m;
   options_.slots.pixels_per_m = pixels_per_m;
@@ -105,7 +111,9 @@ PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
     if (options_.read_ids) id_reader_ = std::make_unique<SlotIdReader>(options_.ids);
   }
   tag_detector_ = std::make_unique<TagDetector>(options_.tags);
+}
 
+void PerceptionFrontEnd::MakeMasks() {
   // The car's own footprint carries no ground: the detector ignores it.
   const camera::TopViewOptions& tv = options_.top_view;
   footprint_mask_ = cv::Mat(tv.size_px, tv.size_px, CV_8UC1, cv::Scalar(255));

@@ -138,6 +138,14 @@ class PerceptionFrontEnd {
   const PerceptionOptions& options() const { return options_; }
 
  private:
+  // The rows of the tag camera where a tag can be (tag_min/max_height_m
+  // seen from tag_min_range_m on), for a camera looking level and upright.
+  void SetTagBand();
+  // The slot detector and ID reader (classical or learned) at the top
+  // view's scale, and the tag detector.
+  void MakeDetectors();
+  // The car's footprint mask, and each fisheye's part of the top view.
+  void MakeMasks();
   // Paper III-A: fusion, detection, ID reading, into out->slots (and the
   // top view, detection, IDs and their times).
   void PerceiveSlots(const CameraFrame& frame, const std::vector<std::string>& excluded,

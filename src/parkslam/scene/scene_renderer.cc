@@ -275,6 +275,13 @@ struct SceneRenderer::Impl {
   void Develop(const cv::Mat& img, const CameraTable& table, const DevelopParams& params,
                bool light, bool noise, cv::Mat* out8) const;
   void MarkNeeded();
+  // The fisheyes' ground pixels of an 8-bit atlas fused into a top view,
+  // with `hide` (per camera, may be null) blacked out.
+  cv::Mat FuseGrey(const camera::TopViewFusion& fusion, const cv::Mat& atlas8,
+                   const std::vector<cv::Mat>* hide) const;
+  // A 2 cm dot on every marking point, at every level of the floor, fused.
+  cv::Mat MarkDots(const camera::TopViewFusion& fusion, const Scene& scene, const Canvas& near,
+                   const Canvas& far) const;
   // The floor's three levels side by side: near, near halved, far.
   cv::Mat Stack(const cv::Mat& near, const cv::Mat& far) const {
     cv::Mat stacked(atlas.size, near.type(), cv::Scalar::all(0));
@@ -1113,6 +1120,68 @@ const camera::TopViewFusion& SceneRenderer::FusionOf(const Scene& scene) const {
 
 const SceneRendererOptions& SceneRenderer::options() const { return impl_->options; }
 
+cv::Mat SceneRenderer::Impl::FuseGrey(const camera::TopViewFusion& fusion, const cv::Mat& atlas8,
+                                      const std::vector<cv::Mat>* hide) const {
+  std::vector<cv::Mat> views;
+  for (size_t c = 0; c < fisheyes.size(); ++c) {
+    cv::Mat v;
+    cv::remap(atlas8, v, fisheyes[c].map_xy, fisheyes[c].map_frac, cv::INTER_LINEAR,
+              cv::BORDER_CONSTANT);
+    cv::Mat on_ground = fisheyes[c].kind == kGround;
+    v.setTo(0, ~on_ground);
+    if (hide != nullptr && !(*hide)[c].empty()) v.setTo(0, (*hide)[c]);
+    views.push_back(v);
+  }
+  return fusion.Fuse(views);
+}
+
+cv::Mat SceneRenderer::Impl::MarkDots(const camera::TopViewFusion& fusion, const Scene& scene,
+                                      const Canvas& near, const Canvas& far) const {
+  cv::Mat a8(atlas.size, CV_8UC1, cv::Scalar(0));
+  const auto draw = [&](const Canvas& canvas, const cv::Rect& where) {
+    cv::Mat level = a8(where);
+    for (const MarkingPoint& mark : scene.marks) {
+      const Eigen::Vector2d px = canvas.PixelOf(mark.p_vehicle);
+      const int radius = std::max(4, static_cast<int>(0.02 / canvas.resolution_m * 16));
+      cv::circle(level,
+                 cv::Point(static_cast<int>(std::lround(px.x() * 16)),
+                           static_cast<int>(std::lround(px.y() * 16))),
+                 radius, cv::Scalar(255), -1, cv::LINE_AA, 4);
+    }
+  };
+  draw(near, atlas.near);
+  Canvas mid_level = near;
+  mid_level.resolution_m = 2 * near.resolution_m;
+  draw(mid_level, atlas.mid);
+  draw(far, atlas.far);
+  return FuseGrey(fusion, a8, nullptr);
+}
+
+namespace {
+
+// The surround-view unit's own processing of its top view: sharpening and
+// saturation.
+void ProcessLikeTheUnit(const Scene& scene, cv::Mat* top) {
+  if (scene.top_view_sharpen > 0) {
+    cv::Mat blurred;
+    cv::GaussianBlur(*top, blurred, cv::Size(), 1.2);
+    cv::addWeighted(*top, 1.0 + scene.top_view_sharpen, blurred, -scene.top_view_sharpen, 0.0,
+                    *top);
+  }
+  if (std::abs(scene.saturation - 1.0) <= 1e-3) return;
+  const int sat = static_cast<int>(std::lround(scene.saturation * 256));
+  for (int r = 0; r < top->rows; ++r) {
+    cv::Vec3b* row = top->ptr<cv::Vec3b>(r);
+    for (int c = 0; c < top->cols; ++c) {
+      const int y = (29 * row[c][0] + 150 * row[c][1] + 77 * row[c][2]) >> 8;
+      for (int k = 0; k < 3; ++k)
+        row[c][k] = cv::saturate_cast<std::uint8_t>(y + (((row[c][k] - y) * sat) >> 8));
+    }
+  }
+}
+
+}  // namespace
+
 RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts,
                                     const RenderRequest& request) const {
   const Impl& m = *impl_;
@@ -1156,70 +1225,21 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts,
   }
   const camera::TopViewFusion& fusion = FusionOf(scene);
   cv::Mat top = fusion.Fuse(out.fisheyes);
-  // The unit's own processing: sharpening and saturation.
-  if (scene.top_view_sharpen > 0) {
-    cv::Mat blurred;
-    cv::GaussianBlur(top, blurred, cv::Size(), 1.2);
-    cv::addWeighted(top, 1.0 + scene.top_view_sharpen, blurred, -scene.top_view_sharpen, 0.0, top);
-  }
-  if (std::abs(scene.saturation - 1.0) > 1e-3) {
-    const int sat = static_cast<int>(std::lround(scene.saturation * 256));
-    for (int r = 0; r < top.rows; ++r) {
-      cv::Vec3b* row = top.ptr<cv::Vec3b>(r);
-      for (int c = 0; c < top.cols; ++c) {
-        const int y = (29 * row[c][0] + 150 * row[c][1] + 77 * row[c][2]) >> 8;
-        for (int k = 0; k < 3; ++k)
-          row[c][k] = cv::saturate_cast<std::uint8_t>(y + (((row[c][k] - y) * sat) >> 8));
-      }
-    }
-  }
+  ProcessLikeTheUnit(scene, &top);
   out.top_view = top;
   if (request.front && m.front) {
     out.front = m.RenderCamera(*m.front, scene, scene.front_camera, atlas, light, ego_colour, true,
                                nullptr);
   }
-  const auto fuse_grey = [&](const cv::Mat& atlas8, const std::vector<cv::Mat>* hide) {
-    std::vector<cv::Mat> views;
-    for (size_t c = 0; c < m.fisheyes.size(); ++c) {
-      cv::Mat v;
-      cv::remap(atlas8, v, m.fisheyes[c].map_xy, m.fisheyes[c].map_frac, cv::INTER_LINEAR,
-                cv::BORDER_CONSTANT);
-      cv::Mat on_ground = m.fisheyes[c].kind == kGround;
-      v.setTo(0, ~on_ground);
-      if (hide != nullptr && !(*hide)[c].empty()) v.setTo(0, (*hide)[c]);
-      views.push_back(v);
-    }
-    return fusion.Fuse(views);
-  };
   if (request.slot_paint) {
-    out.slot_paint =
-        fuse_grey(m.Stack(slot_paint, far_slot_paint), request.solids ? &solid_masks : nullptr);
+    out.slot_paint = m.FuseGrey(fusion, m.Stack(slot_paint, far_slot_paint),
+                                request.solids ? &solid_masks : nullptr);
   }
   if (request.solids) {
     std::vector<cv::Mat> masks = solid_masks;
     out.solids = fusion.Fuse(masks);
   }
-  if (request.dots) {
-    // A 2 cm dot on every marking point, at every level of the floor.
-    cv::Mat a8(m.atlas.size, CV_8UC1, cv::Scalar(0));
-    const auto draw = [&](const Canvas& canvas, const cv::Rect& where) {
-      cv::Mat level = a8(where);
-      for (const MarkingPoint& mark : scene.marks) {
-        const Eigen::Vector2d px = canvas.PixelOf(mark.p_vehicle);
-        const int radius = std::max(4, static_cast<int>(0.02 / canvas.resolution_m * 16));
-        cv::circle(level,
-                   cv::Point(static_cast<int>(std::lround(px.x() * 16)),
-                             static_cast<int>(std::lround(px.y() * 16))),
-                   radius, cv::Scalar(255), -1, cv::LINE_AA, 4);
-      }
-    };
-    draw(near, m.atlas.near);
-    Canvas mid_level = near;
-    mid_level.resolution_m = 2 * near.resolution_m;
-    draw(mid_level, m.atlas.mid);
-    draw(far, m.atlas.far);
-    out.dots = fuse_grey(a8, nullptr);
-  }
+  if (request.dots) out.dots = m.MarkDots(fusion, scene, near, far);
   return out;
 }
 
