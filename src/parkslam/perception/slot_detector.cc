@@ -233,6 +233,33 @@ double TwoSidedShare(const cv::Mat& grey, const std::vector<Eigen::Vector2d>& ce
   return centres.empty() ? 1.0 : static_cast<double>(two_sided) / centres.size();
 }
 
+// The support threshold of a rough line: line_share of its own median peak
+// over its rough extent, within [min_threshold, global_threshold].
+double LineThreshold(const cv::Mat& bright, const PaintLine& line, const Eigen::Vector2d& normal,
+                     double global_threshold, double min_threshold, double line_share,
+                     double half_window_px, double step_px) {
+  std::vector<double> peaks;
+  for (double t = line.t0; t <= line.t1; t += step_px) {
+    const Eigen::Vector2d base = line.point + t * line.dir;
+    peaks.push_back(MeasureCrossSection(bright, base, normal, half_window_px, 0.0).peak);
+  }
+  if (peaks.empty()) return global_threshold;
+  return std::clamp(line_share * Median(peaks), min_threshold, global_threshold);
+}
+
+// The longest run of samples (in t order) no further apart than max_gap.
+std::vector<LineSample> LongestRun(const std::vector<LineSample>& support, double max_gap) {
+  size_t best_begin = 0, best_end = 0;
+  for (size_t begin = 0; begin < support.size();) {
+    size_t end = begin + 1;
+    while (end < support.size() && support[end].t - support[end - 1].t <= max_gap) ++end;
+    if (end - begin > best_end - best_begin) best_begin = begin, best_end = end;
+    begin = end;
+  }
+  return std::vector<LineSample>(support.begin() + static_cast<long>(best_begin),
+                                 support.begin() + static_cast<long>(best_end));
+}
+
 // Refines a rough line on the brightness above the floor (`bright`):
 // centroids of the response across the line at regular steps give the
 // centreline by least squares; the painted extent is where the response
@@ -247,17 +274,8 @@ bool RefineLine(const cv::Mat& grey, const cv::Mat& bright, double global_thresh
   // The widest gap within one line's run: narrower than a line's width.
   constexpr double kMaxGapPx = 3 * kStepPx;
   const Eigen::Vector2d normal(-line->dir.y(), line->dir.x());
-  double threshold = global_threshold;
-  {
-    std::vector<double> peaks;
-    for (double t = line->t0; t <= line->t1; t += kStepPx) {
-      const Eigen::Vector2d base = line->point + t * line->dir;
-      peaks.push_back(MeasureCrossSection(bright, base, normal, half_window_px, 0.0).peak);
-    }
-    if (!peaks.empty()) {
-      threshold = std::clamp(line_share * Median(peaks), min_threshold, global_threshold);
-    }
-  }
+  const double threshold = LineThreshold(bright, *line, normal, global_threshold, min_threshold,
+                                         line_share, half_window_px, kStepPx);
   // Search a little beyond the rough ends: the skeleton stops short of
   // them.
   const double margin = 2.0 * half_window_px;
@@ -275,17 +293,8 @@ bool RefineLine(const cv::Mat& grey, const cv::Mat& bright, double global_thresh
   // Longest run of supported samples, grown on while the paint goes on:
   // the Hough transform cuts a real line into pieces where its paint is
   // worn or its width changes.
-  size_t best_begin = 0, best_end = 0;
-  for (size_t begin = 0; begin < support.size();) {
-    size_t end = begin + 1;
-    while (end < support.size() && support[end].t - support[end - 1].t <= kMaxGapPx) ++end;
-    if (end - begin > best_end - best_begin) best_begin = begin, best_end = end;
-    begin = end;
-  }
   const std::vector<LineSample> run =
-      GrowRun(bright, *line, threshold, kStepPx, kMaxGapPx,
-              std::vector<LineSample>(support.begin() + static_cast<long>(best_begin),
-                                      support.begin() + static_cast<long>(best_end)));
+      GrowRun(bright, *line, threshold, kStepPx, kMaxGapPx, LongestRun(support, kMaxGapPx));
   const double t_lo = run.front().t, t_hi = run.back().t;
   if (t_hi - t_lo < min_length_px) return false;
   // Fit on the interior (the ends are disturbed by crossing lines), twice,
@@ -721,6 +730,46 @@ int LinesNearby(const Frame& f, const std::vector<PaintLine>& lines, size_t i, s
   return nearby;
 }
 
+// One line at a junction: where it stands (ClassifyEnd), its arm's length
+// and direction away from the junction.
+struct JunctionArm {
+  const PaintLine* line;
+  int where;
+  double arm_px;
+  Eigen::Vector2d dir;
+};
+
+// The marking point at x of two lines: a T (one passes through) points
+// along the other, the stem; an L along its longer arm, the shorter kept
+// for pairing, its corner refitted next to the junction.
+Junction ShapeJunction(const Frame& f, const JunctionArm& a, const JunctionArm& b,
+                       const Eigen::Vector2d& x) {
+  Junction junction;
+  junction.point.px = x;
+  junction.point.score = std::clamp(
+      std::min(a.line->contrast, b.line->contrast) / (kFullScoreContrasts * f.threshold), 0.0, 1.0);
+  if (a.where == 0 || b.where == 0) {
+    const Eigen::Vector2d& stem = a.where != 0 ? a.dir : b.dir;
+    junction.point.shape = MarkingShape::kT;
+    junction.point.direction_rad = std::atan2(stem.y(), stem.x());
+    junction.other_direction_rad = junction.point.direction_rad;
+    return junction;
+  }
+  junction.point.shape = MarkingShape::kL;
+  const JunctionArm& main = a.arm_px >= b.arm_px ? a : b;
+  const JunctionArm& other = a.arm_px >= b.arm_px ? b : a;
+  junction.point.direction_rad = std::atan2(main.dir.y(), main.dir.x());
+  junction.other_direction_rad = std::atan2(other.dir.y(), other.dir.x());
+  junction.other_arm_px = std::min(a.arm_px, b.arm_px);
+  // The stub's line, fitted over its whole length, can be pulled askew by
+  // paint beyond it (a digit); refit it next to the corner.
+  if (const std::optional<Eigen::Vector2d> refined = RefineCorner(
+          f.bright, f.threshold, x, *main.line, other.dir, main.line->width_px, f.min_arm_px)) {
+    junction.point.px = *refined;
+  }
+  return junction;
+}
+
 // The marking point where lines i and j meet, if they make one.
 std::optional<Junction> JunctionOf(const Frame& f, const std::vector<PaintLine>& lines, size_t i,
                                    size_t j, double typical_width_px) {
@@ -764,35 +813,11 @@ std::optional<Junction> JunctionOf(const Frame& f, const std::vector<PaintLine>&
   if (std::max(arm_a, arm_b) < f.min_stem_px) return std::nullopt;
   const Eigen::Vector2d dir_a = wa <= 0 ? a.dir : Eigen::Vector2d(-a.dir);
   const Eigen::Vector2d dir_b = wb <= 0 ? b.dir : Eigen::Vector2d(-b.dir);
-  Junction junction;
-  junction.point.px = x;
-  junction.point.score =
-      std::clamp(std::min(a.contrast, b.contrast) / (kFullScoreContrasts * f.threshold), 0.0, 1.0);
-  if (wa != 0 && wb == 0) {
-    if (arm_a < f.min_stem_px) return std::nullopt;
-    junction.point.shape = MarkingShape::kT;
-    junction.point.direction_rad = std::atan2(dir_a.y(), dir_a.x());
-    junction.other_direction_rad = junction.point.direction_rad;
-  } else if (wa == 0 && wb != 0) {
-    if (arm_b < f.min_stem_px) return std::nullopt;
-    junction.point.shape = MarkingShape::kT;
-    junction.point.direction_rad = std::atan2(dir_b.y(), dir_b.x());
-    junction.other_direction_rad = junction.point.direction_rad;
-  } else {
-    junction.point.shape = MarkingShape::kL;
-    const Eigen::Vector2d& main = arm_a >= arm_b ? dir_a : dir_b;
-    const Eigen::Vector2d& other = arm_a >= arm_b ? dir_b : dir_a;
-    junction.point.direction_rad = std::atan2(main.y(), main.x());
-    junction.other_direction_rad = std::atan2(other.y(), other.x());
-    junction.other_arm_px = std::min(arm_a, arm_b);
-    // The stub's line, fitted over its whole length, can be pulled askew by
-    // paint beyond it (a digit); refit it next to the corner.
-    const PaintLine& long_line = arm_a >= arm_b ? a : b;
-    if (const std::optional<Eigen::Vector2d> refined = RefineCorner(
-            f.bright, f.threshold, x, long_line, other, long_line.width_px, f.min_arm_px)) {
-      junction.point.px = *refined;
-    }
+  if ((wa != 0 && wb == 0 && arm_a < f.min_stem_px) ||
+      (wa == 0 && wb != 0 && arm_b < f.min_stem_px)) {
+    return std::nullopt;  // a T's stem must be long
   }
+  Junction junction = ShapeJunction(f, {&a, wa, arm_a, dir_a}, {&b, wb, arm_b, dir_b}, x);
   if (!f.valid.empty()) {
     const int cx = static_cast<int>(std::lround(x.x())), cy = static_cast<int>(std::lround(x.y()));
     if (f.valid.at<std::uint8_t>(cy, cx) == 0) return std::nullopt;

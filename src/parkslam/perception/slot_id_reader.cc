@@ -321,6 +321,25 @@ LayoutSearch FindLayout(const Region& g, const ColumnProfiles& p, int max_digits
   return search;
 }
 
+// Why the best layout cannot be trusted, or null: a longer ID, partly out
+// of sight, that explains the ink seen about as well (a digit cut off would
+// be read as another, or the ID as a shorter one); or digits not seen with
+// the classifier's margins.
+const char* LayoutDoubt(const Region& g, const LayoutSearch& search, const ColumnProfiles& p,
+                        int max_digits) {
+  const Layout& layout = search.best;
+  for (int n = layout.digits + 1; n <= max_digits; ++n) {
+    if (search.best_open_score[static_cast<size_t>(n)] >= layout.score - search.min_cell_ink) {
+      return "maybe longer";
+    }
+  }
+  const double pad = kDigitPatchMarginX * g.height_px;
+  const double id_width_px = font::IdWidth(layout.digits, g.height_px);
+  const double unseen = p.unseen.Sum(layout.left_px - pad, layout.left_px + id_width_px + pad);
+  if (unseen > kMaxNoDataShare * (id_width_px + 2 * pad) * g.height_px) return "not seen";
+  return nullptr;
+}
+
 // Each digit cell, rectified to the classifier's patch (drawn at twice its
 // resolution and averaged down, as the classifier was trained), and
 // classified; digits below min_digit_probability stay unread.
@@ -453,23 +472,7 @@ SlotIdReading SlotIdReader::Read(const cv::Mat& top_view_grey, const EntranceInI
   // Paint the layout leaves out: digits beyond the search range (the
   // entrance far off), or other paint.
   if (layout.stray_ink > kMaxStrayInk) return give_up("stray paint");
-  // A longer ID, partly out of sight, that explains the ink seen about as
-  // well: a digit cut off would be read as another, or the ID as a shorter one.
-  for (int n = layout.digits + 1; n <= options_.max_digits; ++n) {
-    if (search.best_open_score[static_cast<size_t>(n)] >= layout.score - search.min_cell_ink) {
-      return give_up("maybe longer");
-    }
-  }
-  // The digits themselves, with the classifier's margins, must be seen.
-  {
-    const double pad = kDigitPatchMarginX * g.height_px;
-    const double id_width_px = font::IdWidth(layout.digits, g.height_px);
-    const double unseen =
-        profiles.unseen.Sum(layout.left_px - pad, layout.left_px + id_width_px + pad);
-    if (unseen > kMaxNoDataShare * (id_width_px + 2 * pad) * g.height_px) {
-      return give_up("not seen");
-    }
-  }
+  if (const char* why = LayoutDoubt(g, search, profiles, options_.max_digits)) return give_up(why);
 
   // Worn paint: fainter than the slot's own lines.
   const std::optional<double> line0 =
