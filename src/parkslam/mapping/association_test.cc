@@ -11,8 +11,8 @@
 namespace parkslam::mapping {
 namespace {
 
-using testing::SlotAt;
-using testing::StateWithOneKeyframe;
+using test_util::SlotAt;
+using test_util::StateWithOneKeyframe;
 
 constexpr double kSigma_m = 0.05;
 

@@ -8,8 +8,8 @@
 namespace parkslam::mapping {
 namespace {
 
-using testing::SlotAt;
-using testing::StateWithOneKeyframe;
+using test_util::SlotAt;
+using test_util::StateWithOneKeyframe;
 
 // Two keyframes 1 m apart along x, exact odometry.
 MapState TwoKeyframes() {

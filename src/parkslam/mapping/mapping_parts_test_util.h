@@ -8,7 +8,7 @@
 #include "parkslam/mapping/map_state.h"
 #include "parkslam/sensor/sensor_data.h"
 
-namespace parkslam::mapping::testing {
+namespace parkslam::mapping::test_util {
 
 // A certain reading of every digit of `id` ("" reads nothing; '?' leaves a
 // digit unread).
@@ -39,6 +39,6 @@ inline MapState StateWithOneKeyframe() {
   return state;
 }
 
-}  // namespace parkslam::mapping::testing
+}  // namespace parkslam::mapping::test_util
 
 #endif  // PARKSLAM_MAPPING_MAPPING_PARTS_TEST_UTIL_H_

@@ -9,8 +9,8 @@
 namespace parkslam::mapping {
 namespace {
 
-using testing::SlotAt;
-using testing::StateWithOneKeyframe;
+using test_util::SlotAt;
+using test_util::StateWithOneKeyframe;
 
 // A record of `obs` at keyframe 0 choosing `slot` alone.
 SlotRecord RecordOf(const SlotObservation& obs, int slot) {
