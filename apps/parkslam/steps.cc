@@ -1,14 +1,10 @@
 #include "steps.h"
 
+#include <algorithm>
 #include <cstdio>
 
-#include <algorithm>
 #include "commands.h"
-#include "parkslam/camera/camera_model.h"
-#include "parkslam/camera/camera_names.h"
 #include "parkslam/common/angles.h"
-#include "parkslam/common/seed_mix.h"
-#include "parkslam/perception/front_end.h"
 #include "parkslam/sim/simulator.h"
 #include "progress.h"
 
