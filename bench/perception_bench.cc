@@ -36,8 +36,7 @@ struct Fixture {
   }
 
   Fixture() {
-    const harness::LiveCameras cameras(harness::LiveCameras::WorldOf(sim::DefaultScenario().world),
-                                       1);
+    const harness::LiveCameras cameras(sim::BuildWorld(sim::DefaultScenario().world), 1);
     // Aisle 1, near the tags of the hall's west part.
     frame = cameras.Render(SE2(12.0, 9.1, 0.0), 0);
     for (size_t k = 0; k < 5; ++k) {

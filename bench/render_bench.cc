@@ -19,8 +19,7 @@ namespace {
 void RenderFrameSets(benchmark::State& state, const render::RenderOptions& options,
                      const SE2& T_map_vehicle) {
   const sim::ScenarioConfig scenario = sim::DefaultScenario();
-  const sim::World world =
-      sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
+  const sim::World world = sim::BuildWorld(scenario.world);
   const camera::CameraRig rig = camera::DefaultRig();
   const render::Renderer renderer(world, rig, options, 1);
   std::vector<std::string> names;

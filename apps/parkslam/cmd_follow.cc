@@ -107,8 +107,7 @@ struct Options {
 // The map's pose in the simulated lot; fails when the map is not of it.
 SE2 AlignOnLot(const SemanticMap& map, const sim::ScenarioConfig& scenario,
                const std::string& map_path) {
-  const SemanticMap truth =
-      sim::ToSemanticMap(sim::BuildWorld(scenario.world, scenario.world.seed));
+  const SemanticMap truth = sim::ToSemanticMap(sim::BuildWorld(scenario.world));
   const eval::MapMetrics alignment = eval::EvaluateMap(map, truth);
   if (alignment.slots_matched < 3) {
     throw std::runtime_error(map_path + ": fewer than 3 slots match the world '" +

@@ -29,8 +29,7 @@ namespace {
 void WriteImages(const std::filesystem::path& dir, const io::Dataset& dataset, double rate_hz) {
   const camera::CameraRig rig = camera::DefaultRig();
   const std::vector<std::string>& names = camera::AllCameraNames();
-  const sim::World world = sim::BuildWorld(
-      dataset.scenario->world, static_cast<std::uint64_t>(dataset.scenario->world.seed));
+  const sim::World world = sim::BuildWorld(dataset.scenario->world);
   const render::Renderer renderer(world, rig, render::RenderOptions{}, dataset.seed);
   const Trajectory& truth = dataset.groundtruth_trajectory;
   const TimeNs start = truth.front().t_ns, end = truth.back().t_ns;

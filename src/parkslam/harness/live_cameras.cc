@@ -15,10 +15,6 @@ LiveCameras::LiveCameras(sim::World world, std::uint64_t render_seed,
       front_end_(rig_, perception),
       cameras_(camera::AllCameraNames()) {}
 
-sim::World LiveCameras::WorldOf(const sim::WorldConfig& config) {
-  return sim::BuildWorld(config, static_cast<std::uint64_t>(config.seed));
-}
-
 CameraFrame LiveCameras::Render(const SE2& T_map_vehicle, TimeNs t_ns) const {
   return RenderCameraFrame(renderer_, T_map_vehicle, t_ns, cameras_);
 }

@@ -26,8 +26,6 @@ class LiveCameras {
   // noise of every frame (render::Renderer).
   LiveCameras(sim::World world, std::uint64_t render_seed,
               const perception::PerceptionOptions& perception = {});
-  // The world a scenario's world configuration builds (with its own seed).
-  static sim::World WorldOf(const sim::WorldConfig& config);
 
   LiveCameras(const LiveCameras&) = delete;
   LiveCameras& operator=(const LiveCameras&) = delete;

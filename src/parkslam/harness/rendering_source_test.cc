@@ -4,28 +4,17 @@
 
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/harness/dead_reckoning.h"
+#include "parkslam/harness/short_drive_test_util.h"
 #include "parkslam/mapping/mapper.h"
 #include "parkslam/sim/simulator.h"
 
 namespace parkslam::harness {
 namespace {
 
-struct ShortDrive {
-  sim::ScenarioConfig scenario;
-  sim::Simulation simulation;
-  Trajectory truth;
-};
+using test_util::ShortDrive;
 
 const ShortDrive& Drive() {
-  static const ShortDrive d = [] {
-    ShortDrive x;
-    x.scenario = sim::DefaultScenario();
-    x.scenario.route.laps = 0;
-    x.scenario.route.finish_m = {{40.0, 9.1}};
-    x.simulation = sim::Simulate(x.scenario, 3);
-    x.truth = sim::GroundTruthTrajectory(x.simulation);
-    return x;
-  }();
+  static const ShortDrive d = test_util::MakeShortDrive(3);
   return d;
 }
 

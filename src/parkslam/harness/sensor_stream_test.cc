@@ -5,28 +5,15 @@
 #include <filesystem>
 #include <string>
 
-#include "parkslam/sim/simulator.h"
+#include "parkslam/harness/short_drive_test_util.h"
 
 namespace parkslam::harness {
 namespace {
 
-// 30 m along aisle 1 of the default lot.
-struct ShortDrive {
-  sim::ScenarioConfig scenario;
-  sim::Simulation simulation;
-  Trajectory truth;
-};
+using test_util::ShortDrive;
 
 const ShortDrive& Drive() {
-  static const ShortDrive d = [] {
-    ShortDrive x;
-    x.scenario = sim::DefaultScenario();
-    x.scenario.route.laps = 0;
-    x.scenario.route.finish_m = {{40.0, 9.1}};
-    x.simulation = sim::Simulate(x.scenario, 5);
-    x.truth = sim::GroundTruthTrajectory(x.simulation);
-    return x;
-  }();
+  static const ShortDrive d = test_util::MakeShortDrive(5);
   return d;
 }
 

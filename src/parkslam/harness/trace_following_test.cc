@@ -33,7 +33,7 @@ Trajectory HumanDrive(const sim::ScenarioConfig& scenario) {
 }
 
 SemanticMap TrueMap(const sim::ScenarioConfig& scenario) {
-  return sim::ToSemanticMap(sim::BuildWorld(scenario.world, scenario.world.seed));
+  return sim::ToSemanticMap(sim::BuildWorld(scenario.world));
 }
 
 TEST(TraceFollowingTest, LocalizedRunsRepeatTheTraceClosely) {
@@ -230,7 +230,7 @@ TEST(TraceFollowingTest, SafetyStopsInRandomKidnapsAndBlackouts) {
   const char* env = std::getenv("PARKSLAM_SAFETY_TRIALS");
   const int trials = env != nullptr ? std::max(1, std::atoi(env)) : 20;
   const sim::ScenarioConfig scenario = ShortDrive();
-  const sim::World world = sim::BuildWorld(scenario.world, scenario.world.seed);
+  const sim::World world = sim::BuildWorld(scenario.world);
   const SemanticMap map = TrueMap(scenario);
   const Trajectory trace = HumanDrive(scenario);
   for (const bool kidnap : {true, false}) {

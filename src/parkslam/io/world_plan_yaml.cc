@@ -73,9 +73,8 @@ PlanFile PlanFromScenario(const sim::ScenarioConfig& scenario) {
   PlanFile plan;
   plan.name = scenario.world.name;
   plan.hall = scenario.world.hall;
-  plan.world = sim::PlanFromWorld(
-      sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed)),
-      sim::FloorRegions(scenario.world));
+  plan.world =
+      sim::PlanFromWorld(sim::BuildWorld(scenario.world), sim::FloorRegions(scenario.world));
   plan.route.waypoints_m = sim::RouteWaypoints(scenario.route);
   plan.route.cruise_speed_kmh = scenario.route.cruise_speed_kmh;
   plan.route.turn_speed_kmh = scenario.route.turn_speed_kmh;

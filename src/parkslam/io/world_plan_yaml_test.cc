@@ -136,8 +136,7 @@ TEST(WorldPlanYamlTest, SmallWorldRoundTripsThroughAPlanFile) {
   const std::string text = PlanToYaml(PlanFromScenario(small));
   const sim::ScenarioConfig from_plan =
       ScenarioFromPlan(PlanFromYaml(text, "small_plan.yaml"), "small_plan.yaml");
-  const sim::World original =
-      sim::BuildWorld(small.world, static_cast<std::uint64_t>(small.world.seed));
+  const sim::World original = sim::BuildWorld(small.world);
   const sim::World rebuilt = sim::BuildWorld(from_plan.world, 99);
   ExpectSameWorld(original, rebuilt);
   EXPECT_EQ(rebuilt.floor_area_m2, original.floor_area_m2);

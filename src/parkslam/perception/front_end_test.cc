@@ -20,8 +20,7 @@ const std::vector<std::string> kCameras{"front", "rear", "left", "right", "front
 
 struct Lot {
   sim::ScenarioConfig scenario = sim::DefaultScenario();
-  sim::World world =
-      sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
+  sim::World world = sim::BuildWorld(scenario.world);
 };
 
 const Lot& DefaultLot() {

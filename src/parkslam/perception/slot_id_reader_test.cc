@@ -500,8 +500,7 @@ TEST(SlotIdReaderTest, InvalidOptionsAreRejected) {
 
 TEST(SlotIdReaderTest, ReadsTheDefaultLotInRenderedTopViews) {
   const sim::ScenarioConfig scenario = sim::DefaultScenario();
-  const sim::World world =
-      sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
+  const sim::World world = sim::BuildWorld(scenario.world);
   const camera::CameraRig rig = camera::DefaultRig();
   const render::Renderer renderer(world, rig, render::RenderOptions{}, 1);
   const std::vector<std::string> fisheyes = {"front", "rear", "left", "right"};

@@ -9,7 +9,7 @@ namespace {
 
 sim::World DefaultWorld() {
   const sim::ScenarioConfig scenario = sim::DefaultScenario();
-  return sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
+  return sim::BuildWorld(scenario.world);
 }
 
 LightField FieldOver(const sim::World& world, const LightFieldOptions& options) {

@@ -21,7 +21,7 @@ namespace {
 const sim::World& DefaultWorld() {
   static const sim::World world = [] {
     const sim::ScenarioConfig scenario = sim::DefaultScenario();
-    return sim::BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed));
+    return sim::BuildWorld(scenario.world);
   }();
   return world;
 }

@@ -84,7 +84,7 @@ LiveSimulator::LiveSimulator(const ScenarioConfig& scenario, std::uint64_t seed,
     : scenario_(Validated(scenario, options)),
       dynamics_(options.dynamics),
       step_s_(1.0 / options.step_hz),
-      world_(BuildWorld(scenario.world, static_cast<std::uint64_t>(scenario.world.seed))),
+      world_(BuildWorld(scenario.world)),
       odometry_(scenario.sensors.odometry, scenario.vehicle, seed),
       slot_rng_(Random::Derive(seed, kSlotFrameStreamTag)),
       tag_rng_(Random::Derive(seed, kTagFrameStreamTag)) {

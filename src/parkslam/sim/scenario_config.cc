@@ -154,8 +154,7 @@ void CheckRouteInPlan(const ScenarioConfig& s, Checker& c) {
   const bool approach_only = s.route.loop_m.empty() && s.route.finish_m.empty();
   std::string error;
   c.Require(
-      IsDrivableRoute(RouteWaypoints(s.route), FloorRegions(s.world),
-                      BuildWorld(s.world, static_cast<std::uint64_t>(s.world.seed)),
+      IsDrivableRoute(RouteWaypoints(s.route), FloorRegions(s.world), BuildWorld(s.world),
                       approach_only ? "route.approach_m" : "route (waypoints in order)", &error),
       error);
 }

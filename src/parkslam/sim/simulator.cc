@@ -18,7 +18,7 @@ Simulation Simulate(const ScenarioConfig& config, std::uint64_t seed) {
   if (!config.IsValid(&error)) throw std::invalid_argument(error);
 
   Simulation sim;
-  sim.world = BuildWorld(config.world, static_cast<std::uint64_t>(config.world.seed));
+  sim.world = BuildWorld(config.world);
   sim.states = DriveRoute(config.route, config.vehicle, seed);
   SimulateOdometrySensors(sim.states, config.sensors.odometry, config.vehicle, seed, &sim.log);
 

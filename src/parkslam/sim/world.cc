@@ -198,6 +198,10 @@ bool SegmentHitsSquare(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
 
 }  // namespace
 
+World BuildWorld(const WorldConfig& config) {
+  return BuildWorld(config, static_cast<std::uint64_t>(config.seed));
+}
+
 World BuildWorld(const WorldConfig& config, std::uint64_t seed) {
   std::string error;
   if (!config.IsValid(&error)) throw std::invalid_argument(error);

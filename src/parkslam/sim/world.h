@@ -59,6 +59,9 @@ struct World {
 // plays no part. Throws std::invalid_argument when the configuration is
 // invalid.
 World BuildWorld(const WorldConfig& config, std::uint64_t seed);
+// The same with the configuration's own seed (config.seed): the lot a
+// scenario names.
+World BuildWorld(const WorldConfig& config);
 
 // The drivable floor as rectangles: a plan's floor, else the hall and the
 // corridor.
