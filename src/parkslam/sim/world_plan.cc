@@ -10,6 +10,7 @@
 #include "parkslam/common/angles.h"
 #include "parkslam/common/cross.h"
 #include "parkslam/common/plausible_ranges.h"
+#include "parkslam/sim/field_checker.h"
 #include "parkslam/sim/world.h"
 
 namespace parkslam::sim {
@@ -40,26 +41,14 @@ std::string Index(const std::string& field, size_t i) {
   return field + "[" + std::to_string(i) + "]";
 }
 
-// The first failed check, with its field.
-class Checker {
- public:
-  explicit Checker(std::string* error) : error_(error) {}
-  bool ok() const { return ok_; }
-  void Require(bool condition, const std::string& field, const std::string& what) {
-    if (!ok_ || condition) return;
-    ok_ = false;
-    if (error_ != nullptr) *error_ = field + ": " + what;
-  }
-  void Point(const Eigen::Vector2d& p, const std::string& field) {
-    Require(
-        p.allFinite() && std::abs(p.x()) <= kMaxCoordinate_m && std::abs(p.y()) <= kMaxCoordinate_m,
-        field, "must be finite and at most " + Number(kMaxCoordinate_m) + " m in magnitude");
-  }
+using internal::Checker;
 
- private:
-  std::string* error_;
-  bool ok_ = true;
-};
+// A plan's point: finite and within the coordinate range.
+void RequirePoint(Checker& c, const Eigen::Vector2d& p, const std::string& field) {
+  c.Require(
+      p.allFinite() && std::abs(p.x()) <= kMaxCoordinate_m && std::abs(p.y()) <= kMaxCoordinate_m,
+      field, "must be finite and at most " + Number(kMaxCoordinate_m) + " m in magnitude");
+}
 
 std::string Join(const std::string& prefix, const std::string& key) {
   return prefix.empty() ? key : prefix + "." + key;
@@ -72,7 +61,7 @@ void CheckSlot(const PlanSlot& slot, const std::string& field, Checker& c) {
   c.Require(slot.corners_m.size() == kSlotCorners, corners,
             "needs four corners, got " + std::to_string(slot.corners_m.size()));
   if (!c.ok()) return;
-  for (size_t k = 0; k < kSlotCorners; ++k) c.Point(slot.corners_m[k], Index(corners, k));
+  for (size_t k = 0; k < kSlotCorners; ++k) RequirePoint(c, slot.corners_m[k], Index(corners, k));
   const auto& p = slot.corners_m;
   for (size_t k = 0; k < kSlotCorners && c.ok(); ++k) {
     const double side_m = (p[(k + 1) % kSlotCorners] - p[k]).norm();
@@ -126,7 +115,7 @@ double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
 void CheckTag(const PlanTag& tag, const WorldPlan& plan, const std::string& field, Checker& c) {
   c.Require(tag.id >= 0 && tag.id < kTagFamilySize, field + ".id",
             "must be in [0, " + std::to_string(kTagFamilySize - 1) + "] (the tag36h11 family)");
-  c.Point(tag.p_m, field + ".p_m");
+  RequirePoint(c, tag.p_m, field + ".p_m");
   c.Require(std::isfinite(tag.normal_yaw_deg) && std::abs(tag.normal_yaw_deg) <= kMaxAngle_deg,
             field + ".normal_yaw_deg", "must be at most " + Number(kMaxAngle_deg) + " deg");
   c.Require(tag.size_m > 0.0 && tag.size_m <= kMaxTagSize_m, field + ".size_m",
@@ -157,8 +146,8 @@ void CheckTag(const PlanTag& tag, const WorldPlan& plan, const std::string& fiel
 }
 
 void CheckRegion(const RegionConfig& r, const std::string& field, Checker& c) {
-  c.Point({r.min_x_m, r.min_y_m}, field);
-  c.Point({r.max_x_m, r.max_y_m}, field);
+  RequirePoint(c, {r.min_x_m, r.min_y_m}, field);
+  RequirePoint(c, {r.max_x_m, r.max_y_m}, field);
   c.Require(r.max_x_m > r.min_x_m && r.max_y_m > r.min_y_m, field,
             "max_x_m and max_y_m must exceed min_x_m and min_y_m");
 }
@@ -190,8 +179,8 @@ bool IsValidPlan(const WorldPlan& plan, const RegionConfig& hall, const std::str
   for (size_t i = 0; i < plan.walls.size() && c.ok(); ++i) {
     const PlanWall& wall = plan.walls[i];
     const std::string field = Index(Join(prefix, "walls"), i);
-    c.Point(wall.a_m, field + ".a_m");
-    c.Point(wall.b_m, field + ".b_m");
+    RequirePoint(c, wall.a_m, field + ".a_m");
+    RequirePoint(c, wall.b_m, field + ".b_m");
     const double length_m = (wall.b_m - wall.a_m).norm();
     c.Require(length_m >= kMinWallLength_m, field + ".b_m",
               "the wall is " + Number(length_m) + " m long (at least " + Number(kMinWallLength_m) +
@@ -204,7 +193,7 @@ bool IsValidPlan(const WorldPlan& plan, const RegionConfig& hall, const std::str
   for (size_t i = 0; i < plan.pillars.size() && c.ok(); ++i) {
     const PlanPillar& pillar = plan.pillars[i];
     const std::string field = Index(Join(prefix, "pillars"), i);
-    c.Point(pillar.center_m, field + ".center_m");
+    RequirePoint(c, pillar.center_m, field + ".center_m");
     c.Require(pillar.half_size_m > 0.0 && pillar.half_size_m <= kMaxSlotSide_m,
               field + ".half_size_m", "must be in (0, " + Number(kMaxSlotSide_m) + "] m");
   }
