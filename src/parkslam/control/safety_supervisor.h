@@ -17,7 +17,8 @@
 //     held still after a stop do not count (the same landmarks again are
 //     no new sign of a move).
 // The speed the car may drive, v_allowed, follows:
-//   unhealthy:                    v_allowed <- max(0, v_allowed - a_brake dt)
+//   unhealthy:                    v_allowed <- max(0, v_allowed - a_brake dt),
+//                                 from the measured speed when it starts
 //   healthy for resume_after_s:   v_allowed <- min(v_cruise, v_allowed + a_go dt)
 // so the car brakes at a comfortable deceleration to a stop and goes on,
 // gently, once localization is back and has stayed back. A loss always
@@ -54,8 +55,8 @@ class SafetySupervisor {
                   int used = 1, int rejected = 0);
 
   // The speed the car may drive at t_ns, after a control step of dt_s,
-  // for a wished cruise speed (m/s).
-  double AllowedSpeed(TimeNs t_ns, double dt_s, double cruise_mps);
+  // for a wished cruise speed and the speed measured now (m/s).
+  double AllowedSpeed(TimeNs t_ns, double dt_s, double cruise_mps, double measured_mps);
 
   bool Healthy(TimeNs t_ns) const;
   // Whether it is braking the car to a stop now (the brakes may work

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace parkslam::control {
 namespace {
@@ -10,15 +11,16 @@ namespace {
 const Eigen::Matrix2d kSmall = Eigen::Matrix2d::Identity() * 0.01;  // 0.1 m sigma
 
 // Drives the supervisor at 100 Hz from t0 to t1 (s) with an estimate every
-// 0.2 s as `estimate(t)` says; returns the last allowed speed.
+// 0.2 s as `estimate(t)` says; returns the last allowed speed. The car is
+// measured at `measured` m/s (by default: as fast as it may).
 template <typename Estimate>
 double Drive(SafetySupervisor* supervisor, double t0, double t1, double cruise, Estimate estimate,
-             double* stopped_at = nullptr) {
+             double* stopped_at = nullptr, double measured = INFINITY) {
   double v = 0.0;
   for (int k = static_cast<int>(t0 * 100); k < static_cast<int>(t1 * 100); ++k) {
     const double t = k / 100.0;
     if (k % 20 == 0) estimate(supervisor, t);
-    v = supervisor->AllowedSpeed(FromSeconds(t), 0.01, cruise);
+    v = supervisor->AllowedSpeed(FromSeconds(t), 0.01, cruise, measured);
     if (stopped_at != nullptr && v == 0.0 && *stopped_at < 0) *stopped_at = t;
   }
   return v;
@@ -54,6 +56,20 @@ TEST(SafetySupervisorTest, BrakesToAStopWhenLostAndGoesOnWhenBack) {
     e->OnEstimate(FromSeconds(t), true, kSmall);
   });
   EXPECT_NEAR(v_later, 1.5, 0.02);  // 1 m/s^2 from 21.0 s to 22.5 s
+}
+
+// Found in closed loop: lost in a turn at 7 km/h with a cap of 10 km/h,
+// the car drove on for 0.3 s until the falling cap reached its speed.
+TEST(SafetySupervisorTest, BrakesFromTheMeasuredSpeedNotFromTheCap) {
+  SafetySupervisor s;
+  Drive(&s, 0.0, 10.0, 2.78,
+        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  double stopped_at = -1.0;
+  Drive(
+      &s, 10.0, 14.0, 2.78,
+      [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), false, kSmall); },
+      &stopped_at, 2.0);
+  EXPECT_NEAR(stopped_at, 10.0 + 2.0 / 2.5, 0.02);
 }
 
 TEST(SafetySupervisorTest, StopsWhenEstimatesStopComingOrGrowUncertain) {
@@ -132,7 +148,7 @@ TEST(SafetySupervisorTest, RejectionsSeenWhileHeldStillDoNotKeepTheCarStanding) 
   for (int k = 1000; k < 2000; ++k) {
     const double t = k / 100.0;
     if (k % 20 == 0) s.OnEstimate(FromSeconds(t), true, kSmall, 0, (frame++ % 2 == 0) ? 1 : 0);
-    const double v = s.AllowedSpeed(FromSeconds(t), 0.01, 2.78);
+    const double v = s.AllowedSpeed(FromSeconds(t), 0.01, 2.78, INFINITY);
     stopped = stopped || v == 0.0;
     if (stopped) fastest_after_stop = std::max(fastest_after_stop, v);
   }

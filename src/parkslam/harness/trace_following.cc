@@ -164,9 +164,9 @@ TraceRun FollowOnce(const FollowSetup& s, int r, ErrorSums* sums) {
       simulator.Teleport(simulator.state().T_map_vehicle * SE2(d.x(), d.y(), d.z()));
       kidnapped = true;
     }
-    const double allowed_mps =
-        supervised ? supervisor.AllowedSpeed(simulator.time_ns(), dt_s, s.cruise_mps)
-                   : s.cruise_mps;
+    const double allowed_mps = supervised ? supervisor.AllowedSpeed(simulator.time_ns(), dt_s,
+                                                                    s.cruise_mps, measured_speed)
+                                          : s.cruise_mps;
     if (supervised && allowed_mps == 0.0) run.stopped_s += dt_s;
     const control::PathFollower::Command command =
         follower.Update(source.Now(), measured_speed, dt_s, allowed_mps);
