@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "parkslam/common/field_checker.h"
 #include "parkslam/common/random.h"
 
 namespace parkslam::camera {
@@ -54,19 +55,18 @@ CameraPick PickCameras(const Eigen::Vector2d& g, const std::vector<const CameraC
 }  // namespace
 
 bool TopViewOptions::IsValid(std::string* error) const {
-  auto fail = [error](const char* message) {
-    if (error != nullptr) *error = message;
-    return false;
-  };
-  if (size_px < 16 || size_px > 4096) return fail("size_px must be in [16, 4096]");
-  if (!(extent_m > 0.5 && extent_m < 100.0)) return fail("extent_m must be in (0.5, 100)");
-  if (!(blend_angle_rad >= 0.0)) return fail("blend_angle_rad must be non-negative");
+  FieldChecker c(error);
+  c.InRange(size_px, 16, 4096, "size_px", "px");
+  c.Between(extent_m, 0.5, 100.0, "extent_m", "m");
+  c.Magnitude(center_x_m, 100.0, "center_x_m", "m");
+  c.NonNegative(blend_angle_rad, "blend_angle_rad");
   for (const double p : camera_priority_rad) {
-    if (!(std::abs(p) <= 1.5)) return fail("camera_priority_rad must be in [-1.5, 1.5]");
+    c.InRange(p, -1.5, 1.5, "camera_priority_rad", "rad");
   }
-  if (!(footprint_length_m > 0 && footprint_width_m > 0 && footprint_rear_overhang_m >= 0))
-    return fail("footprint dimensions must be positive");
-  return true;
+  c.Positive(footprint_length_m, "footprint_length_m");
+  c.Positive(footprint_width_m, "footprint_width_m");
+  c.NonNegative(footprint_rear_overhang_m, "footprint_rear_overhang_m");
+  return c.ok();
 }
 
 Eigen::Vector2d TopViewFusion::PixelToVehicle(const Eigen::Vector2d& pixel) const {

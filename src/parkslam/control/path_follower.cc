@@ -1,5 +1,7 @@
 #include "parkslam/control/path_follower.h"
 
+#include "parkslam/common/field_checker.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,23 +16,18 @@ constexpr double kCurvatureSampleM = 0.25;
 }  // namespace
 
 bool PathFollowerOptions::IsValid(std::string* error) const {
-  auto fail = [error](const char* message) {
-    if (error != nullptr) *error = message;
-    return false;
-  };
-  if (!(lookahead_base_m > 0.0)) return fail("path_follower.lookahead_base_m must be > 0");
-  if (!(lookahead_per_mps >= 0.0)) return fail("path_follower.lookahead_per_mps must be >= 0");
-  if (!(max_lateral_accel_mps2 > 0.0))
-    return fail("path_follower.max_lateral_accel_mps2 must be > 0");
-  if (!(max_accel_mps2 > 0.0)) return fail("path_follower.max_accel_mps2 must be > 0");
-  if (!(max_decel_mps2 > 0.0)) return fail("path_follower.max_decel_mps2 must be > 0");
-  if (!(stop_distance_m > 0.0)) return fail("path_follower.stop_distance_m must be > 0");
-  if (!(stop_speed_mps > 0.0)) return fail("path_follower.stop_speed_mps must be > 0");
-  if (!(search_window_m > 0.0)) return fail("path_follower.search_window_m must be > 0");
-  if (!(curvature_horizon_m >= 0.0)) return fail("path_follower.curvature_horizon_m must be >= 0");
-  if (!(curvature_lookbehind_m >= 0.0))
-    return fail("path_follower.curvature_lookbehind_m must be >= 0");
-  return true;
+  FieldChecker c(error);
+  c.Positive(lookahead_base_m, "lookahead_base_m");
+  c.NonNegative(lookahead_per_mps, "lookahead_per_mps");
+  c.Positive(max_lateral_accel_mps2, "max_lateral_accel_mps2");
+  c.Positive(max_accel_mps2, "max_accel_mps2");
+  c.Positive(max_decel_mps2, "max_decel_mps2");
+  c.Positive(stop_distance_m, "stop_distance_m");
+  c.Positive(stop_speed_mps, "stop_speed_mps");
+  c.Positive(search_window_m, "search_window_m");
+  c.NonNegative(curvature_horizon_m, "curvature_horizon_m");
+  c.NonNegative(curvature_lookbehind_m, "curvature_lookbehind_m");
+  return c.ok();
 }
 
 PathFollower::PathFollower(const Trace& trace, const VehicleParameters& vehicle,

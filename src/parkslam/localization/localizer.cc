@@ -10,6 +10,7 @@
 #include "parkslam/common/alignment.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/common/chi_square.h"
+#include "parkslam/common/field_checker.h"
 
 namespace parkslam::localization {
 namespace {
@@ -43,21 +44,26 @@ const char* ToString(LocalizerState state) {
 }
 
 bool LocalizerOptions::IsValid(std::string* error) const {
-  auto fail = [error](const char* message) {
-    if (error != nullptr) *error = message;
-    return false;
-  };
-  if (!(corner_sigma_floor_m > 0 && guessed_corner_sigma_m > 0 && map_corner_sigma_floor_m >= 0 &&
-        tag_map_sigma_m >= 0 && tag_map_yaw_sigma_rad >= 0))
-    return fail("noise floors must be positive");
-  if (!(gate_probability > 0.5 && gate_probability < 1.0))
-    return fail("gate_probability must be in (0.5, 1)");
-  if (!(nn_radius_m > 0 && lost_after_s > 0 && lost_min_rejected >= 1 &&
-        lost_position_sigma_m > 0 && reloc_window_s > 0 && reloc_inlier_m > 0 &&
-        reloc_min_inliers >= 2 && reloc_min_landmarks >= 1 && reloc_ambiguity_ratio > 0 &&
-        reloc_ambiguity_ratio <= 1))
-    return fail("association, lost or relocalization settings out of range");
-  return true;
+  FieldChecker c(error);
+  c.Positive(corner_sigma_floor_m, "corner_sigma_floor_m");
+  c.Positive(guessed_corner_sigma_m, "guessed_corner_sigma_m");
+  c.NonNegative(map_corner_sigma_floor_m, "map_corner_sigma_floor_m");
+  c.NonNegative(tag_map_sigma_m, "tag_map_sigma_m");
+  c.NonNegative(tag_map_yaw_sigma_rad, "tag_map_yaw_sigma_rad");
+  c.Rate(id_min_confidence, "id_min_confidence");
+  c.Positive(nn_radius_m, "nn_radius_m");
+  c.Between(gate_probability, 0.5, 1.0, "gate_probability", "");
+  c.Positive(lost_after_s, "lost_after_s");
+  c.AtLeast(lost_min_rejected, 1, "lost_min_rejected");
+  c.Positive(lost_position_sigma_m, "lost_position_sigma_m");
+  c.Positive(reloc_window_s, "reloc_window_s");
+  c.Positive(reloc_inlier_m, "reloc_inlier_m");
+  c.AtLeast(reloc_min_inliers, 2, "reloc_min_inliers");
+  c.AtLeast(reloc_min_landmarks, 1, "reloc_min_landmarks");
+  c.PositiveAtMost(reloc_ambiguity_ratio, 1.0, "reloc_ambiguity_ratio", "");
+  c.Positive(reloc_position_sigma_m, "reloc_position_sigma_m");
+  c.Positive(reloc_yaw_sigma_rad, "reloc_yaw_sigma_rad");
+  return c.ok();
 }
 
 Localizer::Localizer(const SemanticMap& map, const LocalizerOptions& options,

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/field_checker.h"
 #include "parkslam/mapping/association.h"
 #include "parkslam/mapping/map_graph.h"
 #include "parkslam/mapping/slot_management.h"
@@ -22,38 +23,44 @@ double ElapsedMs(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 bool MapperOptions::IsValid(std::string* error) const {
-  auto fail = [error](const char* message) {
-    if (error != nullptr) *error = message;
-    return false;
-  };
-  if (!(keyframe_distance_m > 0 && keyframe_yaw_rad > 0 && idle_keyframe_distance_m > 0 &&
-        keyframe_interval_s > 0))
-    return fail("keyframe thresholds must be positive");
-  if (!(min_corner_sigma_m > 0 && guessed_corner_sigma_m > 0))
-    return fail("corner sigmas must be positive");
-  if (!(shape_angle_sigma_rad > 0 && shape_length_sigma_m > 0))
-    return fail("shape sigmas must be positive");
-  if (!(nn_search_radius_m > 0 && id_search_radius_m > 0 && max_candidates >= 1))
-    return fail("search radii must be positive and max_candidates at least 1");
-  if (!(geometry_weight > 0 && geometry_weight <= 1 && null_weight > 0 && null_weight <= 1 &&
-        null_chi2 > 0))
-    return fail("mixture weights must be in (0, 1] and null_chi2 positive");
-  if (!(merge_distance_m >= 0 && min_observations >= 1 && id_min_votes > 0))
-    return fail("slot management thresholds out of range");
-  if (!(window_keyframes >= 2 && window_history_observations >= 0 && online_iterations >= 1 &&
-        batch_window_every >= 1 && final_iterations >= 1 && final_rounds >= 1))
-    return fail("solver settings out of range");
-  if (!(max_records_per_landmark >= 0 && retire_check_min_records >= 1 &&
-        online_merge_every_keyframes >= 0 && prune_unconfirmed_after_keyframes >= 0))
-    return fail(
-        "max_records_per_landmark, online_merge_every_keyframes and "
-        "prune_unconfirmed_after_keyframes "
-        "must be >= 0, retire_check_min_records >= 1");
+  FieldChecker c(error);
+  c.Positive(keyframe_distance_m, "keyframe_distance_m");
+  c.Positive(keyframe_yaw_rad, "keyframe_yaw_rad");
+  c.Positive(idle_keyframe_distance_m, "idle_keyframe_distance_m");
+  c.Positive(keyframe_interval_s, "keyframe_interval_s");
+  c.Positive(min_corner_sigma_m, "min_corner_sigma_m");
+  c.Positive(guessed_corner_sigma_m, "guessed_corner_sigma_m");
+  c.Positive(shape_angle_sigma_rad, "shape_angle_sigma_rad");
+  c.Positive(shape_length_sigma_m, "shape_length_sigma_m");
+  c.Between(right_angle_tolerance_rad, 0.0, kPi / 2, "right_angle_tolerance_rad", "rad");
+  c.Rate(id_hypothesis_min, "id_hypothesis_min");
+  c.Rate(id_confidence_min, "id_confidence_min");
+  c.Positive(id_search_radius_m, "id_search_radius_m");
+  c.Positive(nn_search_radius_m, "nn_search_radius_m");
+  c.AtLeast(max_candidates, 1, "max_candidates");
+  c.NonNegative(prediction_sigma_m, "prediction_sigma_m");
+  c.NonNegative(prediction_sigma_per_m, "prediction_sigma_per_m");
+  c.PositiveAtMost(geometry_weight, 1.0, "geometry_weight", "");
+  c.PositiveAtMost(null_weight, 1.0, "null_weight", "");
+  c.Positive(null_chi2, "null_chi2");
+  c.NonNegative(merge_distance_m, "merge_distance_m");
+  c.AtLeast(min_observations, 1, "min_observations");
+  c.Positive(id_min_votes, "id_min_votes");
+  c.AtLeast(window_keyframes, 2, "window_keyframes");
+  c.AtLeast(window_history_observations, 0, "window_history_observations");
+  c.AtLeast(max_records_per_landmark, 0, "max_records_per_landmark");
+  c.AtLeast(retire_check_min_records, 1, "retire_check_min_records");
+  c.AtLeast(online_merge_every_keyframes, 0, "online_merge_every_keyframes");
+  c.AtLeast(prune_unconfirmed_after_keyframes, 0, "prune_unconfirmed_after_keyframes");
+  c.AtLeast(online_iterations, 1, "online_iterations");
+  c.AtLeast(batch_window_every, 1, "batch_window_every");
+  c.AtLeast(final_iterations, 1, "final_iterations");
+  c.AtLeast(final_rounds, 1, "final_rounds");
   // Ceres refuses a first radius outside its own bounds (min 1e-32, max
   // 1e16) and would leave the map unsolved without a word.
-  if (!(initial_trust_region_radius >= 1e-32 && initial_trust_region_radius <= 1e16))
-    return fail("initial_trust_region_radius must be in [1e-32, 1e16]");
-  return true;
+  c.InRange(initial_trust_region_radius, 1e-32, 1e16, "initial_trust_region_radius", "");
+  c.Positive(tag_size_m, "tag_size_m");
+  return c.ok();
 }
 
 Mapper::Mapper(const MapperOptions& options, const odometry::OdometryEkfOptions& ekf_options,

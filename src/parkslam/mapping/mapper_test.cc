@@ -300,7 +300,7 @@ TEST(MapperTest, InvalidOptionsThrow) {
     t.initial_trust_region_radius = radius;
     std::string error;
     EXPECT_FALSE(t.IsValid(&error));
-    EXPECT_EQ(error, "initial_trust_region_radius must be in [1e-32, 1e16]");
+    EXPECT_EQ(error, "initial_trust_region_radius: must be in [1e-32, 1e+16]");
   }
 }
 

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/field_checker.h"
 
 namespace parkslam::odometry {
 namespace {
@@ -15,47 +17,35 @@ double Square(double x) { return x * x; }
 }  // namespace
 
 bool OdometryEkfOptions::IsValid(std::string* error) const {
-  std::string vehicle_error;
-  if (!vehicle.IsValid(&vehicle_error)) {
-    if (error != nullptr) *error = vehicle_error;
-    return false;
-  }
-  const double sigmas[] = {wheel_speed_sigma_mps,
-                           steering_wheel_sigma_rad,
-                           steering_model_sigma_radps,
-                           gyro_sigma_radps,
-                           heading_sigma_rad,
-                           accel_sigma_mps2_per_sqrt_hz,
-                           yaw_accel_sigma_radps2_per_sqrt_hz,
-                           gyro_bias_walk_radps_per_sqrt_s,
-                           heading_bias_walk_rad_per_sqrt_s,
-                           initial_position_sigma_m,
-                           initial_speed_sigma_mps,
-                           initial_yaw_rate_sigma_radps,
-                           gyro_bias_sigma_radps,
-                           heading_bias_sigma_rad,
-                           wheel_scale_sigma};
-  for (double s : sigmas) {
-    if (!(std::isfinite(s) && s >= 0.0)) {
-      if (error != nullptr) *error = "odometry noise parameters must be finite and non-negative";
-      return false;
-    }
-  }
-  if (!(innovation_gate_chi2 > 0.0 && std::isfinite(gate_after_s) && gate_after_s >= 0.0 &&
-        std::isfinite(fault_reset_after_s) && fault_reset_after_s >= 0.0)) {
-    if (error != nullptr) {
-      *error =
-          "innovation_gate_chi2 must be positive, gate_after_s and fault_reset_after_s "
-          "finite and non-negative";
-    }
-    return false;
-  }
-  if (!(wheel_speed_sigma_mps > 0 && gyro_sigma_radps > 0 && heading_sigma_rad > 0 &&
-        steering_wheel_sigma_rad + steering_model_sigma_radps > 0)) {
-    if (error != nullptr) *error = "measurement noise must be positive";
-    return false;
-  }
-  return true;
+  FieldChecker c(error);
+  c.Part(vehicle, "vehicle");
+  const std::pair<const char*, double> sigmas[] = {
+      {"wheel_speed_sigma_mps", wheel_speed_sigma_mps},
+      {"steering_wheel_sigma_rad", steering_wheel_sigma_rad},
+      {"steering_model_sigma_radps", steering_model_sigma_radps},
+      {"gyro_sigma_radps", gyro_sigma_radps},
+      {"heading_sigma_rad", heading_sigma_rad},
+      {"accel_sigma_mps2_per_sqrt_hz", accel_sigma_mps2_per_sqrt_hz},
+      {"yaw_accel_sigma_radps2_per_sqrt_hz", yaw_accel_sigma_radps2_per_sqrt_hz},
+      {"gyro_bias_walk_radps_per_sqrt_s", gyro_bias_walk_radps_per_sqrt_s},
+      {"heading_bias_walk_rad_per_sqrt_s", heading_bias_walk_rad_per_sqrt_s},
+      {"initial_position_sigma_m", initial_position_sigma_m},
+      {"initial_speed_sigma_mps", initial_speed_sigma_mps},
+      {"initial_yaw_rate_sigma_radps", initial_yaw_rate_sigma_radps},
+      {"gyro_bias_sigma_radps", gyro_bias_sigma_radps},
+      {"heading_bias_sigma_rad", heading_bias_sigma_rad},
+      {"wheel_scale_sigma", wheel_scale_sigma}};
+  for (const auto& [name, sigma] : sigmas) c.NonNegative(sigma, name);
+  c.Positive(innovation_gate_chi2, "innovation_gate_chi2");
+  c.NonNegative(gate_after_s, "gate_after_s");
+  c.NonNegative(fault_reset_after_s, "fault_reset_after_s");
+  // Measurements need noise, or their updates divide by zero.
+  c.Positive(wheel_speed_sigma_mps, "wheel_speed_sigma_mps");
+  c.Positive(gyro_sigma_radps, "gyro_sigma_radps");
+  c.Positive(heading_sigma_rad, "heading_sigma_rad");
+  c.Require(steering_wheel_sigma_rad + steering_model_sigma_radps > 0, "steering_wheel_sigma_rad",
+            "and steering_model_sigma_radps must not both be zero");
+  return c.ok();
 }
 
 const char* OdometryEkfStats::ChannelName(int channel) {

@@ -22,7 +22,7 @@ struct AlgorithmOptions {
   control::PathFollowerOptions follower;
 
   // Each part's own check; the message names the field with its section:
-  // "mapper.null_weight must be ...".
+  // "mapper.null_weight: must be in (0, 1]".
   bool IsValid(std::string* error) const;
 
   template <typename V>

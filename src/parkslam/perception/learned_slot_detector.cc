@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/field_checker.h"
 
 namespace parkslam::perception {
 namespace {
@@ -18,22 +19,18 @@ constexpr int kOutputs = 6;  // confidence, offset x, offset y, cos, sin, T
 }  // namespace
 
 bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
-  const auto fail = [&](const std::string& what) {
-    if (error != nullptr) *error = what;
-    return false;
-  };
-  if (model_path.empty()) return fail("model_path is empty");
-  if (input_size_px < kStride || input_size_px % kStride != 0) {
-    return fail("input_size_px must be a positive multiple of 16");
-  }
-  if (!(min_confidence > 0.0 && min_confidence < 1.0))
-    return fail("min_confidence must lie in (0, 1)");
-  if (flips != 1 && flips != 2 && flips != 4) return fail("flips must be 1, 2 or 4");
-  if (!(nms_radius_px >= 0.0)) return fail("nms_radius_px must not be negative");
-  if (!(classical_match_px > 0.0 && classical_match_rad > 0.0)) {
-    return fail("classical_match_px and classical_match_rad must be positive");
-  }
-  return pairing.IsValid(error);
+  FieldChecker c(error);
+  c.Require(!model_path.empty(), "model_path", "is empty");
+  c.Require(input_size_px >= kStride && input_size_px % kStride == 0, "input_size_px",
+            "must be a positive multiple of 16");
+  c.Between(min_confidence, 0.0, 1.0, "min_confidence", "");
+  c.Require(flips == 1 || flips == 2 || flips == 4, "flips", "must be 1, 2 or 4");
+  c.NonNegative(nms_radius_px, "nms_radius_px");
+  c.Positive(classical_match_px, "classical_match_px");
+  c.Positive(classical_match_rad, "classical_match_rad");
+  c.Part(pairing, "pairing");
+  c.Part(classical_options, "classical_options");
+  return c.ok();
 }
 
 LearnedSlotDetector::LearnedSlotDetector(const LearnedSlotDetectorOptions& options)

@@ -1,5 +1,7 @@
 #include "parkslam/perception/learned_slot_id_reader.h"
 
+#include "parkslam/common/field_checker.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -41,20 +43,14 @@ bool Unseen(const cv::Mat& image, int u, int v) {
 }  // namespace
 
 bool LearnedSlotIdReaderOptions::IsValid(std::string* error) const {
-  const auto fail = [&](const std::string& what) {
-    if (error != nullptr) *error = what;
-    return false;
-  };
-  if (model_path.empty()) return fail("model_path is empty");
-  if (!(pixels_per_m > 0.0)) return fail("pixels_per_m must be positive");
-  if (!(id_height_m > 0.0) || !(id_setback_m >= 0.0)) {
-    return fail("id_height_m must be positive and id_setback_m not negative");
-  }
-  if (!(min_hypothesis_probability >= 0.0 && min_hypothesis_probability <= min_digit_probability &&
-        min_digit_probability <= 1.0)) {
-    return fail("need 0 <= min_hypothesis_probability <= min_digit_probability <= 1");
-  }
-  return true;
+  FieldChecker c(error);
+  c.Require(!model_path.empty(), "model_path", "is empty");
+  c.Positive(pixels_per_m, "pixels_per_m");
+  c.Positive(id_height_m, "id_height_m");
+  c.NonNegative(id_setback_m, "id_setback_m");
+  c.Rate(min_hypothesis_probability, "min_hypothesis_probability");
+  c.InRange(min_digit_probability, min_hypothesis_probability, 1.0, "min_digit_probability", "");
+  return c.ok();
 }
 
 LearnedSlotIdReader::LearnedSlotIdReader(const LearnedSlotIdReaderOptions& options)

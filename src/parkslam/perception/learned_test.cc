@@ -160,7 +160,7 @@ TEST(LearnedSlotDetectorTest, FlippedCellsAreMirrorConsistent) {
   EXPECT_GT(plain_worst, 10 * worst);
   options.flips = 3;
   EXPECT_THAT(ErrorOf([&] { LearnedSlotDetector bad(options); }),
-              HasSubstr("flips must be 1, 2 or 4"));
+              HasSubstr("flips: must be 1, 2 or 4"));
 }
 
 MarkingPoint Point(double x, double y, double direction_rad, double score = 0.9) {

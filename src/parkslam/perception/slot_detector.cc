@@ -12,6 +12,7 @@
 
 #include "parkslam/common/angles.h"
 #include "parkslam/common/cross.h"
+#include "parkslam/common/field_checker.h"
 
 namespace parkslam::perception {
 namespace {
@@ -494,44 +495,36 @@ bool LineEndsBetween(const std::vector<PaintLine>& lines, const Eigen::Vector2d&
 const char* ToString(MarkingShape shape) { return shape == MarkingShape::kT ? "T" : "L"; }
 
 bool SlotDetectorOptions::IsValid(std::string* error) const {
-  auto fail = [error](const char* message) {
-    if (error != nullptr) *error = message;
-    return false;
-  };
-  if (!(pixels_per_m > 1.0 && pixels_per_m < 1000.0))
-    return fail("pixels_per_m must be in (1, 1000)");
-  if (!(min_line_width_m > 0.0 && max_line_width_m > min_line_width_m && max_line_width_m < 1.0))
-    return fail("line widths must satisfy 0 < min_line_width_m < max_line_width_m < 1");
-  if (!(min_entrance_m > 0.0 && max_entrance_m > min_entrance_m))
-    return fail("entrance lengths must satisfy 0 < min_entrance_m < max_entrance_m");
-  if (!(standard_depth_m > 0.0 && parallel_depth_m > 0.0))
-    return fail("slot depths must be positive");
-  if (!(max_direction_difference_rad > 0.0 && max_direction_difference_rad < kPi / 2))
-    return fail("max_direction_difference_rad must be in (0, pi/2)");
-  if (!(on_line_tolerance_m > 0.0)) return fail("on_line_tolerance_m must be positive");
-  if (!(min_arm_m > 0.0 && min_stem_m >= min_arm_m))
-    return fail("arm lengths must satisfy 0 < min_arm_m <= min_stem_m");
-  if (!(max_merge_gap_m >= 0.0)) return fail("max_merge_gap_m must be non-negative");
-  if (!(max_clutter > 0.0 && max_clutter <= 1.0)) return fail("max_clutter must be in (0, 1]");
-  if (!(long_line_m > 0.0 && max_width_deviation > 0.0))
-    return fail("long_line_m and max_width_deviation must be positive");
-  if (!(min_contrast_grey >= 1.0 && min_contrast_grey <= 255.0))
-    return fail("min_contrast_grey must be in [1, 255]");
-  if (!(local_contrast_factor >= 1.0 && local_window_m > 0.0))
-    return fail("local_contrast_factor must be at least 1 and local_window_m positive");
-  if (!(min_junction_angle_rad > 0.0 && min_junction_angle_rad < kPi / 2))
-    return fail("min_junction_angle_rad must be in (0, pi/2)");
-  if (!(relative_contrast > 0.0 && relative_contrast <= 1.0 && line_relative_contrast > 0.0 &&
-        line_relative_contrast <= 1.0)) {
-    return fail("relative_contrast and line_relative_contrast must be in (0, 1]");
-  }
-  if (!(min_two_sided_share >= 0.0 && min_two_sided_share <= 1.0))
-    return fail("min_two_sided_share must be in [0, 1]");
-  if (!(mask_margin_m >= 0.0 && mask_margin_m < 1.0))
-    return fail("mask_margin_m must be in [0, 1)");
-  if (!(max_lines_nearby >= 0 && nearby_radius_m > 0.0))
-    return fail("max_lines_nearby must be non-negative and nearby_radius_m positive");
-  return true;
+  FieldChecker c(error);
+  c.Between(pixels_per_m, 1.0, 1000.0, "pixels_per_m", "px/m");
+  c.Between(min_line_width_m, 0.0, 1.0, "min_line_width_m", "m");
+  c.Between(max_line_width_m, min_line_width_m, 1.0, "max_line_width_m", "m");
+  c.Positive(min_entrance_m, "min_entrance_m");
+  c.Require(max_entrance_m > min_entrance_m, "max_entrance_m",
+            "must be greater than min_entrance_m");
+  c.Between(parallel_min_entrance_m, 0.0, 100.0, "parallel_min_entrance_m", "m");
+  c.Positive(standard_depth_m, "standard_depth_m");
+  c.Positive(parallel_depth_m, "parallel_depth_m");
+  c.Between(max_direction_difference_rad, 0.0, kPi / 2, "max_direction_difference_rad", "rad");
+  c.Positive(on_line_tolerance_m, "on_line_tolerance_m");
+  c.Positive(min_arm_m, "min_arm_m");
+  c.Require(min_stem_m >= min_arm_m, "min_stem_m", "must be at least min_arm_m");
+  c.NonNegative(max_merge_gap_m, "max_merge_gap_m");
+  c.PositiveAtMost(max_clutter, 1.0, "max_clutter", "");
+  c.Positive(long_line_m, "long_line_m");
+  c.Positive(max_width_deviation, "max_width_deviation");
+  c.InRange(min_contrast_grey, 1.0, 255.0, "min_contrast_grey", "");
+  c.AtLeast(local_contrast_factor, 1.0, "local_contrast_factor");
+  c.Positive(local_window_m, "local_window_m");
+  c.Between(min_junction_angle_rad, 0.0, kPi / 2, "min_junction_angle_rad", "rad");
+  c.PositiveAtMost(relative_contrast, 1.0, "relative_contrast", "");
+  c.PositiveAtMost(line_relative_contrast, 1.0, "line_relative_contrast", "");
+  c.Rate(min_two_sided_share, "min_two_sided_share");
+  c.Require(mask_margin_m >= 0.0 && mask_margin_m < 1.0, "mask_margin_m", "must be in [0, 1) m");
+  c.AtLeast(max_lines_nearby, 0, "max_lines_nearby");
+  c.Positive(nearby_radius_m, "nearby_radius_m");
+  c.NonNegative(end_tolerance_px, "end_tolerance_px");
+  return c.ok();
 }
 
 SlotDetector::SlotDetector(const SlotDetectorOptions& options) : options_(options) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "parkslam/common/field_checker.h"
 #include "parkslam/font/digit_font.h"
 
 namespace parkslam::perception {
@@ -384,28 +385,18 @@ SlotIdReading ReadDigits(const Region& g, const cv::Mat& normalized, const Layou
 }  // namespace
 
 bool SlotIdReaderOptions::IsValid(std::string* error) const {
-  const auto fail = [error](const char* message) {
-    if (error != nullptr) *error = message;
-    return false;
-  };
-  if (!(pixels_per_m > 0.0 && pixels_per_m <= 1000.0))
-    return fail("pixels_per_m must be in (0, 1000]");
-  if (!(id_height_m > 0.0 && id_height_m <= 3.0)) return fail("id_height_m must be in (0, 3]");
-  if (!(id_height_m * pixels_per_m >= 12.0)) {
-    return fail("id_height_m * pixels_per_m must be at least 12 px: smaller digits are not read");
-  }
-  if (!(id_setback_m >= 0.0 && id_setback_m <= 5.0)) return fail("id_setback_m must be in [0, 5]");
-  if (max_digits < 1 || max_digits > 6) return fail("max_digits must be in [1, 6]");
-  if (!(min_hypothesis_probability > 0.0 && min_hypothesis_probability <= 1.0)) {
-    return fail("min_hypothesis_probability must be in (0, 1]");
-  }
-  if (!(min_digit_probability >= min_hypothesis_probability && min_digit_probability <= 1.0)) {
-    return fail("min_digit_probability must be in [min_hypothesis_probability, 1]");
-  }
-  if (!(max_offset_m >= 0.0 && max_offset_m <= 1.0)) return fail("max_offset_m must be in [0, 1]");
-  if (!(min_paint_ratio >= 0.0 && min_paint_ratio <= 1.0))
-    return fail("min_paint_ratio must be in [0, 1]");
-  return true;
+  FieldChecker c(error);
+  c.PositiveAtMost(pixels_per_m, 1000.0, "pixels_per_m", "px/m");
+  c.PositiveAtMost(id_height_m, 3.0, "id_height_m", "m");
+  c.Require(id_height_m * pixels_per_m >= 12.0, "id_height_m",
+            "must come to at least 12 px at pixels_per_m: smaller digits are not read");
+  c.InRange(id_setback_m, 0.0, 5.0, "id_setback_m", "m");
+  c.InRange(max_digits, 1, 6, "max_digits", "");
+  c.PositiveAtMost(min_hypothesis_probability, 1.0, "min_hypothesis_probability", "");
+  c.InRange(min_digit_probability, min_hypothesis_probability, 1.0, "min_digit_probability", "");
+  c.InRange(max_offset_m, 0.0, 1.0, "max_offset_m", "m");
+  c.Rate(min_paint_ratio, "min_paint_ratio");
+  return c.ok();
 }
 
 SlotIdReader::SlotIdReader(const SlotIdReaderOptions& options) : options_(options) {

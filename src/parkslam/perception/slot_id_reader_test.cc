@@ -464,7 +464,7 @@ TEST(SlotIdReaderTest, InvalidOptionsAreRejected) {
   expect_invalid(o, "id_height_m");
   o = {};
   o.pixels_per_m = 15.0;  // 9 px digits
-  expect_invalid(o, "id_height_m * pixels_per_m");
+  expect_invalid(o, "id_height_m: must come to at least 12 px at pixels_per_m");
   o = {};
   o.id_setback_m = -0.1;
   expect_invalid(o, "id_setback_m");

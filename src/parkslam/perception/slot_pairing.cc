@@ -4,6 +4,7 @@
 
 #include "parkslam/common/angles.h"
 #include "parkslam/common/cross.h"
+#include "parkslam/common/field_checker.h"
 
 namespace parkslam::perception {
 namespace {
@@ -20,24 +21,19 @@ double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
 }  // namespace
 
 bool SlotPairingOptions::IsValid(std::string* error) const {
-  const auto fail = [&](const std::string& what) {
-    if (error != nullptr) *error = what;
-    return false;
-  };
-  if (!(pixels_per_m > 0.0)) return fail("pixels_per_m must be positive");
-  if (!(min_entrance_m > 0.0 && min_entrance_m < max_entrance_m)) {
-    return fail("need 0 < min_entrance_m < max_entrance_m");
-  }
-  if (!(standard_depth_m > 0.0 && parallel_depth_m > 0.0))
-    return fail("slot depths must be positive");
-  if (!(max_direction_difference_rad > 0.0 && max_direction_difference_rad < M_PI)) {
-    return fail("max_direction_difference_rad must lie in (0, pi)");
-  }
-  if (!(on_line_tolerance_m >= 0.0)) return fail("on_line_tolerance_m must not be negative");
-  if (!(min_junction_angle_rad >= 0.0 && min_junction_angle_rad < M_PI / 2)) {
-    return fail("min_junction_angle_rad must lie in [0, pi/2)");
-  }
-  return true;
+  FieldChecker c(error);
+  c.Positive(pixels_per_m, "pixels_per_m");
+  c.Positive(min_entrance_m, "min_entrance_m");
+  c.Require(max_entrance_m > min_entrance_m, "max_entrance_m",
+            "must be greater than min_entrance_m");
+  c.Between(parallel_min_entrance_m, 0.0, 100.0, "parallel_min_entrance_m", "m");
+  c.Positive(standard_depth_m, "standard_depth_m");
+  c.Positive(parallel_depth_m, "parallel_depth_m");
+  c.Between(max_direction_difference_rad, 0.0, M_PI, "max_direction_difference_rad", "rad");
+  c.NonNegative(on_line_tolerance_m, "on_line_tolerance_m");
+  c.Require(min_junction_angle_rad >= 0.0 && min_junction_angle_rad < M_PI / 2,
+            "min_junction_angle_rad", "must be in [0, pi/2) rad");
+  return c.ok();
 }
 
 std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& points,

@@ -1,5 +1,7 @@
 #include "parkslam/perception/tag_detector.h"
 
+#include "parkslam/common/field_checker.h"
+
 #include <apriltag/apriltag.h>
 #include <apriltag/tag36h11.h>
 
@@ -11,16 +13,13 @@
 namespace parkslam::perception {
 
 bool TagDetectorOptions::IsValid(std::string* error) const {
-  auto fail = [error](const char* message) {
-    if (error != nullptr) *error = message;
-    return false;
-  };
-  if (!(tag_size_m > 0.0)) return fail("tag_size_m must be positive");
-  if (!(quad_decimate >= 1.0f)) return fail("quad_decimate must be at least 1");
-  if (max_hamming < 0 || max_hamming > 3) return fail("max_hamming must be in [0, 3]");
-  if (!(max_range_m > 0.0 && max_angle_disagreement_rad > 0.0))
-    return fail("max_range_m and max_angle_disagreement_rad must be positive");
-  return true;
+  FieldChecker c(error);
+  c.Positive(tag_size_m, "tag_size_m");
+  c.AtLeast(quad_decimate, 1.0, "quad_decimate");
+  c.InRange(max_hamming, 0, 3, "max_hamming", "");
+  c.Positive(max_range_m, "max_range_m");
+  c.Positive(max_angle_disagreement_rad, "max_angle_disagreement_rad");
+  return c.ok();
 }
 
 struct TagDetector::Impl {

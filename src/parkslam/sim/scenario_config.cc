@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/field_checker.h"
 #include "parkslam/common/plausible_ranges.h"
 #include "parkslam/map/semantic_map.h"
-#include "parkslam/sim/field_checker.h"
 #include "parkslam/sim/route.h"
 #include "parkslam/sim/world.h"
 #include "parkslam/sim/world_plan.h"
@@ -16,15 +16,12 @@
 namespace parkslam::sim {
 namespace {
 
-using internal::Checker;
-using internal::Limit;
-
-void CheckRegion(const RegionConfig& r, const std::string& field, Checker& c) {
+void CheckRegion(const RegionConfig& r, const std::string& field, FieldChecker& c) {
   c.Point({r.min_x_m, r.min_y_m}, field);
   c.Point({r.max_x_m, r.max_y_m}, field);
 }
 
-void CheckWorld(const WorldConfig& w, Checker& c) {
+void CheckWorld(const WorldConfig& w, FieldChecker& c) {
   c.Require(!w.name.empty(), "world.name", "must not be empty");
   c.Require(w.seed >= 0, "world.seed", "must be non-negative");
   CheckRegion(w.hall, "world.hall", c);
@@ -88,7 +85,7 @@ void CheckWorld(const WorldConfig& w, Checker& c) {
 
 // The route of a plan's world stays on its floor and clear of its walls and
 // pillars (a generated lot leaves its aisles to the route's author).
-void CheckRouteInPlan(const ScenarioConfig& s, Checker& c) {
+void CheckRouteInPlan(const ScenarioConfig& s, FieldChecker& c) {
   if (!s.world.plan || !c.ok()) return;
   const bool approach_only = s.route.loop_m.empty() && s.route.finish_m.empty();
   std::string error;
@@ -99,13 +96,13 @@ void CheckRouteInPlan(const ScenarioConfig& s, Checker& c) {
 }
 
 void CheckWaypoints(const std::vector<Eigen::Vector2d>& points, const std::string& field,
-                    Checker& c) {
+                    FieldChecker& c) {
   for (size_t i = 0; i < points.size(); ++i) {
     c.Point(points[i], field + "[" + std::to_string(i) + "]");
   }
 }
 
-void CheckRoute(const RouteConfig& r, Checker& c) {
+void CheckRoute(const RouteConfig& r, FieldChecker& c) {
   c.Require(r.approach_m.size() + r.loop_m.size() + r.finish_m.size() >= 2, "route",
             "needs at least two waypoints");
   CheckWaypoints(r.approach_m, "route.approach_m", c);
@@ -128,7 +125,7 @@ void CheckRoute(const RouteConfig& r, Checker& c) {
             "Hz");
 }
 
-void CheckSlotSensor(const SlotSensorConfig& sl, Checker& c) {
+void CheckSlotSensor(const SlotSensorConfig& sl, FieldChecker& c) {
   c.InRange(sl.rate_hz, kMinSensorRate_hz, kMaxCameraRate_hz, "sensors.slots.rate_hz", "Hz");
   c.InRange(sl.view_length_m, kMinTopViewSide_m, kMaxTopViewSide_m, "sensors.slots.view_length_m",
             "m");
@@ -158,7 +155,7 @@ void CheckSlotSensor(const SlotSensorConfig& sl, Checker& c) {
             "sensors.slots.far_direction_sigma_deg", "deg");
 }
 
-void CheckIdSensor(const IdSensorConfig& id, Checker& c) {
+void CheckIdSensor(const IdSensorConfig& id, FieldChecker& c) {
   c.Rate(id.confusion_rate, "sensors.ids.confusion_rate");
   c.Rate(id.partial_rate, "sensors.ids.partial_rate");
   c.Rate(id.unreadable_rate, "sensors.ids.unreadable_rate");
@@ -167,7 +164,7 @@ void CheckIdSensor(const IdSensorConfig& id, Checker& c) {
   c.Rate(id.true_digit_second_rate, "sensors.ids.true_digit_second_rate");
 }
 
-void CheckTagSensor(const TagSensorConfig& t, Checker& c) {
+void CheckTagSensor(const TagSensorConfig& t, FieldChecker& c) {
   c.InRange(t.rate_hz, kMinSensorRate_hz, kMaxCameraRate_hz, "sensors.tags.rate_hz", "Hz");
   c.Magnitude(t.camera_x_m, kMaxCameraOffset_m, "sensors.tags.camera_x_m", "m");
   c.Magnitude(t.camera_y_m, kMaxCameraOffset_m, "sensors.tags.camera_y_m", "m");
@@ -208,7 +205,7 @@ void CheckTagSensor(const TagSensorConfig& t, Checker& c) {
                 " rad at max_range_m (yaw_sigma_rad + yaw_sigma_per_m * max_range_m)");
 }
 
-void CheckSensors(const SensorConfig& s, Checker& c) {
+void CheckSensors(const SensorConfig& s, FieldChecker& c) {
   std::string odometry_error;
   c.Require(s.odometry.IsValid(&odometry_error), odometry_error);
   CheckSlotSensor(s.slots, c);
@@ -231,13 +228,13 @@ SlotRowConfig Row(const char* kind, double x, double y, bool far_side_left, int 
 }  // namespace
 
 bool WorldConfig::IsValid(std::string* error) const {
-  Checker checker(error);
+  FieldChecker checker(error);
   CheckWorld(*this, checker);
   return checker.ok();
 }
 
 bool ScenarioConfig::IsValid(std::string* error) const {
-  Checker checker(error);
+  FieldChecker checker(error);
   CheckWorld(world, checker);
   CheckRoute(route, checker);
   CheckRouteInPlan(*this, checker);

@@ -9,8 +9,8 @@
 
 #include "parkslam/common/angles.h"
 #include "parkslam/common/cross.h"
+#include "parkslam/common/field_checker.h"
 #include "parkslam/common/plausible_ranges.h"
-#include "parkslam/sim/field_checker.h"
 #include "parkslam/sim/world.h"
 
 namespace parkslam::sim {
@@ -41,10 +41,8 @@ std::string Index(const std::string& field, size_t i) {
   return field + "[" + std::to_string(i) + "]";
 }
 
-using internal::Checker;
-
 // A plan's point: finite and within the coordinate range.
-void RequirePoint(Checker& c, const Eigen::Vector2d& p, const std::string& field) {
+void RequirePoint(FieldChecker& c, const Eigen::Vector2d& p, const std::string& field) {
   c.Require(
       p.allFinite() && std::abs(p.x()) <= kMaxCoordinate_m && std::abs(p.y()) <= kMaxCoordinate_m,
       field, "must be finite and at most " + Number(kMaxCoordinate_m) + " m in magnitude");
@@ -54,7 +52,7 @@ std::string Join(const std::string& prefix, const std::string& key) {
   return prefix.empty() ? key : prefix + "." + key;
 }
 
-void CheckSlot(const PlanSlot& slot, const std::string& field, Checker& c) {
+void CheckSlot(const PlanSlot& slot, const std::string& field, FieldChecker& c) {
   c.Require(SlotKindFromString(slot.kind).has_value(), field + ".kind",
             "must be perpendicular, angled or parallel");
   const std::string corners = field + ".corners_m";
@@ -112,7 +110,8 @@ double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
   return (a + t * ab - p).norm();
 }
 
-void CheckTag(const PlanTag& tag, const WorldPlan& plan, const std::string& field, Checker& c) {
+void CheckTag(const PlanTag& tag, const WorldPlan& plan, const std::string& field,
+              FieldChecker& c) {
   c.Require(tag.id >= 0 && tag.id < kTagFamilySize, field + ".id",
             "must be in [0, " + std::to_string(kTagFamilySize - 1) + "] (the tag36h11 family)");
   RequirePoint(c, tag.p_m, field + ".p_m");
@@ -145,7 +144,7 @@ void CheckTag(const PlanTag& tag, const WorldPlan& plan, const std::string& fiel
   }
 }
 
-void CheckRegion(const RegionConfig& r, const std::string& field, Checker& c) {
+void CheckRegion(const RegionConfig& r, const std::string& field, FieldChecker& c) {
   RequirePoint(c, {r.min_x_m, r.min_y_m}, field);
   RequirePoint(c, {r.max_x_m, r.max_y_m}, field);
   c.Require(r.max_x_m > r.min_x_m && r.max_y_m > r.min_y_m, field,
@@ -163,7 +162,7 @@ Eigen::Vector2d LeftNormal(const Eigen::Vector2d& d) { return Eigen::Vector2d(-d
 
 bool IsValidPlan(const WorldPlan& plan, const RegionConfig& hall, const std::string& prefix,
                  std::string* error) {
-  Checker c(error);
+  FieldChecker c(error);
   for (size_t i = 0; i < plan.floor.size(); ++i) {
     CheckRegion(plan.floor[i], Index(Join(prefix, "floor"), i), c);
   }
@@ -214,7 +213,7 @@ std::vector<RegionConfig> PlanFloor(const WorldPlan& plan, const RegionConfig& h
 bool IsDrivableRoute(const std::vector<Eigen::Vector2d>& waypoints_m,
                      const std::vector<RegionConfig>& floor, const World& world,
                      const std::string& field, std::string* error) {
-  Checker c(error);
+  FieldChecker c(error);
   for (size_t i = 0; i < waypoints_m.size() && c.ok(); ++i) {
     const Eigen::Vector2d& p = waypoints_m[i];
     // Built in steps: GCC 12 warns wrongly on "literal" + std::string (its

@@ -1,8 +1,10 @@
-#ifndef PARKSLAM_SIM_FIELD_CHECKER_H_
-#define PARKSLAM_SIM_FIELD_CHECKER_H_
+#ifndef PARKSLAM_COMMON_FIELD_CHECKER_H_
+#define PARKSLAM_COMMON_FIELD_CHECKER_H_
 
-// Internal to sim: the checks of the scenario and plan validators, each
-// failure named by its field (the first one is kept).
+// The checks of every validator (scenarios, plans, algorithm options), each
+// failure named by its field, "field: what" (the first one is kept). A
+// nested part's message gets the part's key in front: "pairing.min_entrance_m:
+// must be ...", so that a message names the key as a file writes it.
 
 #include <Eigen/Core>
 #include <cmath>
@@ -11,7 +13,7 @@
 
 #include "parkslam/common/plausible_ranges.h"
 
-namespace parkslam::sim::internal {
+namespace parkslam {
 
 // A limit as written in messages: "1.5", "10", "1e+05".
 inline std::string Limit(double limit) {
@@ -21,10 +23,11 @@ inline std::string Limit(double limit) {
 }
 
 // Collects the first failed check with the name of its field. The ranges
-// of physical quantities are those of common/plausible_ranges.h.
-class Checker {
+// of physical quantities are those of common/plausible_ranges.h. Every
+// check fails for NaN.
+class FieldChecker {
  public:
-  explicit Checker(std::string* error) : error_(error) {}
+  explicit FieldChecker(std::string* error) : error_(error) {}
 
   bool ok() const { return ok_; }
 
@@ -48,6 +51,23 @@ class Checker {
   }
   void NonNegative(double value, const std::string& field) {
     Require(std::isfinite(value) && value >= 0.0, field, "must be non-negative");
+  }
+  // value >= min (a count, say: "must be at least 1").
+  void AtLeast(double value, double min, const std::string& field) {
+    Require(value >= min, field, "must be at least " + Limit(min));
+  }
+  // value in (min, max); unit as for InRange.
+  void Between(double value, double min, double max, const std::string& field, const char* unit) {
+    if (!ok_ || (value > min && value < max)) return;
+    Require(false, field, "must be in (" + Limit(min) + ", " + Limit(max) + ")" + Unit(unit));
+  }
+  // A nested part with its own IsValid(std::string*): its message, with
+  // the part's key in front.
+  template <typename T>
+  void Part(const T& part, const std::string& field) {
+    if (!ok_) return;
+    std::string message;
+    if (!part.IsValid(&message)) Require(false, field + "." + message);
   }
   // value in [min, max]; unit after the limits in the message ("" for none).
   void InRange(double value, double min, double max, const std::string& field, const char* unit) {
@@ -78,6 +98,6 @@ class Checker {
   bool ok_ = true;
 };
 
-}  // namespace parkslam::sim::internal
+}  // namespace parkslam
 
-#endif  // PARKSLAM_SIM_FIELD_CHECKER_H_
+#endif  // PARKSLAM_COMMON_FIELD_CHECKER_H_
