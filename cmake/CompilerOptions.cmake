@@ -26,6 +26,11 @@ function(parkslam_add_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest_main GTest::gmock)
   parkslam_set_warnings(${name})
+  # Eight test files to a unity file: GoogleTest's and gmock's inline code
+  # is compiled once for them, not once each (CI builds everything twice).
+  # So helpers in a test file's anonymous namespace need names of their
+  # own within the test target.
+  set_target_properties(${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
                        PROPERTIES ENVIRONMENT "PARKSLAM_SHARED_DATA=${PARKSLAM_SHARED_DATA}")
 endfunction()

@@ -21,7 +21,7 @@
 #include "steps.h"
 
 namespace parkslam::app {
-namespace {
+namespace demo_command {
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -386,9 +386,10 @@ void Run(const Options& o) {
   PrintSummary(o, evaluation);
 }
 
-}  // namespace
+}  // namespace demo_command
 
 void AddDemoCommand(CLI::App& app) {
+  using namespace demo_command;
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "demo",

@@ -12,7 +12,7 @@
 #include "parkslam/perception/slot_id_reader.h"
 
 namespace parkslam::app {
-namespace {
+namespace detect_command {
 
 cv::Point2f ToCv(const Eigen::Vector2d& p) {
   return {static_cast<float>(p.x()), static_cast<float>(p.y())};
@@ -169,9 +169,10 @@ void Run(const Options& o) {
   if (!o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
 }
 
-}  // namespace
+}  // namespace detect_command
 
 void AddDetectCommand(CLI::App& app) {
+  using namespace detect_command;
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "detect",

@@ -22,7 +22,7 @@
 #include "progress.h"
 
 namespace parkslam::app {
-namespace {
+namespace eval_detect_command {
 
 struct Options {
   ScenarioOptions scenario;
@@ -204,9 +204,10 @@ void Run(const Options& o) {
   }
 }
 
-}  // namespace
+}  // namespace eval_detect_command
 
 void AddEvalDetectCommand(CLI::App& app) {
+  using namespace eval_detect_command;
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "eval-detect",

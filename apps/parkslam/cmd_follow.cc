@@ -18,7 +18,7 @@
 #include "steps.h"
 
 namespace parkslam::app {
-namespace {
+namespace follow_command {
 
 std::string Index(int i) {
   char text[16];
@@ -26,7 +26,7 @@ std::string Index(int i) {
   return text;
 }
 
-}  // namespace
+}  // namespace follow_command
 
 nlohmann::json TraceFollowingToJson(const harness::TraceFollowingResult& r,
                                     const harness::TraceFollowingOptions& o) {
@@ -69,6 +69,7 @@ nlohmann::json TraceFollowingToJson(const harness::TraceFollowingResult& r,
 
 void WriteFollowRuns(const std::filesystem::path& dir, const Trajectory& trace_world,
                      const harness::TraceFollowingResult& result) {
+  using namespace follow_command;
   io::WriteTum(dir / "trace.tum", trace_world);
   io::NumericTable lateral;
   lateral.columns = {"s_m"};
@@ -89,7 +90,7 @@ void WriteFollowRuns(const std::filesystem::path& dir, const Trajectory& trace_w
   io::WriteNumericCsv(dir / "lateral.csv", lateral);
 }
 
-namespace {
+namespace follow_command {
 
 struct Options {
   ScenarioOptions scenario;
@@ -208,9 +209,10 @@ void Run(const Options& o) {
               out.string().c_str());
 }
 
-}  // namespace
+}  // namespace follow_command
 
 void AddFollowCommand(CLI::App& app) {
+  using namespace follow_command;
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "follow",

@@ -18,7 +18,7 @@
 
 namespace parkslam::app {
 
-namespace {
+namespace localize_command {
 
 struct Options {
   std::string map, dataset, out, init, log;
@@ -111,9 +111,10 @@ void Run(const Options& o) {
   if (o.kidnap_trials > 0) RunKidnapTrials(o, config, map, dataset);
 }
 
-}  // namespace
+}  // namespace localize_command
 
 void AddLocalizeCommand(CLI::App& app) {
+  using namespace localize_command;
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "localize",

@@ -29,7 +29,7 @@
 #include "progress.h"
 
 namespace parkslam::app {
-namespace {
+namespace make_training_set_command {
 
 struct Options {
   std::string out;
@@ -251,9 +251,10 @@ void Run(const Options& o) {
       o.count / seconds / threads, setup_s, marks, slots, id_count);
 }
 
-}  // namespace
+}  // namespace make_training_set_command
 
 void AddMakeTrainingSetCommand(CLI::App& app) {
+  using namespace make_training_set_command;
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "make-training-set",

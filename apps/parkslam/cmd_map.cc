@@ -14,7 +14,7 @@
 
 namespace parkslam::app {
 
-namespace {
+namespace map_command {
 
 struct Options {
   std::string dataset, out, trajectory_out, robust = "maxmix", mode = "batch", init, solver = "lm";
@@ -64,9 +64,10 @@ void Run(const Options& o, bool initial_trust_region_given) {
   std::printf("map written to %s\n", o.out.c_str());
 }
 
-}  // namespace
+}  // namespace map_command
 
 void AddMapCommand(CLI::App& app) {
+  using namespace map_command;
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
       "map",

@@ -11,7 +11,7 @@
 #include "parkslam/sim/world_plan.h"
 
 namespace parkslam::app {
-namespace {
+namespace plan_from_map_command {
 
 // The hall of a plan from a map: the map's bounding box with this margin.
 constexpr double kHallMargin_m = 1.0;
@@ -27,9 +27,10 @@ std::vector<Eigen::Vector2d> WaypointsAlong(const Trajectory& drive, double spac
   return waypoints;
 }
 
-}  // namespace
+}  // namespace plan_from_map_command
 
 void AddPlanFromMapCommand(CLI::App& app) {
+  using namespace plan_from_map_command;
   struct Options {
     std::string map, out, route, name;
     double spacing_m = 2.0;

@@ -25,9 +25,10 @@
 #include "steps.h"
 
 namespace parkslam::app {
-namespace {
 
 namespace fs = std::filesystem;
+
+namespace report_command {
 
 // The chi-square 95 % band of a 3-dimensional NEES sample (x, y, yaw).
 constexpr double kNees3Lower = 0.2158;
@@ -449,9 +450,10 @@ void AddPerception(const fs::path& dir, Loaded* r) {
   }
 }
 
-}  // namespace
+}  // namespace report_command
 
 void SetCommandLine(int argc, char** argv) {
+  using namespace report_command;
   g_command_line.clear();
   for (int i = 0; i < argc; ++i) {
     std::string arg = i == 0 ? "parkslam" : argv[i];
@@ -460,9 +462,10 @@ void SetCommandLine(int argc, char** argv) {
   }
 }
 
-const std::string& CommandLine() { return g_command_line; }
+const std::string& CommandLine() { return report_command::g_command_line; }
 
 void WriteReport(const fs::path& dir, const ReportInputs& inputs, const fs::path& out) {
+  using namespace report_command;
   if (!fs::is_directory(dir)) throw io::IoError(dir.string() + ": not a folder");
   Loaded r;
   r.metrics = nlohmann::json::object();
@@ -497,6 +500,7 @@ void WriteReport(const fs::path& dir, const ReportInputs& inputs, const fs::path
 }
 
 void AddReportCommand(CLI::App& app) {
+  using namespace report_command;
   struct Options {
     std::string dir, out, map, dataset;
   };

@@ -21,7 +21,7 @@
 #include "parkslam/sim/world.h"
 
 namespace parkslam::app {
-namespace {
+namespace simulate_command {
 
 // Renders the cameras of the default rig along the true trajectory at
 // rate_hz into DIR/images/<camera>/<t_ns>.jpg, with images/index.csv
@@ -54,9 +54,10 @@ void WriteImages(const std::filesystem::path& dir, const io::Dataset& dataset, d
   io::WriteFileAtomically(dir / "images" / "index.csv", index);
 }
 
-}  // namespace
+}  // namespace simulate_command
 
 void AddSimulateCommand(CLI::App& app) {
+  using namespace simulate_command;
   struct Options {
     ScenarioOptions scenario;
     std::uint64_t seed = 1;

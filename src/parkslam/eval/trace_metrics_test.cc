@@ -12,7 +12,7 @@
 namespace parkslam::eval {
 namespace {
 
-constexpr TimeNs kStepNs = kNanosecondsPerSecond / 10;
+constexpr TimeNs kTraceStepNs = kNanosecondsPerSecond / 10;
 
 // Samples a parametric path at `samples` + 1 points, u in [0, 1], yaw along
 // the path.
@@ -22,7 +22,7 @@ Trajectory Sampled(const std::function<Eigen::Vector2d(double)>& path, int sampl
     const double u = static_cast<double>(i) / samples;
     const Eigen::Vector2d p = path(u);
     const Eigen::Vector2d ahead = path(std::min(1.0, u + 1e-4)) - path(std::max(0.0, u - 1e-4));
-    trajectory.push_back({i * kStepNs, SE2(p, std::atan2(ahead.y(), ahead.x()))});
+    trajectory.push_back({i * kTraceStepNs, SE2(p, std::atan2(ahead.y(), ahead.x()))});
   }
   return trajectory;
 }

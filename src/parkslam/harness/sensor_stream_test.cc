@@ -12,22 +12,22 @@ namespace {
 
 using test_util::ShortDrive;
 
-const ShortDrive& Drive() {
+const ShortDrive& StreamDrive() {
   static const ShortDrive d = test_util::MakeShortDrive(5);
   return d;
 }
 
 StreamInputs Inputs() {
-  const ShortDrive& d = Drive();
+  const ShortDrive& d = StreamDrive();
   return {"short drive", 5, &d.simulation.log, &d.scenario, &d.truth};
 }
 
-struct Counts {
+struct EventCounts {
   int slot_frames = 0, tag_frames = 0, camera_frames = 0, others = 0;
 };
 
-Counts Drain(SensorSource& source) {
-  Counts c;
+EventCounts CountEvents(SensorSource& source) {
+  EventCounts c;
   TimeNs last = -1;
   while (const auto event = source.Next()) {
     EXPECT_GE(EventTime(*event), last);
@@ -46,9 +46,9 @@ Counts Drain(SensorSource& source) {
 }
 
 TEST(SensorStreamTest, OnObservationsIsTheLogItself) {
-  const SensorLog& log = Drive().simulation.log;
+  const SensorLog& log = StreamDrive().simulation.log;
   SensorStream stream(Inputs(), {FromObservations{}, {}, {}});
-  const Counts c = Drain(stream.source());
+  const EventCounts c = CountEvents(stream.source());
   EXPECT_EQ(c.slot_frames, static_cast<int>(log.slot_frames.size()));
   EXPECT_EQ(c.tag_frames, static_cast<int>(log.tag_frames.size()));
   EXPECT_EQ(c.camera_frames, 0);
@@ -60,8 +60,9 @@ TEST(SensorStreamTest, OnObservationsIsTheLogItself) {
 
 TEST(SensorStreamTest, LiveRenderingReplacesTheObservationsWithWhatTheCamerasSee) {
   SensorStream stream(Inputs(), {FromLiveRendering{0.5}, {}, {}});
-  const Counts c = Drain(stream.source());
-  const double duration_s = ToSeconds(Drive().truth.back().t_ns - Drive().truth.front().t_ns);
+  const EventCounts c = CountEvents(stream.source());
+  const double duration_s =
+      ToSeconds(StreamDrive().truth.back().t_ns - StreamDrive().truth.front().t_ns);
   const int frames = static_cast<int>(duration_s / 2.0) + 1;
   // One slot frame and one tag frame per rendered frame set, nothing else
   // of the log's observation level.
@@ -75,7 +76,7 @@ TEST(SensorStreamTest, LiveRenderingReplacesTheObservationsWithWhatTheCamerasSee
 TEST(SensorStreamTest, FaultsAreInjectedAndReported) {
   const std::vector<SensorFault> faults = {ParseSensorFault("wheel-dropout@5+3")};
   SensorStream stream(Inputs(), {FromObservations{}, {}, faults});
-  Drain(stream.source());
+  CountEvents(stream.source());
   ASSERT_NE(stream.injected(), nullptr);
   EXPECT_GT(stream.injected()->wheel_samples_dropped, 100);
   EXPECT_NE(stream.DescribeFaults().find("wheel samples dropped"), std::string::npos);

@@ -18,7 +18,7 @@ namespace {
 
 // The default lot with a short drive: the corridor, aisle 1, up the east
 // cross aisle and back west through aisle 3 (no laps).
-sim::ScenarioConfig ShortDrive() {
+sim::ScenarioConfig ShortScenario() {
   sim::ScenarioConfig scenario = sim::DefaultScenario();
   scenario.route.laps = 0;
   return scenario;
@@ -37,7 +37,7 @@ SemanticMap TrueMap(const sim::ScenarioConfig& scenario) {
 }
 
 TEST(TraceFollowingTest, LocalizedRunsRepeatTheTraceClosely) {
-  const sim::ScenarioConfig scenario = ShortDrive();
+  const sim::ScenarioConfig scenario = ShortScenario();
   TraceFollowingOptions options;
   options.runs = 3;
   options.speed_kmh = 10.0;
@@ -57,7 +57,7 @@ TEST(TraceFollowingTest, LocalizedRunsRepeatTheTraceClosely) {
 // The targets with a real car's actuator delay, speed lag and tyre
 // slip (sim::RealisticDynamics): std <= 0.05 m, lateral mean <= 0.10 m.
 TEST(TraceFollowingTest, RealisticVehicleRepeatsTheTraceAt4And10Kmh) {
-  const sim::ScenarioConfig scenario = ShortDrive();
+  const sim::ScenarioConfig scenario = ShortScenario();
   for (const double kmh : {4.0, 10.0}) {
     TraceFollowingOptions options;
     options.runs = 3;
@@ -72,7 +72,7 @@ TEST(TraceFollowingTest, RealisticVehicleRepeatsTheTraceAt4And10Kmh) {
 }
 
 TEST(TraceFollowingTest, DeadReckoningAloneDriftsAway) {
-  const sim::ScenarioConfig scenario = ShortDrive();
+  const sim::ScenarioConfig scenario = ShortScenario();
   TraceFollowingOptions options;
   options.runs = 3;
   options.speed_kmh = 10.0;
@@ -88,7 +88,7 @@ TEST(TraceFollowingTest, DeadReckoningAloneDriftsAway) {
 TEST(TraceFollowingTest, MapInItsOwnFrameIsHandled) {
   // The same lot, its map rotated and shifted: the follower works in the
   // map frame and the results are measured in the world's.
-  const sim::ScenarioConfig scenario = ShortDrive();
+  const sim::ScenarioConfig scenario = ShortScenario();
   const SE2 T_map_world(20.0, -5.0, 0.3);
   SemanticMap map = TrueMap(scenario);
   for (MapSlot& s : map.slots) {
@@ -110,7 +110,7 @@ TEST(TraceFollowingTest, MapInItsOwnFrameIsHandled) {
 // On pixels: the localizer sees only what the front end reads from the
 // rendered frames (slots, IDs, tags), and the car still follows the trace.
 TEST(TraceFollowingTest, FollowsTheTraceOnPixels) {
-  const sim::ScenarioConfig scenario = ShortDrive();
+  const sim::ScenarioConfig scenario = ShortScenario();
   TraceFollowingOptions options;
   options.runs = 1;
   options.speed_kmh = 10.0;
@@ -149,7 +149,7 @@ double StoppedAt(const Trajectory& truth, double from_s) {
 // The localizer sees its landmarks where the map has none, loses track, and
 // the supervisor brakes the car to a stop; once relocalized it drives on.
 TEST(TraceFollowingTest, AKidnappedCarStopsAndGoesOnWhenRelocalized) {
-  const sim::ScenarioConfig scenario = ShortDrive();
+  const sim::ScenarioConfig scenario = ShortScenario();
   TraceFollowingOptions options;
   options.runs = 1;
   options.speed_kmh = 10.0;
@@ -172,7 +172,7 @@ TEST(TraceFollowingTest, AKidnappedCarStopsAndGoesOnWhenRelocalized) {
 // Ten seconds without a camera frame: the estimate goes stale, the car
 // stops, and drives on when frames come back.
 TEST(TraceFollowingTest, ACameraBlackoutStopsTheCarUntilFramesReturn) {
-  const sim::ScenarioConfig scenario = ShortDrive();
+  const sim::ScenarioConfig scenario = ShortScenario();
   TraceFollowingOptions options;
   options.runs = 1;
   options.speed_kmh = 10.0;
@@ -229,7 +229,7 @@ bool OnDrivableFloor(const sim::World& world, const Eigen::Vector2d& p) {
 TEST(TraceFollowingTest, SafetyStopsInRandomKidnapsAndBlackouts) {
   const char* env = std::getenv("PARKSLAM_SAFETY_TRIALS");
   const int trials = env != nullptr ? std::max(1, std::atoi(env)) : 20;
-  const sim::ScenarioConfig scenario = ShortDrive();
+  const sim::ScenarioConfig scenario = ShortScenario();
   const sim::World world = sim::BuildWorld(scenario.world);
   const SemanticMap map = TrueMap(scenario);
   const Trajectory trace = HumanDrive(scenario);
@@ -282,7 +282,7 @@ TEST(TraceFollowingTest, SafetyStopsInRandomKidnapsAndBlackouts) {
 }
 
 TEST(TraceFollowingTest, InvalidOptionsThrow) {
-  const sim::ScenarioConfig scenario = ShortDrive();
+  const sim::ScenarioConfig scenario = ShortScenario();
   TraceFollowingOptions options;
   options.runs = 0;
   EXPECT_THROW(FollowTrace(scenario, TrueMap(scenario), SE2(), HumanDrive(scenario), options),

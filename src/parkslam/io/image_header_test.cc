@@ -22,7 +22,7 @@ std::string Encoded(const char* ext, const cv::Mat& image) {
   return std::string(buffer.begin(), buffer.end());
 }
 
-std::string ErrorOf(std::string_view bytes) {
+std::string HeaderErrorOf(std::string_view bytes) {
   try {
     ImageSizeFromHeader(bytes, "x.img");
   } catch (const IoError& e) {
@@ -66,9 +66,10 @@ TEST(ImageHeaderTest, HugeDeclaredImagesAreRefusedBeforeDecoding) {
 }
 
 TEST(ImageHeaderTest, OtherFilesAreNamed) {
-  EXPECT_THAT(ErrorOf("hello"), HasSubstr("x.img: not a PNG, JPEG, BMP or binary PNM image"));
-  EXPECT_THAT(ErrorOf(std::string("\x89PNG\r\n\x1a\n", 8)), HasSubstr("a PNG cut short"));
-  EXPECT_THAT(ErrorOf(std::string("\xff\xd8\xff\xe0\x00\x10", 6)), HasSubstr("JPEG cut short"));
+  EXPECT_THAT(HeaderErrorOf("hello"), HasSubstr("x.img: not a PNG, JPEG, BMP or binary PNM image"));
+  EXPECT_THAT(HeaderErrorOf(std::string("\x89PNG\r\n\x1a\n", 8)), HasSubstr("a PNG cut short"));
+  EXPECT_THAT(HeaderErrorOf(std::string("\xff\xd8\xff\xe0\x00\x10", 6)),
+              HasSubstr("JPEG cut short"));
 }
 
 }  // namespace

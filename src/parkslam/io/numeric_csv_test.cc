@@ -13,7 +13,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-std::string ErrorOf(std::string_view text, bool allow_nan = false) {
+std::string CsvErrorOf(std::string_view text, bool allow_nan = false) {
   try {
     ParseNumericCsv(text, "log.csv", {"t_s", "x_m"}, allow_nan);
   } catch (const IoError& e) {
@@ -41,13 +41,14 @@ TEST(NumericCsvTest, RoundTripsExactly) {
 }
 
 TEST(NumericCsvTest, BadTablesNameTheFileLineAndColumn) {
-  EXPECT_THAT(ErrorOf(""), HasSubstr("log.csv: empty file"));
-  EXPECT_THAT(ErrorOf("t_s,y_m\n1,2\n"), HasSubstr("log.csv:1: x_m: missing column"));
-  EXPECT_THAT(ErrorOf("t_s,x_m\n1,2\n3\n"), HasSubstr("log.csv:3: 1 fields for 2 columns"));
-  EXPECT_THAT(ErrorOf("t_s,x_m\n1,abc\n"), HasSubstr("log.csv:2: x_m: not a number 'abc'"));
-  EXPECT_THAT(ErrorOf("t_s,x_m\n1,nan\n"), HasSubstr("log.csv:2: x_m: not a finite number"));
-  EXPECT_THAT(ErrorOf("t_s,x_m\n1,inf\n", true), HasSubstr("log.csv:2: x_m: not a finite number"));
-  EXPECT_EQ(ErrorOf("t_s,x_m\n1,nan\n", true), "");
+  EXPECT_THAT(CsvErrorOf(""), HasSubstr("log.csv: empty file"));
+  EXPECT_THAT(CsvErrorOf("t_s,y_m\n1,2\n"), HasSubstr("log.csv:1: x_m: missing column"));
+  EXPECT_THAT(CsvErrorOf("t_s,x_m\n1,2\n3\n"), HasSubstr("log.csv:3: 1 fields for 2 columns"));
+  EXPECT_THAT(CsvErrorOf("t_s,x_m\n1,abc\n"), HasSubstr("log.csv:2: x_m: not a number 'abc'"));
+  EXPECT_THAT(CsvErrorOf("t_s,x_m\n1,nan\n"), HasSubstr("log.csv:2: x_m: not a finite number"));
+  EXPECT_THAT(CsvErrorOf("t_s,x_m\n1,inf\n", true),
+              HasSubstr("log.csv:2: x_m: not a finite number"));
+  EXPECT_EQ(CsvErrorOf("t_s,x_m\n1,nan\n", true), "");
 }
 
 TEST(NumericCsvTest, RowsOfTheWrongLengthAreNotWritten) {

@@ -13,7 +13,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-std::string ErrorOf(const std::string& yaml) {
+std::string OptionsErrorOf(const std::string& yaml) {
   try {
     OptionsFromYaml(yaml, AlgorithmOptions{}, "o.yaml");
   } catch (const IoError& e) {
@@ -52,19 +52,19 @@ TEST(OptionsYamlTest, DumpedDefaultsReadBackExactly) {
 }
 
 TEST(OptionsYamlTest, UnknownKeysAndBadValuesNameTheFileLineAndKey) {
-  EXPECT_EQ(ErrorOf("mapper:\n  null_wieght: 0.1\n"),
+  EXPECT_EQ(OptionsErrorOf("mapper:\n  null_wieght: 0.1\n"),
             "o.yaml:2: mapper.null_wieght: unknown key (did you mean 'null_weight'?)");
-  EXPECT_EQ(ErrorOf("mappr:\n  null_weight: 0.1\n"),
+  EXPECT_EQ(OptionsErrorOf("mappr:\n  null_weight: 0.1\n"),
             "o.yaml:1: mappr: unknown key (did you mean 'mapper'?)");
-  EXPECT_EQ(ErrorOf("front_end:\n  slots:\n    min_contrast_grey: abc\n"),
+  EXPECT_EQ(OptionsErrorOf("front_end:\n  slots:\n    min_contrast_grey: abc\n"),
             "o.yaml:3: front_end.slots.min_contrast_grey: expected a number, got 'abc'");
-  EXPECT_EQ(ErrorOf("mapper:\n  null_weight: -1\n"),
+  EXPECT_EQ(OptionsErrorOf("mapper:\n  null_weight: -1\n"),
             "o.yaml: mapper.null_weight: must be in (0, 1]");
-  EXPECT_EQ(ErrorOf("follower:\n  max_decel_mps2: 0\n"),
+  EXPECT_EQ(OptionsErrorOf("follower:\n  max_decel_mps2: 0\n"),
             "o.yaml: follower.max_decel_mps2: must be positive");
-  EXPECT_EQ(ErrorOf("front_end:\n  tag_max_height_m: 0.5\n"),
+  EXPECT_EQ(OptionsErrorOf("front_end:\n  tag_max_height_m: 0.5\n"),
             "o.yaml: front_end.tag_max_height_m: must be in [1, 10] m");
-  EXPECT_EQ(ErrorOf(""), "");
+  EXPECT_EQ(OptionsErrorOf(""), "");
 }
 
 }  // namespace

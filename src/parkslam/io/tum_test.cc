@@ -13,19 +13,9 @@
 namespace parkslam::io {
 namespace {
 
+using testing::ErrorOf;
 using ::testing::HasSubstr;
 using testing::TempDir;
-
-// The message of the IoError that `parse` throws ("" when none).
-template <typename F>
-std::string ErrorOf(F parse) {
-  try {
-    parse();
-  } catch (const IoError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 Trajectory SampleTrajectory() {
   return {{0, SE2(0.0, 0.0, 0.0)},

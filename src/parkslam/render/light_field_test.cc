@@ -7,7 +7,7 @@
 namespace parkslam::render {
 namespace {
 
-sim::World DefaultWorld() {
+sim::World LitWorld() {
   const sim::ScenarioConfig scenario = sim::DefaultScenario();
   return sim::BuildWorld(scenario.world);
 }
@@ -17,7 +17,7 @@ LightField FieldOver(const sim::World& world, const LightFieldOptions& options) 
 }
 
 TEST(LightFieldTest, TheDefaultLotIsOpenOnlyAtTheCorridorEnd) {
-  const auto openings = WallOpenings(DefaultWorld());
+  const auto openings = WallOpenings(LitWorld());
   ASSERT_EQ(openings.size(), 1u);
   const Eigen::Vector2d mid = (openings[0].first + openings[0].second) / 2;
   EXPECT_NEAR(mid.x(), -40.0, 1e-9);
@@ -26,7 +26,7 @@ TEST(LightFieldTest, TheDefaultLotIsOpenOnlyAtTheCorridorEnd) {
 }
 
 TEST(LightFieldTest, DaylightOverexposesTheEntranceOnly) {
-  const sim::World world = DefaultWorld();
+  const sim::World world = LitWorld();
   LightFieldOptions options;
   options.uneven_light = 0.0;
   options.overexposure_near_entrance = 0.5;
@@ -39,7 +39,7 @@ TEST(LightFieldTest, DaylightOverexposesTheEntranceOnly) {
 }
 
 TEST(LightFieldTest, UnevenLightMakesPoolsUnderTheLamps) {
-  const sim::World world = DefaultWorld();
+  const sim::World world = LitWorld();
   LightFieldOptions options;
   options.overexposure_near_entrance = 0.0;
   options.uneven_light = 0.3;

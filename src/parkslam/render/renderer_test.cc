@@ -18,7 +18,7 @@
 namespace parkslam::render {
 namespace {
 
-const sim::World& DefaultWorld() {
+const sim::World& RendererWorld() {
   static const sim::World world = [] {
     const sim::ScenarioConfig scenario = sim::DefaultScenario();
     return sim::BuildWorld(scenario.world);
@@ -32,7 +32,7 @@ const camera::CameraRig& Rig() {
 }
 
 const Renderer& DefaultRenderer() {
-  static const Renderer renderer(DefaultWorld(), Rig(), RenderOptions{}, 1);
+  static const Renderer renderer(RendererWorld(), Rig(), RenderOptions{}, 1);
   return renderer;
 }
 
@@ -41,7 +41,7 @@ const Renderer& CleanRenderer() {
   static const Renderer renderer = [] {
     RenderOptions options;
     options.noise_sigma = 0.0;
-    return Renderer(DefaultWorld(), Rig(), options, 1);
+    return Renderer(RendererWorld(), Rig(), options, 1);
   }();
   return renderer;
 }
@@ -80,7 +80,7 @@ TEST(RendererTest, SameInputsGiveTheSameBytes) {
   for (const camera::CameraConfig& c : Rig().cameras) names.push_back(c.name);
   const std::vector<cv::Mat> first = DefaultRenderer().RenderAll(pose, t_ns, names);
   const std::vector<cv::Mat> again = DefaultRenderer().RenderAll(pose, t_ns, names);
-  const Renderer other(DefaultWorld(), Rig(), RenderOptions{}, 1);
+  const Renderer other(RendererWorld(), Rig(), RenderOptions{}, 1);
   const std::vector<cv::Mat> rebuilt = other.RenderAll(pose, t_ns, names);
   ASSERT_EQ(first.size(), names.size());
   for (size_t i = 0; i < names.size(); ++i) {
@@ -104,7 +104,7 @@ TEST(RendererTest, NoiseIsNewInEveryFrame) {
 // separating line runs north from (13.0, 12.6).
 TEST(RendererTest, SlotLineAppearsWhereTheCameraModelProjectsIt) {
   const sim::WorldSlot* slot = nullptr;
-  for (const sim::WorldSlot& s : DefaultWorld().slots) {
+  for (const sim::WorldSlot& s : RendererWorld().slots) {
     if (s.painted_id == "26") slot = &s;
   }
   ASSERT_NE(slot, nullptr);
@@ -171,7 +171,7 @@ struct TagView {
 };
 
 TagView FindTagView(const camera::CameraConfig& camera, double distance_m, double offset_m) {
-  const sim::World& world = DefaultWorld();
+  const sim::World& world = RendererWorld();
   for (const sim::WorldTag& tag : world.tags) {
     const Eigen::Vector2d n(std::cos(tag.normal_yaw_rad), std::sin(tag.normal_yaw_rad));
     const Eigen::Vector2d right(-n.y(), n.x());
@@ -195,7 +195,7 @@ TEST(RendererTest, TagsDecodeWithTheirIdsWhereTheyProject) {
   const camera::CameraConfig& mono = CameraNamed("front_mono");
   const RenderOptions& options = DefaultRenderer().options();
   std::map<int, const sim::WorldTag*> tags_by_id;
-  for (const sim::WorldTag& t : DefaultWorld().tags) tags_by_id[t.tag_id] = &t;
+  for (const sim::WorldTag& t : RendererWorld().tags) tags_by_id[t.tag_id] = &t;
   for (double distance_m : {3.0, 7.0, 12.0}) {
     const TagView view = FindTagView(mono, distance_m, 0.8);
     ASSERT_NE(view.tag, nullptr) << distance_m;
@@ -251,7 +251,7 @@ TEST(RendererTest, BrightnessScalesTheMeanIntensity) {
   const SE2 pose(20.0, 9.1, 0.1);
   RenderOptions dim;
   dim.brightness = 0.6;
-  const Renderer dim_renderer(DefaultWorld(), Rig(), dim, 1);
+  const Renderer dim_renderer(RendererWorld(), Rig(), dim, 1);
   const double bright_mean = Mean(DefaultRenderer().Render("front_mono", pose, 0));
   const double dim_mean = Mean(dim_renderer.Render("front_mono", pose, 0));
   EXPECT_GT(bright_mean, 30.0);
@@ -294,7 +294,7 @@ TEST(RendererTest, BlurSmoothsTheImage) {
     return cv::norm(dx, cv::NORM_L2SQR);
   };
   const cv::Mat a = CleanRenderer().Render("front", pose, 0);
-  const cv::Mat b = Renderer(DefaultWorld(), Rig(), blurred, 1).Render("front", pose, 0);
+  const cv::Mat b = Renderer(RendererWorld(), Rig(), blurred, 1).Render("front", pose, 0);
   EXPECT_LT(gradient_energy(b), 0.5 * gradient_energy(a));
 }
 
@@ -302,13 +302,13 @@ TEST(RendererTest, ParkedCarOccludesTheFloorOfItsSlot) {
   RenderOptions options;
   options.parked_cars = 1;
   options.noise_sigma = 0.0;
-  const Renderer with_car(DefaultWorld(), Rig(), options, 1);
+  const Renderer with_car(RendererWorld(), Rig(), options, 1);
   const Renderer& without = CleanRenderer();
   ASSERT_EQ(with_car.parked_cars().size(), 1u);
   const ParkedCar& car = with_car.parked_cars().front();
   // The front camera 6 m from the car's centre, looking at it.
   const camera::CameraConfig& mono = CameraNamed("front_mono");
-  const sim::WorldSlot& slot = DefaultWorld().slots[static_cast<size_t>(car.slot_index)];
+  const sim::WorldSlot& slot = RendererWorld().slots[static_cast<size_t>(car.slot_index)];
   const Eigen::Vector2d out_of_slot =
       ((slot.corners_map[0] + slot.corners_map[1]) / 2 - car.center_map).normalized();
   const Eigen::Vector2d c_map = car.center_map + 7.0 * out_of_slot;
@@ -332,7 +332,7 @@ TEST(RendererTest, RejectsInvalidOptions) {
   std::string error;
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("noise_sigma"), std::string::npos);
-  EXPECT_THROW(Renderer(DefaultWorld(), Rig(), options, 1), std::invalid_argument);
+  EXPECT_THROW(Renderer(RendererWorld(), Rig(), options, 1), std::invalid_argument);
 }
 
 }  // namespace

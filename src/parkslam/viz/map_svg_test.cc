@@ -14,7 +14,7 @@ namespace {
 constexpr double kSlotWidthM = 2.5;
 constexpr double kSlotDepthM = 5.0;
 
-int CountOf(const std::string& text, const std::string& needle) {
+int OccurrencesOf(const std::string& text, const std::string& needle) {
   int count = 0;
   for (size_t at = text.find(needle); at != std::string::npos;
        at = text.find(needle, at + needle.size())) {
@@ -83,8 +83,8 @@ Trajectory MakeDrive(double phase) {
   if (last == std::string::npos || svg.compare(last - 5, 6, "</svg>") != 0) {
     return ::testing::AssertionFailure() << "does not end with </svg>";
   }
-  const int opened = CountOf(svg, "<g>") + CountOf(svg, "<g ");
-  const int closed = CountOf(svg, "</g>");
+  const int opened = OccurrencesOf(svg, "<g>") + OccurrencesOf(svg, "<g ");
+  const int closed = OccurrencesOf(svg, "</g>");
   if (opened != closed) {
     return ::testing::AssertionFailure() << opened << " <g> but " << closed << " </g>";
   }
@@ -121,7 +121,7 @@ TEST(RenderMapSvgTest, SlotWithoutPaintedIdIsUnlabeled) {
   map.slots.push_back(MakeSlot("", kSlotWidthM, 0.0));
   map.slots.push_back(MakeSlot("40", 2.0 * kSlotWidthM, 0.0));
   const std::string svg = RenderMapSvg(map, {});
-  EXPECT_EQ(CountOf(GroupBody(svg, "slot_ids"), "<text"), 2);
+  EXPECT_EQ(OccurrencesOf(GroupBody(svg, "slot_ids"), "<text"), 2);
 }
 
 TEST(RenderMapSvgTest, SlotIdsCanBeTurnedOff) {
@@ -145,8 +145,8 @@ TEST(RenderMapSvgTest, EntranceIsThickerThanOtherEdges) {
   map.slots.push_back(MakeSlot("38", 0.0, 0.0));
   map.slots.push_back(MakeSlot("39", kSlotWidthM, 0.0));
   const std::string slots = GroupBody(RenderMapSvg(map, {}), "slots");
-  EXPECT_EQ(CountOf(slots, "<line"), 8);
-  EXPECT_EQ(CountOf(slots, "stroke-width=\"3\""), 2);
+  EXPECT_EQ(OccurrencesOf(slots, "<line"), 8);
+  EXPECT_EQ(OccurrencesOf(slots, "stroke-width=\"3\""), 2);
 }
 
 TEST(RenderMapSvgTest, GuessedCornersAreHollowAndTheirEdgesDashed) {
@@ -155,19 +155,19 @@ TEST(RenderMapSvgTest, GuessedCornersAreHollowAndTheirEdgesDashed) {
   map.slots.back().corner_observed = {true, true, false, false};
   const std::string slots = GroupBody(RenderMapSvg(map, {}), "slots");
   // Edges 1-2, 2-3 and 3-0 touch a guessed corner; the entrance does not.
-  EXPECT_EQ(CountOf(slots, "stroke-dasharray"), 3);
-  EXPECT_EQ(CountOf(slots, "fill=\"white\""), 2);
-  EXPECT_EQ(CountOf(slots, "<circle"), 4);
+  EXPECT_EQ(OccurrencesOf(slots, "stroke-dasharray"), 3);
+  EXPECT_EQ(OccurrencesOf(slots, "fill=\"white\""), 2);
+  EXPECT_EQ(OccurrencesOf(slots, "<circle"), 4);
 }
 
 TEST(RenderMapSvgTest, DrawsObstaclesAndTags) {
   const std::string svg = RenderMapSvg(MakeLot(6), {});
   const std::string obstacles = GroupBody(svg, "obstacles");
-  EXPECT_EQ(CountOf(obstacles, "<polygon"), 2);   // pillars at slots 0 and 3
-  EXPECT_EQ(CountOf(obstacles, "<polyline"), 1);  // the wall
+  EXPECT_EQ(OccurrencesOf(obstacles, "<polygon"), 2);   // pillars at slots 0 and 3
+  EXPECT_EQ(OccurrencesOf(obstacles, "<polyline"), 1);  // the wall
   EXPECT_NE(obstacles.find("stroke-width=\"4\""), std::string::npos);
   const std::string tags = GroupBody(svg, "tags");
-  EXPECT_EQ(CountOf(tags, "<polygon"), 2);
+  EXPECT_EQ(OccurrencesOf(tags, "<polygon"), 2);
   EXPECT_NE(tags.find(">3</text>"), std::string::npos);
 }
 
