@@ -69,12 +69,11 @@ nlohmann::json TraceFollowingToJson(const harness::TraceFollowingResult& r,
 
 void WriteFollowRuns(const std::filesystem::path& dir, const Trajectory& trace_world,
                      const harness::TraceFollowingResult& result) {
-  using namespace follow_command;
   io::WriteTum(dir / "trace.tum", trace_world);
   io::NumericTable lateral;
   lateral.columns = {"s_m"};
   for (size_t i = 0; i < result.runs.size(); ++i) {
-    const std::string index = Index(static_cast<int>(i));
+    const std::string index = follow_command::Index(static_cast<int>(i));
     io::WriteTum(dir / ("run_" + index + ".tum"), result.runs[i].truth_world);
     if (!result.runs[i].estimate_map.empty()) {
       io::WriteTum(dir / ("estimate_" + index + ".tum"), result.runs[i].estimate_map);
