@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -30,11 +32,12 @@ struct Spoiler {
       prefix = path;
       value.VisitFields(*this);
       prefix = outer;
-    } else if constexpr (std::is_same_v<T, double> || std::is_same_v<T, int>) {
+    } else if constexpr (std::is_same_v<T, double> || std::is_same_v<T, float> ||
+                         std::is_same_v<T, int>) {
       if (count++ != target) return;
       spoiled = path;
-      if constexpr (std::is_same_v<T, double>) {
-        value = nan ? std::nan("") : -1e9;
+      if constexpr (std::is_floating_point_v<T>) {
+        value = nan ? std::numeric_limits<T>::quiet_NaN() : T(-1e9);
       } else {
         value = -1000000000;
       }
@@ -51,6 +54,7 @@ TEST(AlgorithmOptionsTest, EveryAbsurdNumberIsRejectedByItsOwnKey) {
   Spoiler counter;
   defaults.VisitFields(counter);
   ASSERT_GT(counter.count, 100);
+  std::printf("%d numbers in the algorithm options\n", counter.count);
   std::vector<std::string> wrong;
   for (const bool nan : {true, false}) {
     for (int k = 0; k < counter.count; ++k) {
