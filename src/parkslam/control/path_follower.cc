@@ -1,11 +1,11 @@
 #include "parkslam/control/path_follower.h"
 
-#include "parkslam/common/field_checker.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "parkslam/common/field_checker.h"
 
 namespace parkslam::control {
 namespace {

@@ -10,6 +10,10 @@ namespace {
 
 const Eigen::Matrix2d kSmall = Eigen::Matrix2d::Identity() * 0.01;  // 0.1 m sigma
 
+// Estimates of a localizer that tracks, or that is lost, with 0.1 m sigma.
+void Tracking(SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); }
+void Lost(SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), false, kSmall); }
+
 // Drives the supervisor at 100 Hz from t0 to t1 (s) with an estimate every
 // 0.2 s as `estimate(t)` says; returns the last allowed speed. The car is
 // measured at `measured` m/s (by default: as fast as it may).
@@ -28,33 +32,23 @@ double Drive(SafetySupervisor* supervisor, double t0, double t1, double cruise, 
 
 TEST(SafetySupervisorTest, CruisesWhileLocalizationIsHealthy) {
   SafetySupervisor s;
-  const double v = Drive(&s, 0.0, 10.0, 2.78, [](SafetySupervisor* e, double t) {
-    e->OnEstimate(FromSeconds(t), true, kSmall);
-  });
+  const double v = Drive(&s, 0.0, 10.0, 2.78, Tracking);
   EXPECT_DOUBLE_EQ(v, 2.78);
   EXPECT_EQ(s.interventions(), 0);
 }
 
 TEST(SafetySupervisorTest, BrakesToAStopWhenLostAndGoesOnWhenBack) {
   SafetySupervisor s;
-  Drive(&s, 0.0, 10.0, 2.78,
-        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&s, 0.0, 10.0, 2.78, Tracking);
   double stopped_at = -1.0;
   // Lost from t = 10 s: 2.78 m/s at 2.5 m/s^2 stops in 1.11 s.
-  Drive(
-      &s, 10.0, 20.0, 2.78,
-      [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), false, kSmall); },
-      &stopped_at);
+  Drive(&s, 10.0, 20.0, 2.78, Lost, &stopped_at);
   EXPECT_NEAR(stopped_at, 10.0 + 2.78 / 2.5, 0.02);
   EXPECT_EQ(s.interventions(), 1);
   // Tracking again from t = 20 s: waits resume_after_s, then 1 m/s^2.
-  const double v_soon = Drive(&s, 20.0, 20.9, 2.78, [](SafetySupervisor* e, double t) {
-    e->OnEstimate(FromSeconds(t), true, kSmall);
-  });
+  const double v_soon = Drive(&s, 20.0, 20.9, 2.78, Tracking);
   EXPECT_DOUBLE_EQ(v_soon, 0.0);
-  const double v_later = Drive(&s, 20.9, 22.5, 2.78, [](SafetySupervisor* e, double t) {
-    e->OnEstimate(FromSeconds(t), true, kSmall);
-  });
+  const double v_later = Drive(&s, 20.9, 22.5, 2.78, Tracking);
   EXPECT_NEAR(v_later, 1.5, 0.02);  // 1 m/s^2 from 21.0 s to 22.5 s
 }
 
@@ -62,20 +56,15 @@ TEST(SafetySupervisorTest, BrakesToAStopWhenLostAndGoesOnWhenBack) {
 // the car drove on for 0.3 s until the falling cap reached its speed.
 TEST(SafetySupervisorTest, BrakesFromTheMeasuredSpeedNotFromTheCap) {
   SafetySupervisor s;
-  Drive(&s, 0.0, 10.0, 2.78,
-        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&s, 0.0, 10.0, 2.78, Tracking);
   double stopped_at = -1.0;
-  Drive(
-      &s, 10.0, 14.0, 2.78,
-      [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), false, kSmall); },
-      &stopped_at, 2.0);
+  Drive(&s, 10.0, 14.0, 2.78, Lost, &stopped_at, 2.0);
   EXPECT_NEAR(stopped_at, 10.0 + 2.0 / 2.5, 0.02);
 }
 
 TEST(SafetySupervisorTest, StopsWhenEstimatesStopComingOrGrowUncertain) {
   SafetySupervisor blackout;
-  Drive(&blackout, 0.0, 5.0, 2.78,
-        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&blackout, 0.0, 5.0, 2.78, Tracking);
   double stopped_at = -1.0;
   Drive(
       &blackout, 5.0, 10.0, 2.78, [](SafetySupervisor*, double) {}, &stopped_at);
@@ -83,8 +72,7 @@ TEST(SafetySupervisorTest, StopsWhenEstimatesStopComingOrGrowUncertain) {
   EXPECT_NEAR(stopped_at, 4.8 + 0.6 + 2.78 / 2.5, 0.03);
 
   SafetySupervisor uncertain;
-  Drive(&uncertain, 0.0, 5.0, 2.78,
-        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&uncertain, 0.0, 5.0, 2.78, Tracking);
   EXPECT_GT(Drive(&uncertain, 5.0, 6.0, 2.78,
                   [](SafetySupervisor* e, double t) {
                     e->OnEstimate(FromSeconds(t), true,
@@ -101,8 +89,7 @@ TEST(SafetySupervisorTest, StopsWhenEstimatesStopComingOrGrowUncertain) {
 
 TEST(SafetySupervisorTest, ABriefLossStillEndsInAFullStop) {
   SafetySupervisor s;
-  Drive(&s, 0.0, 10.0, 2.78,
-        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&s, 0.0, 10.0, 2.78, Tracking);
   double stopped_at = -1.0;
   // One lost estimate at 10.0 s, tracking again from 10.2 s.
   Drive(
@@ -115,8 +102,7 @@ TEST(SafetySupervisorTest, ABriefLossStillEndsInAFullStop) {
 
 TEST(SafetySupervisorTest, FramesThatRejectEverythingStopTheCar) {
   SafetySupervisor s;
-  Drive(&s, 0.0, 10.0, 2.78,
-        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&s, 0.0, 10.0, 2.78, Tracking);
   double stopped_at = -1.0;
   // From 10 s every frame rejects its 4 observations; the third (10.4 s)
   // makes it unhealthy.
@@ -139,8 +125,7 @@ TEST(SafetySupervisorTest, FramesThatRejectEverythingStopTheCar) {
 // for ever although localization tracked with a small covariance.
 TEST(SafetySupervisorTest, RejectionsSeenWhileHeldStillDoNotKeepTheCarStanding) {
   SafetySupervisor s;
-  Drive(&s, 0.0, 10.0, 2.78,
-        [](SafetySupervisor* e, double t) { e->OnEstimate(FromSeconds(t), true, kSmall); });
+  Drive(&s, 0.0, 10.0, 2.78, Tracking);
   // From 10 s: nothing used; every other frame rejects one observation.
   int frame = 0;
   double fastest_after_stop = 0.0;

@@ -1,13 +1,13 @@
 #include "parkslam/perception/learned_slot_id_reader.h"
 
-#include "parkslam/common/field_checker.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "parkslam/common/field_checker.h"
 
 namespace parkslam::perception {
 namespace {

@@ -1,7 +1,5 @@
 #include "parkslam/perception/tag_detector.h"
 
-#include "parkslam/common/field_checker.h"
-
 #include <apriltag/apriltag.h>
 #include <apriltag/tag36h11.h>
 
@@ -9,6 +7,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <stdexcept>
+
+#include "parkslam/common/field_checker.h"
 
 namespace parkslam::perception {
 
