@@ -33,7 +33,7 @@ struct Options {
   bool json = false;
   std::string detector = "classical";
   std::string models;
-  std::string classical_check = "refine";
+  std::string classical_check = "none";
   int input_size = 256;
   int flips = 1;
   double min_confidence = 0.0;
@@ -70,7 +70,8 @@ void AddFlags(CLI::App* cmd, Options* options) {
   cmd->add_option("--classical-check", options->classical_check,
                   "With --detector learned: what the classical detector does with the network's "
                   "marking points: none, refine (takes the position and direction of a point it "
-                  "also found) or filter (refine, and drop the points it did not find)")
+                  "also found) or filter (refine, and drop the points it did not find); the slots' "
+                  "corners are refined on the paint in every case")
       ->check(CLI::IsMember({"none", "refine", "filter"}))
       ->capture_default_str();
   cmd->add_option("--input-size", options->input_size,

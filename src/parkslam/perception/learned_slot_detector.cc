@@ -29,6 +29,7 @@ bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
   c.Positive(classical_match_px, "classical_match_px");
   c.Positive(classical_match_rad, "classical_match_rad");
   c.Part(pairing, "pairing");
+  c.Part(paint_check, "paint_check");
   c.Part(classical_options, "classical_options");
   return c.ok();
 }
@@ -38,6 +39,8 @@ LearnedSlotDetector::LearnedSlotDetector(const LearnedSlotDetectorOptions& optio
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument("LearnedSlotDetectorOptions: " + error);
   const int n = options.input_size_px, g = n / kStride;
+  paint_check_ = options.paint_check;
+  paint_check_.pixels_per_m = options.pairing.pixels_per_m;
   if (options.classical != ClassicalCheck::kNone) {
     SlotDetectorOptions classical = options.classical_options;
     classical.pixels_per_m = options.pairing.pixels_per_m;
@@ -91,6 +94,44 @@ cv::Mat LearnedSlotDetector::Cells(const cv::Mat& top_view) const {
   // does not matter.
   sum *= 1.0 / options_.flips;
   return sum;
+}
+
+void LearnedSlotDetector::CheckOnPaint(const cv::Mat& grey, const cv::Mat& mask,
+                                       SlotDetection* detection) const {
+  // Slots with no separating line across them; the lines of the others
+  // become marking points (T: the entrance line goes on past a missed
+  // point in most lots).
+  const auto keep_uncrossed = [&](std::vector<MarkingPoint>* recovered) {
+    std::vector<DetectedSlot> kept;
+    for (const DetectedSlot& slot : detection->slots) {
+      const SlotPaint paint = MeasureSlotPaint(grey, mask, slot, paint_check_);
+      if (paint.lines_inside.empty()) kept.push_back(slot);
+      if (recovered == nullptr) continue;
+      for (const Eigen::Vector2d& at : paint.lines_inside) {
+        MarkingPoint p;
+        p.px = at;
+        p.direction_rad = std::atan2(slot.depth_dir_px.y(), slot.depth_dir_px.x());
+        p.shape = MarkingShape::kT;
+        p.score = slot.confidence;
+        recovered->push_back(p);
+      }
+    }
+    detection->slots = std::move(kept);
+  };
+  std::vector<MarkingPoint> recovered;
+  keep_uncrossed(options_.recover_points ? &recovered : nullptr);
+  if (recovered.empty()) return;
+  // Two candidates across one missed point find its line twice.
+  const double r2 = options_.nms_radius_px * options_.nms_radius_px;
+  std::vector<MarkingPoint>& points = detection->marking_points;
+  for (const MarkingPoint& p : recovered) {
+    if (std::none_of(points.begin(), points.end(),
+                     [&](const MarkingPoint& q) { return (p.px - q.px).squaredNorm() < r2; })) {
+      points.push_back(p);
+    }
+  }
+  detection->slots = PairMarkingPoints(points, grey.size(), options_.pairing);
+  keep_uncrossed(nullptr);
 }
 
 SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask) const {
@@ -151,6 +192,21 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
     result.marking_points = std::move(checked);
   }
   result.slots = PairMarkingPoints(result.marking_points, top_view.size(), options_.pairing);
+  if (options_.check_paint || options_.refine_on_paint) {
+    cv::Mat grey = top_view;
+    if (grey.channels() == 3) cv::cvtColor(top_view, grey, cv::COLOR_BGR2GRAY);
+    if (options_.check_paint) CheckOnPaint(grey, mask, &result);
+    if (options_.refine_on_paint) {
+      for (DetectedSlot& slot : result.slots) {
+        RefineSlotCorners(grey, mask, paint_check_, &slot);
+        for (int e = 0; e < 2; ++e) {
+          MarkingPoint& p = result.marking_points[slot.marking_points[e]];
+          p.px = slot.corners_px[e];
+          p.direction_rad = std::atan2(slot.depth_dir_px.y(), slot.depth_dir_px.x());
+        }
+      }
+    }
+  }
   return result;
 }
 

@@ -21,6 +21,7 @@
 
 #include "parkslam/perception/onnx_network.h"
 #include "parkslam/perception/slot_detector.h"
+#include "parkslam/perception/slot_paint_check.h"
 #include "parkslam/perception/slot_pairing.h"
 
 namespace parkslam::perception {
@@ -49,6 +50,18 @@ struct LearnedSlotDetectorOptions {
   // Two marking points closer than this (top-view pixels) are one.
   double nms_radius_px = 20.0;
   SlotPairingOptions pairing;
+  // The pairing checked on the paint (slot_paint_check.h): a candidate
+  // with another separating line painted across its interior is removed,
+  // and with recover_points that line's marking point, which the network
+  // missed, is added where the line meets the entrance, and the points
+  // are paired again.
+  bool check_paint = true;
+  bool recover_points = true;
+  SlotPaintCheckOptions paint_check;
+  // The slots' entrance corners refined on the paint next to them
+  // (slot_paint_check.h, RefineSlotCorners): the network's cells are 2.3
+  // top-view pixels wide at 256 px. Their marking points move with them.
+  bool refine_on_paint = true;
   ClassicalCheck classical = ClassicalCheck::kNone;
   SlotDetectorOptions classical_options;
   double classical_match_px = 10.0;
@@ -66,6 +79,10 @@ struct LearnedSlotDetectorOptions {
     v("flips", flips);
     v("nms_radius_px", nms_radius_px);
     v("pairing", pairing);
+    v("check_paint", check_paint);
+    v("recover_points", recover_points);
+    v("refine_on_paint", refine_on_paint);
+    v("paint_check", paint_check);
     v("classical_options", classical_options);
     v("classical_match_px", classical_match_px);
     v("classical_match_rad", classical_match_rad);
@@ -91,9 +108,14 @@ class LearnedSlotDetector {
   const LearnedSlotDetectorOptions& options() const { return options_; }
 
  private:
+  // The paint check of options_.check_paint on the paired detection, in
+  // the grey top view.
+  void CheckOnPaint(const cv::Mat& grey, const cv::Mat& mask, SlotDetection* detection) const;
+
   LearnedSlotDetectorOptions options_;
   std::unique_ptr<OnnxNetwork> network_;
   std::unique_ptr<SlotDetector> classical_;
+  SlotPaintCheckOptions paint_check_;  // at the pairing's scale
 };
 
 }  // namespace parkslam::perception

@@ -1,5 +1,6 @@
 #include "parkslam/perception/slot_pairing.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "parkslam/common/angles.h"
@@ -86,7 +87,30 @@ std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& poi
       slots.push_back(slot);
     }
   }
-  return slots;
+  if (!o.drop_points_inside_slots) return slots;
+  // A point inside a slot (past the entrance line, short of the far end)
+  // contradicts it: the weaker side goes. A point weaker than both of the
+  // slot's is dropped with every slot it makes.
+  std::vector<bool> dropped(points.size(), false);
+  for (const DetectedSlot& slot : slots) {
+    const Eigen::Vector2d a = slot.corners_px[0], e = slot.corners_px[1] - a;
+    const double depth_px = (slot.corners_px[3] - a).dot(slot.depth_dir_px);
+    const double weakest =
+        std::min(points[slot.marking_points[0]].score, points[slot.marking_points[1]].score);
+    for (size_t k = 0; k < points.size(); ++k) {
+      const double along = (points[k].px - a).dot(e) / e.squaredNorm();
+      const double depth = (points[k].px - a).dot(slot.depth_dir_px);
+      if (along > 0.0 && along < 1.0 && depth > o.on_line_tolerance_m * s && depth < depth_px &&
+          points[k].score < weakest) {
+        dropped[k] = true;
+      }
+    }
+  }
+  std::vector<DetectedSlot> kept;
+  for (const DetectedSlot& slot : slots) {
+    if (!dropped[slot.marking_points[0]] && !dropped[slot.marking_points[1]]) kept.push_back(slot);
+  }
+  return kept;
 }
 
 }  // namespace parkslam::perception

@@ -41,6 +41,10 @@ struct SlotPairingOptions {
   double min_junction_angle_rad = 0.6;
   // Slots open towards the car, which stands at the image's centre.
   bool require_entrance_facing_vehicle = true;
+  // A marking point inside a slot (beyond on_line_tolerance_m past its
+  // entrance), weaker than both of the slot's points, is dropped with the
+  // slots it makes: painted digits inside a slot make such points.
+  bool drop_points_inside_slots = true;
 
   bool IsValid(std::string* error) const;
 
@@ -57,6 +61,7 @@ struct SlotPairingOptions {
     v("on_line_tolerance_m", on_line_tolerance_m);
     v("min_junction_angle_rad", min_junction_angle_rad);
     v("require_entrance_facing_vehicle", require_entrance_facing_vehicle);
+    v("drop_points_inside_slots", drop_points_inside_slots);
   }
 };
 
