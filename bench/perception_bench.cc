@@ -19,6 +19,7 @@ struct Fixture {
   camera::CameraRig rig = camera::DefaultRig();
   perception::PerceptionFrontEnd front_end{rig};
   perception::PerceptionFrontEnd learned_front_end{rig, LearnedOptions()};
+  perception::PerceptionFrontEnd network_ids_front_end{rig, LearnedOptions(false)};
   perception::LearnedSlotDetector learned_detector{learned_front_end.options().learned_slots};
   perception::LearnedSlotIdReader learned_reader{learned_front_end.options().learned_ids};
   perception::SlotDetector detector{front_end.options().slots};
@@ -29,9 +30,13 @@ struct Fixture {
   cv::Mat front_mono, top_view;
   perception::SlotDetection detection;
 
-  static perception::PerceptionOptions LearnedOptions() {
+  // The learned front end; the classical reader reads the IDs it is sure
+  // of first unless !classical_ids (then the network reads every ID, as in
+  // a lot whose IDs are painted in another face).
+  static perception::PerceptionOptions LearnedOptions(bool classical_ids = true) {
     perception::PerceptionOptions o;
     o.detector = perception::DetectorKind::kLearned;
+    o.learned_ids_with_classical = classical_ids;
     return o;
   }
 
@@ -140,19 +145,31 @@ void BM_PerceptionFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_PerceptionFrame)->Unit(benchmark::kMillisecond);
 
-void BM_PerceptionFrameLearned(benchmark::State& state) {
+void RunLearnedFrame(benchmark::State& state, const perception::PerceptionFrontEnd& front_end) {
   const Fixture& f = Get();
-  double tags_ms = 0.0, slots_ms = 0.0;
+  double tags_ms = 0.0, slots_ms = 0.0, ids_ms = 0.0;
   for (auto _ : state) {
-    const perception::PerceptionOutput out = f.learned_front_end.Process(f.frame);
+    const perception::PerceptionOutput out = front_end.Process(f.frame);
     tags_ms = out.timing.tags_ms;
     slots_ms = out.timing.slots_ms;
+    ids_ms = out.timing.ids_ms;
     benchmark::DoNotOptimize(out.slots.slots.size());
   }
   state.counters["tags_ms"] = tags_ms;
   state.counters["slots_ms"] = slots_ms;
+  state.counters["ids_ms"] = ids_ms;
+}
+
+void BM_PerceptionFrameLearned(benchmark::State& state) {
+  RunLearnedFrame(state, Get().learned_front_end);
 }
 BENCHMARK(BM_PerceptionFrameLearned)->Unit(benchmark::kMillisecond);
+
+// Every ID read by the network.
+void BM_PerceptionFrameLearnedNetworkIds(benchmark::State& state) {
+  RunLearnedFrame(state, Get().network_ids_front_end);
+}
+BENCHMARK(BM_PerceptionFrameLearnedNetworkIds)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace parkslam

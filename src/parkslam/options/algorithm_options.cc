@@ -13,6 +13,7 @@ void CheckFrontEnd(const perception::PerceptionOptions& o, FieldChecker& c) {
   c.InRange(o.tag_min_height_m, 0.0, 10.0, "front_end.tag_min_height_m", "m");
   c.InRange(o.tag_max_height_m, o.tag_min_height_m, 10.0, "front_end.tag_max_height_m", "m");
   c.InRange(o.tag_min_range_m, 0.0, 100.0, "front_end.tag_min_range_m", "m");
+  c.InRange(o.classical_id_min_confidence, 0.0, 1.0, "front_end.classical_id_min_confidence", "");
   const std::pair<const char*, double> sigmas[] = {
       {"corner_sigma_m", o.corner_sigma_m},
       {"corner_sigma_per_m", o.corner_sigma_per_m},

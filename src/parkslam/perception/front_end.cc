@@ -105,6 +105,9 @@ void PerceptionFrontEnd::MakeDetectors() {
     learned_detector_ = std::make_unique<LearnedSlotDetector>(options_.learned_slots);
     if (options_.read_ids) {
       learned_reader_ = std::make_unique<LearnedSlotIdReader>(options_.learned_ids);
+      if (options_.learned_ids_with_classical) {
+        id_reader_ = std::make_unique<SlotIdReader>(options_.ids);
+      }
     }
   } else {
     slot_detector_ = std::make_unique<SlotDetector>(options_.slots);
@@ -245,7 +248,15 @@ void PerceptionFrontEnd::PerceiveSlots(const CameraFrame& frame,
     const DetectedSlot& slot = out->detection.slots[k];
     const EntranceInImage entrance{slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px};
     if (id_reader_ != nullptr) out->ids[k] = id_reader_->Read(out->top_view, entrance);
-    if (learned_reader_ != nullptr) out->ids[k] = learned_reader_->Read(out->top_view, entrance);
+    if (learned_reader_ == nullptr) continue;
+    // Both readers: the classical one's reading stands where it reads
+    // every digit surely; the network reads the others.
+    const SlotIdReading& classical = out->ids[k];
+    if (id_reader_ != nullptr && !classical.empty() && !classical.partial() &&
+        classical.confidence() >= options_.classical_id_min_confidence) {
+      continue;
+    }
+    out->ids[k] = learned_reader_->Read(out->top_view, entrance);
   }
   out->timing.ids_ms = MsSince(start);
   const Eigen::Vector2d view_centre_vehicle(options_.top_view.center_x_m, 0.0);

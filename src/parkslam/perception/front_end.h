@@ -46,15 +46,20 @@ struct PerceptionOptions {
   SlotDetectorOptions slots;
   SlotIdReaderOptions ids;
   // The learned detector and reader; an empty model_path takes the
-  // committed network from DefaultModelDir(). The network's marking points
-  // take the classical detector's position where it found them too (2 cm
-  // more accurate on rendered drives: docs/learned_perception.md).
-  LearnedSlotDetectorOptions learned_slots = [] {
-    LearnedSlotDetectorOptions o;
-    o.classical = ClassicalCheck::kRefine;
-    return o;
-  }();
+  // committed network from DefaultModelDir(). The slots' corners are
+  // refined on the paint next to them (LearnedSlotDetectorOptions::
+  // refine_on_paint), not by the classical detector: as accurate, at a
+  // twentieth of its time (docs/learned_perception.md).
+  LearnedSlotDetectorOptions learned_slots;
   LearnedSlotIdReaderOptions learned_ids;
+  // With the learned detector, the classical reader reads the ID first,
+  // and its reading stands where it reads every digit with a confidence of
+  // at least classical_id_min_confidence; the network reads the others.
+  // The network misses worn seven-segment digits that the classical
+  // reader, made for that face, reads; the classical reader reads no other
+  // face, and takes a twentieth of the network's time.
+  bool learned_ids_with_classical = true;
+  double classical_id_min_confidence = 0.5;
   TagDetectorOptions tags;
   bool read_ids = true;
   // Tags hang between these heights above the floor and are looked for
@@ -85,6 +90,8 @@ struct PerceptionOptions {
     v("ids", ids);
     v("learned_slots", learned_slots);
     v("learned_ids", learned_ids);
+    v("learned_ids_with_classical", learned_ids_with_classical);
+    v("classical_id_min_confidence", classical_id_min_confidence);
     v("tags", tags);
     v("read_ids", read_ids);
     v("tag_min_height_m", tag_min_height_m);
