@@ -26,6 +26,7 @@ bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
   c.Between(min_confidence, 0.0, 1.0, "min_confidence", "");
   c.Require(flips == 1 || flips == 2 || flips == 4, "flips", "must be 1, 2 or 4");
   c.NonNegative(nms_radius_px, "nms_radius_px");
+  c.InRange(border_margin_m, 0.0, 2.0, "border_margin_m", "m");
   c.Positive(classical_match_px, "classical_match_px");
   c.Positive(classical_match_rad, "classical_match_rad");
   c.Part(pairing, "pairing");
@@ -151,6 +152,11 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
       p.direction_rad = std::atan2(at(4), at(3));
       p.shape = at(5) >= 0.5 ? MarkingShape::kT : MarkingShape::kL;
       p.score = at(0);
+      const double border_px = options_.border_margin_m * options_.pairing.pixels_per_m;
+      if (p.px.x() < border_px || p.px.y() < border_px ||
+          p.px.x() > top_view.cols - 1 - border_px || p.px.y() > top_view.rows - 1 - border_px) {
+        continue;
+      }
       if (!mask.empty()) {
         const int u = std::clamp(static_cast<int>(std::lround(p.px.x())), 0, mask.cols - 1);
         const int v = std::clamp(static_cast<int>(std::lround(p.px.y())), 0, mask.rows - 1);

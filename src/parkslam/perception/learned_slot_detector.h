@@ -49,6 +49,10 @@ struct LearnedSlotDetectorOptions {
   int flips = 1;
   // Two marking points closer than this (top-view pixels) are one.
   double nms_radius_px = 20.0;
+  // Points closer than this to the image's border are dropped: a junction
+  // cut by the border shows too little of its arms to be placed (the
+  // network puts it where its paint leaves the image).
+  double border_margin_m = 0.0;
   SlotPairingOptions pairing;
   // The pairing checked on the paint (slot_paint_check.h): a candidate
   // with another separating line painted across its interior is removed,
@@ -78,6 +82,7 @@ struct LearnedSlotDetectorOptions {
     v("min_confidence", min_confidence);
     v("flips", flips);
     v("nms_radius_px", nms_radius_px);
+    v("border_margin_m", border_margin_m);
     v("pairing", pairing);
     v("check_paint", check_paint);
     v("recover_points", recover_points);
