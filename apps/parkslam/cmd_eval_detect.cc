@@ -154,7 +154,7 @@ void ScorePs2(const Options& o, const perception::PerceptionOptions& perception_
     const bool error = Score(truth, detection, {}, 60.0, scores).any_error();
     if (error && !o.out_dir.empty()) {
       WriteImage((std::filesystem::path(o.out_dir) / (name + ".png")).string(),
-                 Overlay(image, points, detection));
+                 Overlay(image, points, detection, truth.entrances));
     }
   }
 }
@@ -179,7 +179,7 @@ void ScoreDrive(const Options& o, const perception::PerceptionOptions& perceptio
     if (frame.score.any_error() && !o.out_dir.empty()) {
       const std::filesystem::path base = std::filesystem::path(o.out_dir) / std::to_string(k);
       WriteImage(base.string() + "_overlay.png",
-                 Overlay(out.top_view, frame.truth_points, out.detection));
+                 Overlay(out.top_view, frame.truth_points, out.detection, frame.truth_entrances));
       WriteImage(base.string() + "_top.png", out.top_view);
     }
     bar.Update(k + 1);

@@ -86,7 +86,8 @@ void Print(const Scores& s) {
 }
 
 cv::Mat Overlay(const cv::Mat& image, const std::vector<eval::LabelledMarkingPoint>& truth,
-                const perception::SlotDetection& detection) {
+                const perception::SlotDetection& detection,
+                const std::vector<eval::EntranceLine>& truth_entrances) {
   cv::Mat out;
   if (image.channels() == 1) {
     cv::cvtColor(image, out, cv::COLOR_GRAY2BGR);
@@ -98,6 +99,12 @@ cv::Mat Overlay(const cv::Mat& image, const std::vector<eval::LabelledMarkingPoi
   };
   for (const eval::LabelledMarkingPoint& t : truth) {
     cv::circle(out, pt(t.px), 10, cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
+  }
+  // True entrances beside the detected ones: a detected entrance with no
+  // green line along it is a false slot.
+  const Eigen::Vector2d beside(3.0, 3.0);
+  for (const eval::EntranceLine& e : truth_entrances) {
+    cv::line(out, pt(e.a_px + beside), pt(e.b_px + beside), cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
   }
   for (const perception::DetectedSlot& s : detection.slots) {
     cv::line(out, pt(s.corners_px[0]), pt(s.corners_px[1]), cv::Scalar(0, 200, 255), 2,
@@ -170,6 +177,7 @@ DriveScorer::Frame DriveScorer::ScoreAt(TimeNs t_ns, Scores* scores) const {
   frame.score = Score(image_truth, frame.out.detection, frame.out.ids,
                       front_end.options().slots.pixels_per_m, scores);
   frame.truth_points = tv.marking_points;
+  frame.truth_entrances = tv.entrances;
   return frame;
 }
 

@@ -32,10 +32,12 @@ double Median(std::vector<double> v);
 nlohmann::json ToJson(const Scores& s);
 void Print(const Scores& s);
 
-// The image with the truth's marking points (green circles) and the
-// detections (red points with their direction, orange entrance lines).
+// The image with the truth's marking points (green circles) and entrance
+// lines (thin green, drawn 3 px aside), and the detections (red points
+// with their direction, orange entrance lines).
 cv::Mat Overlay(const cv::Mat& image, const std::vector<eval::LabelledMarkingPoint>& truth,
-                const perception::SlotDetection& detection);
+                const perception::SlotDetection& detection,
+                const std::vector<eval::EntranceLine>& truth_entrances = {});
 
 // What one image is scored against; the pointers are null where the truth
 // does not say (the ps2.0 labels have no corners beyond the entrance, no
@@ -77,6 +79,7 @@ class DriveScorer {
   struct Frame {
     perception::PerceptionOutput out;
     std::vector<eval::LabelledMarkingPoint> truth_points;  // for Overlay()
+    std::vector<eval::EntranceLine> truth_entrances;
     ImageScore score;
   };
   // The frame at t_ns, its counts added to *scores.
