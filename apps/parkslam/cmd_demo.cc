@@ -48,7 +48,8 @@ nlohmann::json PerceptionSamples(const sim::ScenarioConfig& scenario, std::uint6
     const TimeNs t = truth.front().t_ns + span * (2 * k + 1) / (2 * frames);
     const DriveScorer::Frame frame = drive.ScoreAt(t, &scores);
     samples.push_back({ToSeconds(t - truth.front().t_ns), frame.score,
-                       Overlay(frame.out.top_view, frame.truth_points, frame.out.detection)});
+                       Overlay(frame.out.top_view, frame.truth_points, frame.out.detection,
+                               frame.truth_entrances)});
     progress.Update(k + 1);
   }
   progress.Finish();
