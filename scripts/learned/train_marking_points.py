@@ -99,10 +99,52 @@ def load_folder(folder, size, limit, cache_dir, workers=0):
     return images, marks
 
 
-def augment(image, marks, rng, size):
+def cast_shadows(f, rng, size):
+    """One to three soft-edged quadrilaterals darkened to 35-75 %: the hard
+    shadows of cars, pillars and walls that fall across real lines."""
+    shade = np.ones((size, size), np.float32)
+    for _ in range(int(rng.integers(1, 4))):
+        centre = rng.uniform(0, size, 2)
+        corners = centre + rng.uniform(-0.35, 0.35, (4, 2)) * size
+        cv2.fillConvexPoly(shade, corners.astype(np.int32), float(rng.uniform(0.35, 0.75)))
+    edge = rng.uniform(0.5, 3.0)
+    shade = cv2.GaussianBlur(shade, (0, 0), edge)
+    return f * shade[:, :, None]
+
+
+def add_occluders(f, moved, rng, size):
+    """One to three opaque blobs (a parked car's smeared body, a pillar, a
+    person) of a random colour and grain, ellipses or rotated boxes 8-35 %
+    of the view across; marks they cover are no longer visible and leave
+    the targets."""
+    covered = np.zeros((size, size), np.uint8)
+    for _ in range(int(rng.integers(1, 4))):
+        cover = np.zeros((size, size), np.uint8)
+        centre = tuple(int(v) for v in rng.uniform(0, size, 2))
+        axes = tuple(int(v) for v in rng.uniform(0.04, 0.18, 2) * size)
+        angle = float(rng.uniform(0, 180))
+        if rng.random() < 0.5:
+            cv2.ellipse(cover, centre, axes, angle, 0, 360, 255, -1)
+        else:
+            box = cv2.boxPoints((centre, (2 * axes[0], 2 * axes[1]), angle))
+            cv2.fillConvexPoly(cover, box.astype(np.int32), 255)
+        colour = rng.uniform(0, 1, 3).astype(np.float32)
+        grain = rng.normal(0, rng.uniform(0.02, 0.12), (size, size, 1)).astype(np.float32)
+        paint = np.clip(colour[None, None, :] + grain, 0, 1)
+        inside = cover > 0
+        f[inside] = paint[inside]
+        covered |= cover
+    covered = cv2.dilate(covered, np.ones((5, 5), np.uint8))
+    kept = [m for m in moved if covered[min(int(m[1]), size - 1), min(int(m[0]), size - 1)] == 0]
+    return f, kept
+
+
+def augment(image, marks, rng, size, shadows=0.0, occluders=0.0):
     """A random flip, small rotation, scale and shift, and photometric
     changes; returns the image and the marks moved with it (in the scaled
-    image's continuous coordinates: pixel edges at 0 and size)."""
+    image's continuous coordinates: pixel edges at 0 and size). With
+    probabilities `shadows` and `occluders`, soft shadows and opaque
+    blobs (marks under them dropped) as well."""
     scale = size / FULL_PX
     pts = [((x + 0.5) * scale, (y + 0.5) * scale, a, t) for x, y, a, t in marks]
     angle = rng.uniform(-8, 8) if rng.random() < 0.5 else 0.0
@@ -128,6 +170,10 @@ def augment(image, marks, rng, size):
     # Photometric: exposure, gamma, white balance, contrast, greyscale,
     # blur, noise, JPEG.
     f = out.astype(np.float32) / 255.0
+    if occluders > 0 and rng.random() < occluders:
+        f, moved = add_occluders(f, moved, rng, size)
+    if shadows > 0 and rng.random() < shadows:
+        f = cast_shadows(f, rng, size)
     f = np.power(np.clip(f * rng.uniform(0.6, 1.4), 0, 1), rng.uniform(0.7, 1.4))
     f *= rng.uniform(0.85, 1.15, 3).astype(np.float32)
     mean = f.mean()
@@ -169,8 +215,9 @@ class AugmentedViews(torch.utils.data.Dataset):
     (--workers above 0). Worker w of epoch e draws from the generator
     seeded (seed, e, w), so a run is repeatable for a fixed worker count."""
 
-    def __init__(self, images, marks, size, grid, seed):
+    def __init__(self, images, marks, size, grid, seed, shadows=0.0, occluders=0.0):
         self.images, self.marks, self.size, self.grid, self.seed = images, marks, size, grid, seed
+        self.shadows, self.occluders = shadows, occluders
         self.epoch = 0
         self.rng = None
 
@@ -181,7 +228,8 @@ class AugmentedViews(torch.utils.data.Dataset):
         if self.rng is None:
             info = torch.utils.data.get_worker_info()
             self.rng = np.random.default_rng([self.seed, self.epoch, info.id if info else 0])
-        image, moved = augment(self.images[i], self.marks[i], self.rng, self.size)
+        image, moved = augment(self.images[i], self.marks[i], self.rng, self.size,
+                               self.shadows, self.occluders)
         mask, reg = targets([moved], self.size, self.grid)
         return torch.from_numpy(image), mask[0], reg[0]
 
@@ -285,7 +333,8 @@ def batches(views, rng, epoch, args, steps):
             idx = order[step * args.batch:(step + 1) * args.batch]
             batch, batch_marks = [], []
             for i in idx:
-                image, moved = augment(views.images[i], views.marks[i], rng, views.size)
+                image, moved = augment(views.images[i], views.marks[i], rng, views.size,
+                                       args.shadows, args.occluders)
                 batch.append(image)
                 batch_marks.append(moved)
             mask, reg = targets(batch_marks, views.size, views.grid)
@@ -329,6 +378,11 @@ def main():
     parser.add_argument("--workers", type=int, default=0,
                         help="processes that read and augment the views (0: in this process, "
                              "as the committed CPU recipe)")
+    parser.add_argument("--shadows", type=float, default=0.0,
+                        help="share of views augmented with soft shadows (0: the committed recipe)")
+    parser.add_argument("--occluders", type=float, default=0.0,
+                        help="share of views augmented with opaque blobs over the floor; marks "
+                             "under them leave the targets (0: the committed recipe)")
     args = parser.parse_args()
     if args.device.startswith("cuda") and not torch.cuda.is_available():
         common.fail(f"--device {args.device}: torch sees no CUDA device")
@@ -357,7 +411,7 @@ def main():
     stopper = common.EarlyStopping(args.patience)
     best_state, best_scores, history = None, None, []
     train_started = time.time()
-    views = AugmentedViews(images, marks, size, grid, args.seed)
+    views = AugmentedViews(images, marks, size, grid, args.seed, args.shadows, args.occluders)
     for epoch in range(args.epochs):
         model.train()
         total = 0.0
