@@ -142,6 +142,7 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
   // 0-based pixel centres sit half a pixel in.
   const double scale_x = static_cast<double>(top_view.cols) / g;
   const double scale_y = static_cast<double>(top_view.rows) / g;
+  const double border_px = options_.border_margin_m * options_.pairing.pixels_per_m;
   std::vector<MarkingPoint> found;
   for (int cy = 0; cy < g; ++cy) {
     for (int cx = 0; cx < g; ++cx) {
@@ -152,7 +153,6 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
       p.direction_rad = std::atan2(at(4), at(3));
       p.shape = at(5) >= 0.5 ? MarkingShape::kT : MarkingShape::kL;
       p.score = at(0);
-      const double border_px = options_.border_margin_m * options_.pairing.pixels_per_m;
       if (p.px.x() < border_px || p.px.y() < border_px ||
           p.px.x() > top_view.cols - 1 - border_px || p.px.y() > top_view.rows - 1 - border_px) {
         continue;

@@ -9,7 +9,11 @@
 // its place in the cell, the direction of its separating line and its
 // shape (T or L). Cells above min_confidence become marking points, the
 // weaker of two within nms_radius_px is dropped, and slots are formed from
-// the points by the paper's rules (slot_pairing.h).
+// the points by the paper's rules (slot_pairing.h). The network sees no
+// lines, so the slots are then checked on the paint (slot_paint_check.h):
+// a candidate with another separating line across it is split at that
+// line's missed point, and each slot's corners are moved onto the painted
+// lines' centres.
 //
 // Top-view pixels are 0-based, (0, 0) the centre of the top-left pixel,
 // x to the right and y down (camera/top_view.h).
