@@ -61,8 +61,36 @@ def evaluate(model, x):
             out = torch.sigmoid(i[0])
         elif op == "Tanh":
             out = torch.tanh(i[0])
-        elif op in ("Mul", "Add", "Sub"):
-            out = {"Mul": torch.mul, "Add": torch.add, "Sub": torch.sub}[op](i[0], i[1])
+        elif op in ("Mul", "Add", "Sub", "Div"):
+            out = {"Mul": torch.mul, "Add": torch.add, "Sub": torch.sub,
+                   "Div": torch.div}[op](i[0], i[1])
+        elif op == "Sqrt":
+            out = torch.sqrt(i[0])
+        elif op == "Pad":
+            # ONNX pads: [x1_begin, x2_begin, ..., x1_end, x2_end, ...]
+            pads = (i[1].tolist() if len(i) > 1 and i[1] is not None else a["pads"])
+            if a.get("mode", b"constant") not in (b"constant", "constant"):
+                common.fail(f"{node.name}: Pad mode {a['mode']} is not evaluated here")
+            value = float(i[2]) if len(i) > 2 and i[2] is not None else a.get("value", 0.0)
+            half = len(pads) // 2
+            torch_pads = []
+            for axis in reversed(range(half)):
+                torch_pads += [pads[axis], pads[axis + half]]
+            out = F.pad(i[0], torch_pads, value=value)
+        elif op == "AveragePool":
+            pads = a.get("pads", [0, 0, 0, 0])
+            if pads[0] != pads[2] or pads[1] != pads[3]:
+                common.fail(f"{node.name}: asymmetric AveragePool pads are not evaluated here")
+            out = F.avg_pool2d(i[0], a["kernel_shape"], a.get("strides", 1),
+                               padding=(pads[0], pads[1]),
+                               count_include_pad=bool(a.get("count_include_pad", 0)))
+        elif op == "Resize":
+            mode, where = a.get("mode", b"nearest"), a.get("coordinate_transformation_mode")
+            if mode != b"linear" or where not in (b"half_pixel", b"pytorch_half_pixel"):
+                common.fail(f"{node.name}: Resize {mode} {where} is not evaluated here")
+            scales = i[2].tolist()
+            out = F.interpolate(i[0], scale_factor=(scales[2], scales[3]), mode="bilinear",
+                                align_corners=False)
         elif op == "Concat":
             out = torch.cat(i, dim=a["axis"])
         elif op == "Slice":

@@ -312,7 +312,7 @@ def write_outputs(model, args, size, training_images, validation_images, stopper
     write_reference(args.out, (1, 3, size, size))
     common.write_json_atomically(args.out + ".json", {
         "network": "MarkingPointNet", "input_size": size, "stride": MarkingPointNet.STRIDE,
-        "widths": list(args.widths),
+        "widths": list(args.widths), "input_norm": args.input_norm,
         "outputs": ["confidence", "offset_x", "offset_y", "cos", "sin", "t_shape"],
         "command": " ".join(["scripts/learned/train_marking_points.py"] + sys.argv[1:]),
         "seed": args.seed, "torch": torch.__version__, "threads": torch.get_num_threads(),
@@ -378,6 +378,9 @@ def main():
     parser.add_argument("--workers", type=int, default=0,
                         help="processes that read and augment the views (0: in this process, "
                              "as the committed CPU recipe)")
+    parser.add_argument("--input-norm", choices=["none", "local"], default="none",
+                        help="local: each channel's local contrast normalized inside the network "
+                             "(models.LocalContrastNorm) before the first convolution")
     parser.add_argument("--shadows", type=float, default=0.0,
                         help="share of views augmented with soft shadows (0: the committed recipe)")
     parser.add_argument("--occluders", type=float, default=0.0,
@@ -402,7 +405,7 @@ def main():
 
     device = torch.device(args.device)
     torch.backends.cudnn.benchmark = True
-    model = MarkingPointNet(tuple(args.widths)).to(device)
+    model = MarkingPointNet(tuple(args.widths), args.input_norm).to(device)
     optimizer = torch.optim.AdamW(model.parameters(), lr=args.lr, weight_decay=1e-4)
     steps_per_epoch = max(1, len(images) // args.batch)
     schedule = torch.optim.lr_scheduler.OneCycleLR(
