@@ -88,9 +88,13 @@ def evaluate(model, x):
             mode, where = a.get("mode", b"nearest"), a.get("coordinate_transformation_mode")
             if mode != b"linear" or where not in (b"half_pixel", b"pytorch_half_pixel"):
                 common.fail(f"{node.name}: Resize {mode} {where} is not evaluated here")
-            scales = i[2].tolist()
-            out = F.interpolate(i[0], scale_factor=(scales[2], scales[3]), mode="bilinear",
-                                align_corners=False)
+            scales = i[2].tolist() if len(i) > 2 and i[2] is not None else []
+            if len(scales) == 4:
+                out = F.interpolate(i[0], scale_factor=(scales[2], scales[3]), mode="bilinear",
+                                    align_corners=False)
+            else:  # sizes instead of scales
+                out = F.interpolate(i[0], size=tuple(i[3].tolist()[2:]), mode="bilinear",
+                                    align_corners=False)
         elif op == "Concat":
             out = torch.cat(i, dim=a["axis"])
         elif op == "Slice":
