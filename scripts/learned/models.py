@@ -53,6 +53,19 @@ class LocalContrastNorm(nn.Module):
         return centred / torch.sqrt(self.mean(centred * centred) + self.floor2)
 
 
+class Greyscale(nn.Module):
+    """The three channels replaced by their mean: the network sees no colour
+    (neither the paint's nor the rendering's colour casts). A fixed 1 x 1
+    convolution, which every runtime here reads."""
+
+    def __init__(self, channels=3):
+        super().__init__()
+        self.register_buffer("weight", torch.full((channels, channels, 1, 1), 1.0 / channels))
+
+    def forward(self, x):
+        return F.conv2d(x, self.weight)
+
+
 class MarkingPointNet(nn.Module):
     """Fully convolutional marking-point detector in the manner of DMPR-PS.
 
@@ -61,7 +74,7 @@ class MarkingPointNet(nn.Module):
     its position inside the cell (x, y in [0, 1]), [3:5] the direction of its
     separating line (cos, sin; image axes, y down), [5] the probability that
     it is T-shaped (else L-shaped). With input_norm "local" the scaled
-    pixels pass LocalContrastNorm first.
+    pixels pass LocalContrastNorm first; with "grey", Greyscale.
     """
 
     OUTPUTS = 6
@@ -69,9 +82,10 @@ class MarkingPointNet(nn.Module):
 
     def __init__(self, widths=(16, 32, 64, 128), input_norm="none"):
         super().__init__()
-        if input_norm not in ("none", "local"):
-            raise ValueError(f"input_norm: {input_norm!r} is not none or local")
-        self.norm = LocalContrastNorm() if input_norm == "local" else nn.Identity()
+        norms = {"none": nn.Identity, "local": LocalContrastNorm, "grey": Greyscale}
+        if input_norm not in norms:
+            raise ValueError(f"input_norm: {input_norm!r} is not one of {sorted(norms)}")
+        self.norm = norms[input_norm]()
         w0, w1, w2, w3 = widths
         self.features = nn.Sequential(
             conv_bn(3, w0, stride=2),      # S/2

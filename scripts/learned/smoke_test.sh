@@ -21,11 +21,13 @@ mkdir "$work/models"
 "$python" "$here/train_marking_points.py" --train "$work/train" --val "$work/val" \
   --out "$work/models/marking_points.onnx" --epochs 1 --batch 2 --seed 1 --threads 1
 # The worker-process route (as trained on a GPU machine) reads and augments
-# the same way; it also keeps the other input normalization alive.
-mkdir "$work/other"
+# the same way; it and a third run keep the other input normalizations alive.
+mkdir "$work/local" "$work/grey"
 "$python" "$here/train_marking_points.py" --train "$work/train" --val "$work/val" \
-  --out "$work/other/marking_points.onnx" --epochs 1 --batch 2 --seed 1 --threads 1 --workers 2 \
+  --out "$work/local/marking_points.onnx" --epochs 1 --batch 2 --seed 1 --threads 1 --workers 2 \
   --input-norm local
+"$python" "$here/train_marking_points.py" --train "$work/train" --val "$work/val" \
+  --out "$work/grey/marking_points.onnx" --epochs 1 --batch 2 --seed 1 --threads 1 --input-norm grey
 "$python" "$here/train_slot_ids.py" --train "$work/ids" --val "$work/ids" \
   --out "$work/models/slot_ids.onnx" --epochs 1 --batch 4 --seed 1 --threads 1
 for f in marking_points.onnx marking_points.onnx.json marking_points.reference.json \
@@ -34,6 +36,8 @@ for f in marking_points.onnx marking_points.onnx.json marking_points.reference.j
 done
 # The C++ side runs the fresh networks.
 "$parkslam" eval-detect --ps2 "$work/train" --detector learned --models "$work/models" --json
-cp "$work/models/slot_ids.onnx" "$work/other/"
-"$parkslam" eval-detect --ps2 "$work/train" --detector learned --models "$work/other" --json
+for norm in local grey; do
+  cp "$work/models/slot_ids.onnx" "$work/$norm/"
+  "$parkslam" eval-detect --ps2 "$work/train" --detector learned --models "$work/$norm" --json
+done
 echo "training smoke test passed"

@@ -378,9 +378,10 @@ def main():
     parser.add_argument("--workers", type=int, default=0,
                         help="processes that read and augment the views (0: in this process, "
                              "as the committed CPU recipe)")
-    parser.add_argument("--input-norm", choices=["none", "local"], default="none",
-                        help="local: each channel's local contrast normalized inside the network "
-                             "(models.LocalContrastNorm) before the first convolution")
+    parser.add_argument("--input-norm", choices=["none", "local", "grey"], default="none",
+                        help="inside the network, before the first convolution: local, each "
+                             "channel's local contrast normalized (models.LocalContrastNorm); "
+                             "grey, the channels' mean (models.Greyscale)")
     parser.add_argument("--shadows", type=float, default=0.0,
                         help="share of views augmented with soft shadows (0: the committed recipe)")
     parser.add_argument("--occluders", type=float, default=0.0,
