@@ -224,12 +224,16 @@ class AugmentedViews(torch.utils.data.Dataset):
     def __len__(self):
         return len(self.images)
 
+    def augmented(self, i, rng):
+        """View i augmented with `rng`, and its marks moved with it."""
+        return augment(self.images[i], self.marks[i], rng, self.size, self.shadows,
+                       self.occluders)
+
     def __getitem__(self, i):
         if self.rng is None:
             info = torch.utils.data.get_worker_info()
             self.rng = np.random.default_rng([self.seed, self.epoch, info.id if info else 0])
-        image, moved = augment(self.images[i], self.marks[i], self.rng, self.size,
-                               self.shadows, self.occluders)
+        image, moved = self.augmented(i, self.rng)
         mask, reg = targets([moved], self.size, self.grid)
         return torch.from_numpy(image), mask[0], reg[0]
 
@@ -333,8 +337,7 @@ def batches(views, rng, epoch, args, steps):
             idx = order[step * args.batch:(step + 1) * args.batch]
             batch, batch_marks = [], []
             for i in idx:
-                image, moved = augment(views.images[i], views.marks[i], rng, views.size,
-                                       args.shadows, args.occluders)
+                image, moved = views.augmented(i, rng)
                 batch.append(image)
                 batch_marks.append(moved)
             mask, reg = targets(batch_marks, views.size, views.grid)
