@@ -213,6 +213,8 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
       }
     }
   }
+  // Last, so that the paint check may still recover a point across one.
+  DropParallelSlotsLeavingTheView(top_view.size(), options_.pairing, &result.slots);
   return result;
 }
 

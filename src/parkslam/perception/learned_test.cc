@@ -214,6 +214,37 @@ TEST(SlotPairingTest, RejectsDisagreeingOrImplausiblePairs) {
   EXPECT_NEAR((parallel[0].corners_px[2] - parallel[0].corners_px[1]).norm(), 2.5 * 60, 1e-6);
 }
 
+
+// The end line of a row at the image's left edge, its two ends 5.3 m apart
+// with the row's entrance and back lines leaving the view after 0.5 m,
+// pairs as a parallel slot; it is dropped, a parallel slot whose lines stay
+// in view 1 m is kept, and so is a perpendicular slot at the edge.
+TEST(SlotPairingTest, DropsParallelSlotsWhoseLinesLeaveTheView) {
+  const SlotPairingOptions o;
+  std::vector<DetectedSlot> slots =
+      PairMarkingPoints({Point(30, 140, M_PI), Point(30, 458, M_PI)}, {600, 600}, o);
+  ASSERT_EQ(slots.size(), 1u);
+  DropParallelSlotsLeavingTheView({600, 600}, o, &slots);
+  EXPECT_TRUE(slots.empty());
+
+  slots = PairMarkingPoints({Point(60, 140, M_PI), Point(60, 458, M_PI)}, {600, 600}, o);
+  DropParallelSlotsLeavingTheView({600, 600}, o, &slots);
+  EXPECT_EQ(slots.size(), 1u);
+
+  slots = PairMarkingPoints({Point(30, 150, M_PI), Point(30, 300, M_PI)}, {600, 600}, o);
+  DropParallelSlotsLeavingTheView({600, 600}, o, &slots);
+  EXPECT_EQ(slots.size(), 1u);
+
+  SlotPairingOptions off = o;
+  off.parallel_min_depth_in_view_m = 0.0;
+  slots = PairMarkingPoints({Point(30, 140, M_PI), Point(30, 458, M_PI)}, {600, 600}, off);
+  DropParallelSlotsLeavingTheView({600, 600}, off, &slots);
+  EXPECT_EQ(slots.size(), 1u);
+  off.parallel_min_depth_in_view_m = -1.0;
+  std::string error;
+  EXPECT_FALSE(off.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("parallel_min_depth_in_view_m"));
+}
 TEST(LearnedSlotIdReaderTest, CropsTheBoxUpright) {
   // A white bar across the top half of a box whose reader's "right" points
   // down the image: upright in the crop, the bar lies on the crop's top.

@@ -19,6 +19,11 @@ double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
   return std::abs(Cross(ab.normalized(), p - a));
 }
 
+bool InImage(const Eigen::Vector2d& px, const cv::Size& size) {
+  return px.x() >= -0.5 && px.y() >= -0.5 && px.x() <= size.width - 0.5 &&
+         px.y() <= size.height - 0.5;
+}
+
 }  // namespace
 
 bool SlotPairingOptions::IsValid(std::string* error) const {
@@ -30,6 +35,7 @@ bool SlotPairingOptions::IsValid(std::string* error) const {
   c.Between(parallel_min_entrance_m, 0.0, 100.0, "parallel_min_entrance_m", "m");
   c.Positive(standard_depth_m, "standard_depth_m");
   c.Positive(parallel_depth_m, "parallel_depth_m");
+  c.InRange(parallel_min_depth_in_view_m, 0.0, 10.0, "parallel_min_depth_in_view_m", "m");
   c.Between(max_direction_difference_rad, 0.0, M_PI, "max_direction_difference_rad", "rad");
   c.NonNegative(on_line_tolerance_m, "on_line_tolerance_m");
   c.Require(min_junction_angle_rad >= 0.0 && min_junction_angle_rad < M_PI / 2,
@@ -111,6 +117,19 @@ std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& poi
     if (!dropped[slot.marking_points[0]] && !dropped[slot.marking_points[1]]) kept.push_back(slot);
   }
   return kept;
+}
+
+void DropParallelSlotsLeavingTheView(const cv::Size& image_size, const SlotPairingOptions& o,
+                                     std::vector<DetectedSlot>* slots) {
+  if (o.parallel_min_depth_in_view_m <= 0.0) return;
+  const double s = o.pixels_per_m;
+  const double reach_px = o.parallel_min_depth_in_view_m * s;
+  std::erase_if(*slots, [&](const DetectedSlot& slot) {
+    const double length_m = (slot.corners_px[1] - slot.corners_px[0]).norm() / s;
+    return length_m >= o.parallel_min_entrance_m &&
+           (!InImage(slot.corners_px[0] + reach_px * slot.depth_dir_px, image_size) ||
+            !InImage(slot.corners_px[1] + reach_px * slot.depth_dir_px, image_size));
+  });
 }
 
 }  // namespace parkslam::perception

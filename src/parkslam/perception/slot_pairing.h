@@ -32,6 +32,9 @@ struct SlotPairingOptions {
   double parallel_min_entrance_m = 4.0;
   double standard_depth_m = kStandardSlotDepth_m;
   double parallel_depth_m = 2.5;
+  // A parallel slot's separating lines stay in the image for this far
+  // from both marking points (0: no check; DropParallelSlotsLeavingTheView).
+  double parallel_min_depth_in_view_m = 0.8;
   // The separating lines of a slot's two points agree within this.
   double max_direction_difference_rad = 0.35;
   // A third marking point within this of the entrance line lies on it.
@@ -57,6 +60,7 @@ struct SlotPairingOptions {
     v("parallel_min_entrance_m", parallel_min_entrance_m);
     v("standard_depth_m", standard_depth_m);
     v("parallel_depth_m", parallel_depth_m);
+    v("parallel_min_depth_in_view_m", parallel_min_depth_in_view_m);
     v("max_direction_difference_rad", max_direction_difference_rad);
     v("on_line_tolerance_m", on_line_tolerance_m);
     v("min_junction_angle_rad", min_junction_angle_rad);
@@ -71,6 +75,17 @@ struct SlotPairingOptions {
 std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& points,
                                             const cv::Size& image_size,
                                             const SlotPairingOptions& options);
+
+// Drops the parallel slots (entrance at least parallel_min_entrance_m)
+// whose separating lines leave the image within
+// parallel_min_depth_in_view_m of either marking point. The end line of a
+// row, whose ends meet the row's entrance and back lines just as they leave
+// the view, looks like a parallel slot's entrance with its two stubs; the
+// classical detector rejects it by its stem rule (slot_detector.cc), which
+// needs the lines this detector does not find. Applied after the paint
+// check, which may still find a missed point across such a candidate.
+void DropParallelSlotsLeavingTheView(const cv::Size& image_size, const SlotPairingOptions& options,
+                                     std::vector<DetectedSlot>* slots);
 
 }  // namespace parkslam::perception
 
