@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "parkslam/common/field_checker.h"
 
@@ -133,6 +134,8 @@ bool SlotPaintCheckOptions::IsValid(std::string* error) const {
   c.InRange(depth_count, 2, 20, "depth_count", "");
   c.Require(min_depths_in_view >= 2 && min_depths_in_view <= depth_count, "min_depths_in_view",
             "must be in [2, depth_count]");
+  c.Require(min_share_in_view > 0.0 && min_share_in_view <= 1.0, "min_share_in_view",
+            "must be in (0, 1]");
   c.NonNegative(end_margin_m, "end_margin_m");
   c.Positive(min_line_width_m, "min_line_width_m");
   c.Require(max_line_width_m >= min_line_width_m && max_line_width_m <= 2.0, "max_line_width_m",
@@ -188,11 +191,10 @@ SlotPaint MeasureSlotPaint(const cv::Mat& grey, const cv::Mat& mask, const Detec
     for (int i = 1; i + 1 < n; ++i)
       smooth[i] = (profile[i - 1] + profile[i] + profile[i + 1]) / 3.0;
     std::vector<double> contrast = StripeContrast(smooth, min_half, max_half);
-    // A cross-section not wholly in view cannot show a line for certain.
-    const bool in_view =
-        std::none_of(contrast.begin() + inside_begin, contrast.begin() + inside_end,
-                     [](double c) { return std::isnan(c); });
-    if (!in_view) continue;
+    // A cross-section mostly out of view cannot show a line for certain.
+    const auto seen = std::count_if(contrast.begin() + inside_begin, contrast.begin() + inside_end,
+                                    [](double c) { return !std::isnan(c); });
+    if (seen < o.min_share_in_view * (inside_end - inside_begin)) continue;
     depths_m.push_back(o.first_depth_m + k * o.depth_step_m);
     for (const int end : {index_of(0.0), index_of(length_px)}) {
       const double c = MaxIn(contrast, end - max_half - 1, end + max_half + 2);
@@ -219,6 +221,7 @@ SlotPaint MeasureSlotPaint(const cv::Mat& grey, const cv::Mat& mask, const Detec
   // max_drift of the one before; where it meets the entrance, from the
   // least-squares line through them (u against depth).
   const double max_drift_px = o.max_drift_m * s;
+  std::vector<std::vector<double>> at_entrance;  // per line, along the entrance (px)
   for (const int first : stripes[0]) {
     std::vector<double> u{static_cast<double>(first - pad)};
     for (size_t k = 1; k < stripes.size(); ++k) {
@@ -233,9 +236,53 @@ SlotPaint MeasureSlotPaint(const cv::Mat& grey, const cv::Mat& mask, const Detec
     if (u.size() != stripes.size()) continue;
     const StraightFit fit = FitStraight(depths_m, u);
     const double u_at_entrance = fit.mean_y - fit.slope * fit.mean_x;
-    result.lines_inside.push_back(origin + u_at_entrance * along);
+    // Two maxima of one line's flat top (noise) are one line: their mean.
+    if (!at_entrance.empty() && u_at_entrance - at_entrance.back().back() < 2 * max_half) {
+      at_entrance.back().push_back(u_at_entrance);
+    } else {
+      at_entrance.push_back({u_at_entrance});
+    }
+  }
+  for (const std::vector<double>& line : at_entrance) {
+    const double u = std::accumulate(line.begin(), line.end(), 0.0) / line.size();
+    result.lines_inside.push_back(origin + u * along);
   }
   return result;
+}
+
+std::vector<RowCorner> FindRowCorners(const cv::Mat& grey, const cv::Mat& mask,
+                                      const std::vector<DetectedSlot>& slots,
+                                      const std::vector<Eigen::Vector2d>& known_px,
+                                      double max_width_px, double tolerance_px,
+                                      const SlotPaintCheckOptions& options) {
+  std::vector<RowCorner> found;
+  for (size_t k = 0; k < slots.size(); ++k) {
+    const DetectedSlot& slot = slots[k];
+    const Eigen::Vector2d width = slot.corners_px[1] - slot.corners_px[0];
+    if (width.norm() >= max_width_px) continue;
+    for (const int end : {0, 1}) {
+      const Eigen::Vector2d from = slot.corners_px[end];
+      const Eigen::Vector2d step = end == 1 ? width : Eigen::Vector2d(-width);
+      const Eigen::Vector2d expected = from + step;
+      if (std::any_of(known_px.begin(), known_px.end(), [&](const Eigen::Vector2d& q) {
+            return (q - expected).norm() < 0.5 * step.norm();
+          })) {
+        continue;
+      }
+      DetectedSlot probe = slot;
+      probe.corners_px[0] = from;
+      probe.corners_px[1] = expected + step.normalized() * (2.0 * tolerance_px);
+      for (const Eigen::Vector2d& at : MeasureSlotPaint(grey, mask, probe, options).lines_inside) {
+        if ((at - expected).norm() > tolerance_px || !(at.x() >= 0.0 && at.y() >= 0.0) ||
+            at.x() > grey.cols - 1 || at.y() > grey.rows - 1) {
+          continue;
+        }
+        found.push_back({at, static_cast<int>(k)});
+        break;
+      }
+    }
+  }
+  return found;
 }
 
 int RefineSlotCorners(const cv::Mat& grey, const cv::Mat& mask, const SlotPaintCheckOptions& o,

@@ -38,6 +38,9 @@ struct SlotPaintCheckOptions {
   double depth_step_m = 0.6;
   int depth_count = 3;
   int min_depths_in_view = 2;
+  // A cross-section is in view when this share of it, between the slot's
+  // own lines, is (off the image or on the car's footprint: not).
+  double min_share_in_view = 0.7;
   // Stripes this close to either marking point along the entrance belong
   // to the slot's own separating lines.
   double end_margin_m = 0.35;
@@ -74,6 +77,7 @@ struct SlotPaintCheckOptions {
     v("depth_step_m", depth_step_m);
     v("depth_count", depth_count);
     v("min_depths_in_view", min_depths_in_view);
+    v("min_share_in_view", min_share_in_view);
     v("end_margin_m", end_margin_m);
     v("min_line_width_m", min_line_width_m);
     v("max_line_width_m", max_line_width_m);
@@ -99,6 +103,22 @@ struct SlotPaint {
 };
 SlotPaint MeasureSlotPaint(const cv::Mat& grey, const cv::Mat& mask, const DetectedSlot& slot,
                            const SlotPaintCheckOptions& options);
+
+// Corners a row leads to but no marking point marks: one slot width on
+// past each entrance corner of each slot narrower than max_width_px, away
+// from its other corner, where no known point lies within half a width, a
+// separating line painted within tolerance_px of where the next corner
+// should be (MeasureSlotPaint on a probe from the corner to a little past
+// it). Each in the image, with the slot it extends.
+struct RowCorner {
+  Eigen::Vector2d px = Eigen::Vector2d::Zero();
+  int slot = -1;  // index into the slots given
+};
+std::vector<RowCorner> FindRowCorners(const cv::Mat& grey, const cv::Mat& mask,
+                                      const std::vector<DetectedSlot>& slots,
+                                      const std::vector<Eigen::Vector2d>& known_px,
+                                      double max_width_px, double tolerance_px,
+                                      const SlotPaintCheckOptions& options);
 
 // Moves a slot's entrance corners (0 and 1) to where the centrelines of
 // their separating line and of the entrance line cross, each fitted to the
