@@ -26,6 +26,7 @@ bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
   c.Between(min_confidence, 0.0, 1.0, "min_confidence", "");
   c.Require(flips == 1 || flips == 2 || flips == 4, "flips", "must be 1, 2 or 4");
   c.NonNegative(nms_radius_px, "nms_radius_px");
+  c.Positive(extend_tolerance_m, "extend_tolerance_m");
   c.InRange(border_margin_m, 0.0, 2.0, "border_margin_m", "m");
   c.Positive(classical_match_px, "classical_match_px");
   c.Positive(classical_match_rad, "classical_match_rad");
@@ -119,20 +120,51 @@ void LearnedSlotDetector::CheckOnPaint(const cv::Mat& grey, const cv::Mat& mask,
     }
     detection->slots = std::move(kept);
   };
-  std::vector<MarkingPoint> recovered;
-  keep_uncrossed(options_.recover_points ? &recovered : nullptr);
-  if (recovered.empty()) return;
-  // Two candidates across one missed point find its line twice.
   const double r2 = options_.nms_radius_px * options_.nms_radius_px;
   std::vector<MarkingPoint>& points = detection->marking_points;
-  for (const MarkingPoint& p : recovered) {
-    if (std::none_of(points.begin(), points.end(),
-                     [&](const MarkingPoint& q) { return (p.px - q.px).squaredNorm() < r2; })) {
-      points.push_back(p);
+  // Two candidates across one missed point find its line twice.
+  const auto add_new = [&](const std::vector<MarkingPoint>& more) {
+    size_t added = 0;
+    for (const MarkingPoint& p : more) {
+      if (std::none_of(points.begin(), points.end(),
+                       [&](const MarkingPoint& q) { return (p.px - q.px).squaredNorm() < r2; })) {
+        points.push_back(p);
+        ++added;
+      }
     }
+    return added;
+  };
+  std::vector<MarkingPoint> recovered;
+  keep_uncrossed(options_.recover_points ? &recovered : nullptr);
+  if (add_new(recovered) > 0) {
+    detection->slots = PairMarkingPoints(points, grey.size(), options_.pairing);
+    keep_uncrossed(nullptr);
   }
-  detection->slots = PairMarkingPoints(points, grey.size(), options_.pairing);
-  keep_uncrossed(nullptr);
+  if (!options_.extend_rows) return;
+  if (add_new(RowEnds(grey, mask, *detection)) > 0) {
+    detection->slots = PairMarkingPoints(points, grey.size(), options_.pairing);
+    keep_uncrossed(nullptr);
+  }
+}
+
+std::vector<MarkingPoint> LearnedSlotDetector::RowEnds(const cv::Mat& grey, const cv::Mat& mask,
+                                                       const SlotDetection& detection) const {
+  const double s = options_.pairing.pixels_per_m;
+  std::vector<Eigen::Vector2d> known;
+  for (const MarkingPoint& p : detection.marking_points) known.push_back(p.px);
+  std::vector<MarkingPoint> found;
+  for (const RowCorner& corner : FindRowCorners(grey, mask, detection.slots, known,
+                                                options_.pairing.parallel_min_entrance_m * s,
+                                                options_.extend_tolerance_m * s, paint_check_)) {
+    const DetectedSlot& slot = detection.slots[static_cast<size_t>(corner.slot)];
+    MarkingPoint p;
+    p.px = corner.px;
+    p.direction_rad = std::atan2(slot.depth_dir_px.y(), slot.depth_dir_px.x());
+    p.shape = MarkingShape::kT;
+    p.score = slot.confidence;
+    found.push_back(p);
+  }
+  return found;
 }
 
 SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat& mask) const {

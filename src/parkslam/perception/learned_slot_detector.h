@@ -65,6 +65,13 @@ struct LearnedSlotDetectorOptions {
   // are paired again.
   bool check_paint = true;
   bool recover_points = true;
+  // Rows extended on the paint: next to each slot of a row (entrance
+  // shorter than a parallel slot's), one slot width on along the entrance,
+  // a separating line painted where the next corner should be adds that
+  // corner, which the network missed (with check_paint).
+  bool extend_rows = true;
+  // The line found within this of the expected corner, along the entrance.
+  double extend_tolerance_m = 0.3;
   SlotPaintCheckOptions paint_check;
   // The slots' entrance corners refined on the paint next to them
   // (slot_paint_check.h, RefineSlotCorners): the network's cells are 2.3
@@ -90,6 +97,8 @@ struct LearnedSlotDetectorOptions {
     v("pairing", pairing);
     v("check_paint", check_paint);
     v("recover_points", recover_points);
+    v("extend_rows", extend_rows);
+    v("extend_tolerance_m", extend_tolerance_m);
     v("refine_on_paint", refine_on_paint);
     v("paint_check", paint_check);
     v("classical_options", classical_options);
@@ -120,6 +129,9 @@ class LearnedSlotDetector {
   // The paint check of options_.check_paint on the paired detection, in
   // the grey top view.
   void CheckOnPaint(const cv::Mat& grey, const cv::Mat& mask, SlotDetection* detection) const;
+  // The corners options_.extend_rows finds next to the detected slots.
+  std::vector<MarkingPoint> RowEnds(const cv::Mat& grey, const cv::Mat& mask,
+                                    const SlotDetection& detection) const;
 
   LearnedSlotDetectorOptions options_;
   std::unique_ptr<OnnxNetwork> network_;
