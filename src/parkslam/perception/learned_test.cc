@@ -214,7 +214,6 @@ TEST(SlotPairingTest, RejectsDisagreeingOrImplausiblePairs) {
   EXPECT_NEAR((parallel[0].corners_px[2] - parallel[0].corners_px[1]).norm(), 2.5 * 60, 1e-6);
 }
 
-
 // The end line of a row at the image's left edge, its two ends 5.3 m apart
 // with the row's entrance and back lines leaving the view after 0.5 m,
 // pairs as a parallel slot; it is dropped, a parallel slot whose lines stay
