@@ -141,14 +141,14 @@ void LearnedSlotDetector::CheckOnPaint(const cv::Mat& grey, const cv::Mat& mask,
     keep_uncrossed(nullptr);
   }
   if (!options_.extend_rows) return;
-  if (add_new(RowEnds(grey, mask, *detection)) > 0) {
+  if (add_new(MissedRowCorners(grey, mask, *detection)) > 0) {
     detection->slots = PairMarkingPoints(points, grey.size(), options_.pairing);
     keep_uncrossed(nullptr);
   }
 }
 
-std::vector<MarkingPoint> LearnedSlotDetector::RowEnds(const cv::Mat& grey, const cv::Mat& mask,
-                                                       const SlotDetection& detection) const {
+std::vector<MarkingPoint> LearnedSlotDetector::MissedRowCorners(
+    const cv::Mat& grey, const cv::Mat& mask, const SlotDetection& detection) const {
   const double s = options_.pairing.pixels_per_m;
   std::vector<Eigen::Vector2d> known;
   for (const MarkingPoint& p : detection.marking_points) known.push_back(p.px);

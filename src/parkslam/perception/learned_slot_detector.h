@@ -12,8 +12,9 @@
 // the points by the paper's rules (slot_pairing.h). The network sees no
 // lines, so the slots are then checked on the paint (slot_paint_check.h):
 // a candidate with another separating line across it is split at that
-// line's missed point, and each slot's corners are moved onto the painted
-// lines' centres.
+// line's missed point, a row is extended by the corners its slots lead
+// to, each slot's corners are moved onto the painted lines' centres, and
+// parallel slots whose lines leave the view at once are dropped.
 //
 // Top-view pixels are 0-based, (0, 0) the centre of the top-left pixel,
 // x to the right and y down (camera/top_view.h).
@@ -129,9 +130,10 @@ class LearnedSlotDetector {
   // The paint check of options_.check_paint on the paired detection, in
   // the grey top view.
   void CheckOnPaint(const cv::Mat& grey, const cv::Mat& mask, SlotDetection* detection) const;
-  // The corners options_.extend_rows finds next to the detected slots.
-  std::vector<MarkingPoint> RowEnds(const cv::Mat& grey, const cv::Mat& mask,
-                                    const SlotDetection& detection) const;
+  // The corners options_.extend_rows finds next to the detected slots,
+  // as marking points (direction and score of the slot they extend).
+  std::vector<MarkingPoint> MissedRowCorners(const cv::Mat& grey, const cv::Mat& mask,
+                                             const SlotDetection& detection) const;
 
   LearnedSlotDetectorOptions options_;
   std::unique_ptr<OnnxNetwork> network_;
