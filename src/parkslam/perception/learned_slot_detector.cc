@@ -247,6 +247,7 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
   }
   // Last, so that the paint check may still recover a point across one.
   DropParallelSlotsLeavingTheView(top_view.size(), options_.pairing, &result.slots);
+  DropOddSlotsAtTheBorder(top_view.size(), options_.pairing, &result.slots);
   return result;
 }
 

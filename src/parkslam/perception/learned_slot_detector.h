@@ -14,7 +14,8 @@
 // a candidate with another separating line across it is split at that
 // line's missed point, a row is extended by the corners its slots lead
 // to, each slot's corners are moved onto the painted lines' centres, and
-// parallel slots whose lines leave the view at once are dropped.
+// parallel slots whose lines leave the view at once, and slots at the
+// border whose width is not their row's, are dropped (slot_pairing.h).
 //
 // Top-view pixels are 0-based, (0, 0) the centre of the top-left pixel,
 // x to the right and y down (camera/top_view.h).

@@ -244,6 +244,44 @@ TEST(SlotPairingTest, DropsParallelSlotsWhoseLinesLeaveTheView) {
   EXPECT_FALSE(off.IsValid(&error));
   EXPECT_THAT(error, HasSubstr("parallel_min_depth_in_view_m"));
 }
+// A row on the right, 2.9 m slots (174 px); at the image's bottom edge the
+// network puts a corner 2.2 m after the row's last one, where the border
+// cuts the next junction. That slot is dropped; the same slot away from
+// the border, and a slot of the row's width at the border, are kept.
+TEST(SlotPairingTest, DropsAnOddlyWideSlotAtTheBorder) {
+  const SlotPairingOptions o;
+  const auto row = [&](double last_y) {
+    return PairMarkingPoints(
+        {Point(505, 100, 0.0), Point(505, 274, 0.0), Point(505, 448, 0.0), Point(505, last_y, 0.0)},
+        {600, 600}, o);
+  };
+  std::vector<DetectedSlot> slots = row(580);
+  ASSERT_EQ(slots.size(), 3u);
+  DropOddSlotsAtTheBorder({600, 600}, o, &slots);
+  ASSERT_EQ(slots.size(), 2u);
+  for (const DetectedSlot& s : slots)
+    EXPECT_LT(std::max(s.corners_px[0].y(), s.corners_px[1].y()), 500);
+
+  slots = PairMarkingPoints({Point(505, 60, 0.0), Point(505, 234, 0.0), Point(505, 366, 0.0)},
+                            {600, 600}, o);  // the odd one ends 234 px from the border
+  ASSERT_EQ(slots.size(), 2u);
+  DropOddSlotsAtTheBorder({600, 600}, o, &slots);
+  EXPECT_EQ(slots.size(), 2u);
+
+  slots = row(595);  // 147 px: 15.5 % narrower, at the border
+  DropOddSlotsAtTheBorder({600, 600}, o, &slots);
+  EXPECT_EQ(slots.size(), 2u);
+  slots = row(599);  // 151 px: 13 % narrower, kept
+  DropOddSlotsAtTheBorder({600, 600}, o, &slots);
+  EXPECT_EQ(slots.size(), 3u);
+
+  SlotPairingOptions off = o;
+  off.border_width_check_m = 0.0;
+  slots = row(580);
+  DropOddSlotsAtTheBorder({600, 600}, off, &slots);
+  EXPECT_EQ(slots.size(), 3u);
+}
+
 TEST(LearnedSlotIdReaderTest, CropsTheBoxUpright) {
   // A white bar across the top half of a box whose reader's "right" points
   // down the image: upright in the crop, the bar lies on the crop's top.

@@ -36,6 +36,8 @@ bool SlotPairingOptions::IsValid(std::string* error) const {
   c.Positive(standard_depth_m, "standard_depth_m");
   c.Positive(parallel_depth_m, "parallel_depth_m");
   c.InRange(parallel_min_depth_in_view_m, 0.0, 10.0, "parallel_min_depth_in_view_m", "m");
+  c.InRange(border_width_check_m, 0.0, 10.0, "border_width_check_m", "m");
+  c.PositiveAtMost(border_width_share, 1.0, "border_width_share", "");
   c.Between(max_direction_difference_rad, 0.0, M_PI, "max_direction_difference_rad", "rad");
   c.NonNegative(on_line_tolerance_m, "on_line_tolerance_m");
   c.Require(min_junction_angle_rad >= 0.0 && min_junction_angle_rad < M_PI / 2,
@@ -130,6 +132,36 @@ void DropParallelSlotsLeavingTheView(const cv::Size& image_size, const SlotPairi
            (!InImage(slot.corners_px[0] + reach_px * slot.depth_dir_px, image_size) ||
             !InImage(slot.corners_px[1] + reach_px * slot.depth_dir_px, image_size));
   });
+}
+
+void DropOddSlotsAtTheBorder(const cv::Size& image_size, const SlotPairingOptions& o,
+                             std::vector<DetectedSlot>* slots) {
+  if (o.border_width_check_m <= 0.0) return;
+  const double border_px = o.border_width_check_m * o.pixels_per_m;
+  const auto to_border = [&](const Eigen::Vector2d& p) {
+    return std::min({p.x(), p.y(), image_size.width - 1 - p.x(), image_size.height - 1 - p.y()});
+  };
+  const auto width = [](const DetectedSlot& s) {
+    return (s.corners_px[1] - s.corners_px[0]).norm();
+  };
+  std::vector<bool> odd(slots->size(), false);
+  for (size_t i = 0; i < slots->size(); ++i) {
+    const DetectedSlot& slot = (*slots)[i];
+    for (int e = 0; e < 2 && !odd[i]; ++e) {
+      if (to_border(slot.corners_px[e]) >= border_px) continue;
+      const int other = slot.marking_points[1 - e];
+      for (size_t j = 0; j < slots->size() && !odd[i]; ++j) {
+        const DetectedSlot& n = (*slots)[j];
+        if (j == i || (n.marking_points[0] != other && n.marking_points[1] != other)) continue;
+        odd[i] = std::abs(width(slot) - width(n)) > o.border_width_share * width(n);
+      }
+    }
+  }
+  std::vector<DetectedSlot> kept;
+  for (size_t i = 0; i < slots->size(); ++i) {
+    if (!odd[i]) kept.push_back((*slots)[i]);
+  }
+  *slots = std::move(kept);
 }
 
 }  // namespace parkslam::perception

@@ -35,6 +35,12 @@ struct SlotPairingOptions {
   // A parallel slot's separating lines stay in the image for this far
   // from both marking points (0: no check; DropParallelSlotsLeavingTheView).
   double parallel_min_depth_in_view_m = 0.8;
+  // A slot with a corner within border_width_check_m of the image's border
+  // is dropped when its width differs by more than border_width_share from
+  // that of a slot sharing its other corner (0: no check;
+  // DropOddSlotsAtTheBorder).
+  double border_width_check_m = 0.5;
+  double border_width_share = 0.15;
   // The separating lines of a slot's two points agree within this.
   double max_direction_difference_rad = 0.35;
   // A third marking point within this of the entrance line lies on it.
@@ -61,6 +67,8 @@ struct SlotPairingOptions {
     v("standard_depth_m", standard_depth_m);
     v("parallel_depth_m", parallel_depth_m);
     v("parallel_min_depth_in_view_m", parallel_min_depth_in_view_m);
+    v("border_width_check_m", border_width_check_m);
+    v("border_width_share", border_width_share);
     v("max_direction_difference_rad", max_direction_difference_rad);
     v("on_line_tolerance_m", on_line_tolerance_m);
     v("min_junction_angle_rad", min_junction_angle_rad);
@@ -86,6 +94,15 @@ std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& poi
 // check, which may still find a missed point across such a candidate.
 void DropParallelSlotsLeavingTheView(const cv::Size& image_size, const SlotPairingOptions& options,
                                      std::vector<DetectedSlot>* slots);
+
+// Drops a slot with an entrance corner within border_width_check_m of the
+// image's border whose width differs by more than border_width_share from
+// a neighbour's in its row (a slot sharing its other marking point): a
+// junction the border cuts shows too little of its arms, and the network
+// puts it where the paint leaves the image, or fires on what the border
+// cuts of an ID; slots of one row are as wide as each other.
+void DropOddSlotsAtTheBorder(const cv::Size& image_size, const SlotPairingOptions& options,
+                             std::vector<DetectedSlot>* slots);
 
 }  // namespace parkslam::perception
 
