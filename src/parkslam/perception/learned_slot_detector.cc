@@ -122,8 +122,9 @@ void LearnedSlotDetector::CheckOnPaint(const cv::Mat& grey, const cv::Mat& mask,
   };
   const double r2 = options_.nms_radius_px * options_.nms_radius_px;
   std::vector<MarkingPoint>& points = detection->marking_points;
-  // Two candidates across one missed point find its line twice.
-  const auto add_new = [&](const std::vector<MarkingPoint>& more) {
+  // New points (two candidates across one missed point find its line
+  // twice) join the others, which are paired and checked again.
+  const auto pair_again_with = [&](const std::vector<MarkingPoint>& more) {
     size_t added = 0;
     for (const MarkingPoint& p : more) {
       if (std::none_of(points.begin(), points.end(),
@@ -132,19 +133,14 @@ void LearnedSlotDetector::CheckOnPaint(const cv::Mat& grey, const cv::Mat& mask,
         ++added;
       }
     }
-    return added;
+    if (added == 0) return;
+    detection->slots = PairMarkingPoints(points, grey.size(), options_.pairing);
+    keep_uncrossed(nullptr);
   };
   std::vector<MarkingPoint> recovered;
   keep_uncrossed(options_.recover_points ? &recovered : nullptr);
-  if (add_new(recovered) > 0) {
-    detection->slots = PairMarkingPoints(points, grey.size(), options_.pairing);
-    keep_uncrossed(nullptr);
-  }
-  if (!options_.extend_rows) return;
-  if (add_new(MissedRowCorners(grey, mask, *detection)) > 0) {
-    detection->slots = PairMarkingPoints(points, grey.size(), options_.pairing);
-    keep_uncrossed(nullptr);
-  }
+  pair_again_with(recovered);
+  if (options_.extend_rows) pair_again_with(MissedRowCorners(grey, mask, *detection));
 }
 
 std::vector<MarkingPoint> LearnedSlotDetector::MissedRowCorners(

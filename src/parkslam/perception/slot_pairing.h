@@ -86,12 +86,13 @@ std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& poi
 
 // Drops the parallel slots (entrance at least parallel_min_entrance_m)
 // whose separating lines leave the image within
-// parallel_min_depth_in_view_m of either marking point. The end line of a
-// row, whose ends meet the row's entrance and back lines just as they leave
-// the view, looks like a parallel slot's entrance with its two stubs; the
-// classical detector rejects it by its stem rule (slot_detector.cc), which
-// needs the lines this detector does not find. Applied after the paint
-// check, which may still find a missed point across such a candidate.
+// parallel_min_depth_in_view_m of either marking point. A row's end line
+// at the image's border pairs as a parallel slot: its two ends meet the
+// row's entrance and back lines, which leave the view a few decimetres on
+// and pass for that slot's separating lines. The classical detector
+// rejects it by its stem rule (slot_detector.cc), which needs the lines
+// this detector does not find. Applied after the paint check, which may
+// still find a missed point across such a candidate.
 void DropParallelSlotsLeavingTheView(const cv::Size& image_size, const SlotPairingOptions& options,
                                      std::vector<DetectedSlot>* slots);
 

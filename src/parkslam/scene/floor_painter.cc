@@ -39,6 +39,20 @@ cv::Mat SmoothNoise(cv::Size size, double cell_px, cv::RNG& rng) {
       .clone();
 }
 
+// A window of `bank` (window_size, clipped to the bank) at a random place,
+// resized to `size` with `interpolation` where the two differ: noise banks
+// made once stand in for fresh noise per scene.
+cv::Mat BankWindow(const cv::Mat& bank, cv::Size window_size, cv::Size size, cv::RNG& rng,
+                   int interpolation) {
+  const int w = std::min(window_size.width, bank.cols);
+  const int h = std::min(window_size.height, bank.rows);
+  const cv::Rect window(rng.uniform(0, bank.cols - w + 1), rng.uniform(0, bank.rows - h + 1), w, h);
+  if (window.size() == size) return bank(window);
+  cv::Mat resized;
+  cv::resize(bank(window), resized, size, 0, 0, interpolation);
+  return resized;
+}
+
 cv::Point Fixed(const Eigen::Vector2d& px) {
   return {static_cast<int>(std::lround((px.x()) * kSubPixel)),
           static_cast<int>(std::lround((px.y()) * kSubPixel))};
@@ -163,13 +177,7 @@ class Painter {
       rng.fill(b, cv::RNG::NORMAL, 0.0, 1.0);
       return b;
     }();
-    const int w = std::min(size.width, kGrainBankSize), h = std::min(size.height, kGrainBankSize);
-    const cv::Rect window(rng_.uniform(0, kGrainBankSize - w + 1),
-                          rng_.uniform(0, kGrainBankSize - h + 1), w, h);
-    if (w == size.width && h == size.height) return bank(window);
-    cv::Mat tiled;
-    cv::resize(bank(window), tiled, size, 0, 0, cv::INTER_NEAREST);
-    return tiled;
+    return BankWindow(bank, size, size, rng_, cv::INTER_NEAREST);
   }
 
   void Material() {
@@ -317,18 +325,10 @@ class Painter {
     if (amplitude <= 0.0 || c_.resolution_m >= 0.1) return;
     const cv::Size size = lum->size();
     const double ratio = c_.resolution_m / kBankResolutionM;
-    const int w = std::min(kGrainBankSize, static_cast<int>(std::ceil(size.width * ratio)));
-    const int h = std::min(kGrainBankSize, static_cast<int>(std::ceil(size.height * ratio)));
+    const cv::Size window(static_cast<int>(std::ceil(size.width * ratio)),
+                          static_cast<int>(std::ceil(size.height * ratio)));
     cv::RNG rng(MixSeed(scene_.seed, 0x3a66));
-    const cv::Rect window(rng.uniform(0, kGrainBankSize - w + 1),
-                          rng.uniform(0, kGrainBankSize - h + 1), w, h);
-    if (window.size() == size) {
-      cv::scaleAdd(bank(window), amplitude, *lum, *lum);
-    } else {
-      cv::Mat resized;
-      cv::resize(bank(window), resized, size, 0, 0, cv::INTER_AREA);
-      cv::scaleAdd(resized, amplitude, *lum, *lum);
-    }
+    cv::scaleAdd(BankWindow(bank, window, size, rng, cv::INTER_AREA), amplitude, *lum, *lum);
   }
 
   void Verge() {
