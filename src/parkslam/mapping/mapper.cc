@@ -46,6 +46,7 @@ bool MapperOptions::IsValid(std::string* error) const {
   c.NonNegative(merge_distance_m, "merge_distance_m");
   c.AtLeast(min_observations, 1, "min_observations");
   c.Positive(id_min_votes, "id_min_votes");
+  c.PositiveAtMost(max_overlap_share, 1.0, "max_overlap_share", "");
   c.AtLeast(window_keyframes, 2, "window_keyframes");
   c.AtLeast(window_history_observations, 0, "window_history_observations");
   c.AtLeast(max_records_per_landmark, 0, "max_records_per_landmark");
@@ -370,6 +371,7 @@ void Mapper::Finish() {
   }
   RecomputeSlotEvidence(&state_, options_);
   AssignIds(&state_, options_);
+  stats_.slots_overlapping += DropOverlappingSlots(&state_, options_);
   stats_.final_solve_ms = ElapsedMs(start);
 }
 

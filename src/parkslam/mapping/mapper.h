@@ -34,9 +34,10 @@ struct MapperStats {
   int mixture_observations = 0;        // with more than one component
   int slots_created = 0;
   int slots_merged = 0;
-  int records_retired = 0;   // slot and tag records (MapperOptions::max_records_per_landmark)
-  int slots_pruned = 0;      // unconfirmed (MapperOptions::prune_unconfirmed_after_keyframes)
-  int keyframes_culled = 0;  // no record left to name them (Mapper::CullKeyframes)
+  int records_retired = 0;    // slot and tag records (MapperOptions::max_records_per_landmark)
+  int slots_pruned = 0;       // unconfirmed (MapperOptions::prune_unconfirmed_after_keyframes)
+  int slots_overlapping = 0;  // dropped at the end (MapperOptions::max_overlap_share)
+  int keyframes_culled = 0;   // no record left to name them (Mapper::CullKeyframes)
   int tag_observations = 0;
   std::vector<double> keyframe_update_ms;  // per keyframe: association and update
   // The most residual blocks (odometry, observations, slot shapes) one

@@ -61,6 +61,13 @@ struct MapperOptions {
   double merge_distance_m = 0.6;  // both entrance corners this close: one slot
   int min_observations = 3;       // fewer: dropped from the map as spurious
   double id_min_votes = 1.5;      // summed reading probability to name a slot
+  // Two slots cannot share floor: at the end, a slot without an ID that
+  // overlaps a named or better-observed slot by more than this share of
+  // the smaller one's area is dropped (a wrong pairing across real slots,
+  // which the merge by entrance corners cannot catch). Neighbours in a
+  // consistent map overlap by their corners' error only (under 1 % of
+  // their area).
+  double max_overlap_share = 0.25;
 
   // Solver.
   int window_keyframes = 30;  // online: free keyframes per update
@@ -130,6 +137,7 @@ struct MapperOptions {
     v("merge_distance_m", merge_distance_m);
     v("min_observations", min_observations);
     v("id_min_votes", id_min_votes);
+    v("max_overlap_share", max_overlap_share);
     v("window_keyframes", window_keyframes);
     v("window_history_observations", window_history_observations);
     v("max_records_per_landmark", max_records_per_landmark);

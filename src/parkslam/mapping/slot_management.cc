@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/common/convex_polygon.h"
 #include "parkslam/mapping/association.h"
 #include "parkslam/mapping/slot_id.h"
 
@@ -215,6 +216,53 @@ int PruneUnconfirmedSlots(MapState* state, const MapperOptions& options) {
     if (prune[s]) slots[s].alive = false;
   }
   return pruned;
+}
+
+int DropOverlappingSlots(MapState* state, const MapperOptions& options) {
+  std::deque<SlotLandmark>& slots = state->slots;
+  std::vector<int> order;
+  for (int s = 0; s < static_cast<int>(slots.size()); ++s) {
+    if (slots[s].alive && slots[s].observations >= options.min_observations) order.push_back(s);
+  }
+  // Named slots first (an ID read again and again is evidence of its own),
+  // then the more observed.
+  std::stable_sort(order.begin(), order.end(), [&slots](int a, int b) {
+    const bool named_a = !slots[a].id.empty(), named_b = !slots[b].id.empty();
+    if (named_a != named_b) return named_a;
+    return slots[a].observations > slots[b].observations;
+  });
+  auto outline = [&slots](int s) {
+    std::vector<Eigen::Vector2d> corners;
+    for (int j = 0; j < kSlotCorners; ++j) corners.push_back(slots[s].Corner(j));
+    return corners;
+  };
+  std::vector<int> kept;
+  int dropped = 0;
+  for (int s : order) {
+    const std::vector<Eigen::Vector2d> mine = outline(s);
+    const double my_area = PolygonArea(mine);
+    bool overlaps = false;
+    for (int k : kept) {
+      const std::vector<Eigen::Vector2d> theirs = outline(k);
+      // Far apart: no need to clip (two slots are at most ~10 m across).
+      if ((slots[s].Corner(0) - slots[k].Corner(0)).norm() > 20.0) continue;
+      const double smaller = std::min(my_area, PolygonArea(theirs));
+      if (ConvexOverlapArea(mine, theirs) > options.max_overlap_share * smaller) {
+        overlaps = true;
+        break;
+      }
+    }
+    if (overlaps && slots[s].id.empty()) {
+      slots[s].alive = false;
+      ++dropped;
+    } else {
+      kept.push_back(s);
+    }
+  }
+  for (SlotRecord& record : state->slot_records) {
+    if (record.chosen >= 0 && !slots[static_cast<size_t>(record.chosen)].alive) record.chosen = -1;
+  }
+  return dropped;
 }
 
 void AssignIds(MapState* state, const MapperOptions& options) {

@@ -58,6 +58,16 @@ int MergeDuplicates(MapState* state, const MapperOptions& options);
 // only them. Returns how many were pruned.
 int PruneUnconfirmedSlots(MapState* state, const MapperOptions& options);
 
+// Two slots cannot share floor. Walks the alive slots seen at least
+// min_observations times, named ones first and then from the most observed
+// down, and drops each slot without an ID that overlaps one kept before by
+// more than max_overlap_share of the smaller one's area: a wrong pairing
+// across real slots, which the merge by entrance corners cannot catch.
+// Named slots stay (their ID is evidence of its own). The records that
+// chose a dropped slot then choose none (null). Run at the end of mapping,
+// after AssignIds; nothing is solved after it. Returns how many it dropped.
+int DropOverlappingSlots(MapState* state, const MapperOptions& options);
+
 // Names each alive slot by its votes: an ID needs id_min_votes and most of
 // the slot's votes, and goes to the slot with most votes for it; the rest
 // stay temporary.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "parkslam/mapping/mapping_parts_test_util.h"
 
@@ -104,6 +105,43 @@ TEST(SlotManagementTest, UnconfirmedSlotsOfLongAgoArePruned) {
   EXPECT_FALSE(state.slots[0].alive);
   EXPECT_TRUE(state.slots[1].alive);
   EXPECT_EQ(state.slot_records.size(), static_cast<size_t>(options.min_observations));
+}
+
+TEST(SlotManagementTest, OfTwoSlotsSharingFloorTheLessObservedGoes) {
+  MapperOptions options;
+  MapState state = StateWithOneKeyframe();
+  // Slot 0 and its neighbour 1 in a row (touching), slot 2 made across
+  // half of slot 0 and half of a slot never seen (a wrong pairing), slot 3
+  // the same but seen too rarely to count.
+  const std::vector<double> x_m = {0.0, 2.5, -1.25, 1.25};
+  const std::vector<int> seen = {5, 4, 4, 1};
+  for (size_t s = 0; s < x_m.size(); ++s) {
+    CreateSlot(&state, 0, SlotAt(x_m[s], 0), options);
+    for (int i = 1; i < seen[s]; ++i) {
+      AddSlotRecord(&state, RecordOf(SlotAt(x_m[s], 0), static_cast<int>(s)), options);
+    }
+  }
+  EXPECT_EQ(DropOverlappingSlots(&state, options), 1);
+  EXPECT_TRUE(state.slots[0].alive);
+  EXPECT_TRUE(state.slots[1].alive);
+  EXPECT_FALSE(state.slots[2].alive);  // half of slot 0's floor
+  EXPECT_TRUE(state.slots[3].alive);   // below min_observations: left to the map's filter
+  for (const SlotRecord& record : state.slot_records) EXPECT_NE(record.chosen, 2);
+  // A little overlap is no reason: moved to overlap slot 0 by 0.2 m (a
+  // share of 0.08), slot 2 stays at a limit of 0.1 and goes at 0.05.
+  state.slots[2].alive = true;
+  options.max_overlap_share = 0.1;
+  for (int j = 0; j < kSlotCorners; ++j) state.slots[2].corners[j][0] -= 1.25 - 0.2;
+  EXPECT_EQ(DropOverlappingSlots(&state, options), 0);
+  options.max_overlap_share = 0.05;
+  EXPECT_EQ(DropOverlappingSlots(&state, options), 1);
+  // A slot with an ID stays, and goes first: the unnamed, better-observed
+  // slot 0 under it is the one dropped.
+  state.slots[2].alive = true;
+  state.slots[2].id = "7";
+  EXPECT_EQ(DropOverlappingSlots(&state, options), 1);
+  EXPECT_TRUE(state.slots[2].alive);
+  EXPECT_FALSE(state.slots[0].alive);
 }
 
 TEST(SlotManagementTest, AnIdGoesToTheSlotWithMostVotesForIt) {
