@@ -38,6 +38,9 @@ struct Options {
   std::string kind = "top-view";
   int threads = 0;
   double seven_segment_share = 0.0;
+  double coarse_sensor_share = scene::SceneSamplerOptions{}.coarse_sensor_share;
+  double nearest_lookup_share = scene::SceneSamplerOptions{}.nearest_lookup_share;
+  double fisheye_scale = 1.0;
   std::string fonts = "/usr/share/fonts";
   bool fisheyes = false, front = false, overlays = false, force = false;
 };
@@ -127,6 +130,8 @@ void WriteScene(const Options& o, const scene::SceneRenderer& renderer, scene::F
   const bool ids = o.kind == "ids";
   scene::SceneSamplerOptions sampler;
   sampler.seven_segment_share = o.seven_segment_share;
+  sampler.coarse_sensor_share = o.coarse_sensor_share;
+  sampler.nearest_lookup_share = o.nearest_lookup_share;
   const scene::Scene s =
       scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)), sampler);
   const scene::RenderedScene r = renderer.Render(s, book, request);
@@ -182,7 +187,8 @@ void Run(const Options& o) {
   // The workers are the parallelism: OpenCV's own threads would only contend.
   cv::setNumThreads(1);
   const auto t_setup = std::chrono::steady_clock::now();
-  const scene::SceneRenderer renderer(camera::DefaultRig());
+  const scene::SceneRenderer renderer(
+      camera::WithFisheyeResolution(camera::DefaultRig(), o.fisheye_scale));
   const double setup_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_setup).count();
   const int threads = o.threads > 0
@@ -278,6 +284,20 @@ void AddMakeTrainingSetCommand(CLI::App& app) {
                   "Share of slot rows whose IDs are digits in the default lot's seven-segment face "
                   "(0 leaves every scene as before)")
       ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--coarse-sensor-share", options->coarse_sensor_share,
+                  "Share of scenes whose cameras have a coarse sensor (far lines smear)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--nearest-lookup-share", options->nearest_lookup_share,
+                  "Share of scenes whose fusion takes the nearest camera pixel instead of "
+                  "interpolating (sharp, jagged lines; 0 leaves every scene as before)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--fisheye-scale", options->fisheye_scale,
+                  "The fisheyes' resolution relative to the simulator's 640 x 480 (2: 1280 x "
+                  "960, as sharp as many surround-view units' cameras), same field of view")
+      ->check(CLI::Range(0.25, 4.0))
       ->capture_default_str();
   cmd->add_option(
          "--fonts", options->fonts,

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 namespace parkslam::camera {
 namespace {
@@ -160,6 +162,26 @@ CameraRig DefaultRig() {
   mono.T_vehicle_camera = MountedCamera({1.8, 0.3, 1.3}, 0.0, 0.0);
   rig.cameras.push_back(mono);
   return rig;
+}
+
+CameraRig WithFisheyeResolution(const CameraRig& rig, double scale) {
+  if (!(scale >= 0.25 && scale <= 4.0)) {
+    throw std::invalid_argument("fisheye resolution scale must be in [0.25, 4], got " +
+                                std::to_string(scale));
+  }
+  CameraRig out = rig;
+  for (CameraConfig& c : out.cameras) {
+    if (c.intrinsics.kind != CameraKind::kFisheye) continue;
+    CameraIntrinsics& k = c.intrinsics;
+    k.width = static_cast<int>(std::lround(k.width * scale));
+    k.height = static_cast<int>(std::lround(k.height * scale));
+    k.fx *= scale;
+    k.fy *= scale;
+    // Pixel centres at integers: the image's edge (-0.5) stays its edge.
+    k.cx = (k.cx + 0.5) * scale - 0.5;
+    k.cy = (k.cy + 0.5) * scale - 0.5;
+  }
+  return out;
 }
 
 }  // namespace parkslam::camera

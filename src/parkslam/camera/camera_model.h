@@ -76,6 +76,12 @@ struct CameraRig {
 // mirror, as in the paper.
 CameraRig DefaultRig();
 
+// The rig with its fisheyes' resolution scaled by `scale` (their field of
+// view unchanged: focal lengths scaled, principal points kept at the same
+// place of the image); other cameras as they were. Throws
+// std::invalid_argument unless 0.25 <= scale <= 4.
+CameraRig WithFisheyeResolution(const CameraRig& rig, double scale);
+
 }  // namespace parkslam::camera
 
 #endif  // PARKSLAM_CAMERA_CAMERA_MODEL_H_

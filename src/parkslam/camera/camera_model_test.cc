@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace parkslam::camera {
 namespace {
@@ -95,6 +96,27 @@ TEST(CameraModelTest, FrontMonoLooksForwardLevel) {
   ASSERT_TRUE(pixel.has_value());
   EXPECT_NEAR(pixel->x(), 639.5, 1e-9);
   EXPECT_NEAR(pixel->y(), 359.5, 1e-9);
+}
+
+// Twice the resolution, the same field of view: a ground point lands
+// twice as far from the image's top-left edge; the pinhole camera stays.
+TEST(CameraModelTest, FisheyeResolutionScalesPixelsNotTheView) {
+  const CameraRig rig = DefaultRig();
+  const CameraRig sharp = WithFisheyeResolution(rig, 2.0);
+  const CameraConfig& front = *rig.Find("front");
+  const CameraConfig& front2 = *sharp.Find("front");
+  EXPECT_EQ(front2.intrinsics.width, 1280);
+  EXPECT_EQ(front2.intrinsics.height, 960);
+  EXPECT_EQ(sharp.Find("front_mono")->intrinsics.width, rig.Find("front_mono")->intrinsics.width);
+  const Eigen::Vector3d p_camera =
+      front.T_vehicle_camera.inverse() * Eigen::Vector3d(6.0, 1.5, 0.0);
+  const auto a = CameraModel(front.intrinsics).Project(p_camera);
+  const auto b = CameraModel(front2.intrinsics).Project(p_camera);
+  ASSERT_TRUE(a.has_value() && b.has_value());
+  EXPECT_NEAR(b->x() + 0.5, 2.0 * (a->x() + 0.5), 1e-9);
+  EXPECT_NEAR(b->y() + 0.5, 2.0 * (a->y() + 0.5), 1e-9);
+  EXPECT_THROW(WithFisheyeResolution(rig, 0.1), std::invalid_argument);
+  EXPECT_THROW(WithFisheyeResolution(rig, std::nan("")), std::invalid_argument);
 }
 
 }  // namespace

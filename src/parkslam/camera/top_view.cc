@@ -2,6 +2,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -101,6 +102,7 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
     models.emplace_back(c->intrinsics);
     sizes_.emplace_back(c->intrinsics.width, c->intrinsics.height);
     offsets.push_back(stacked_height_);
+    row_offsets_.push_back(stacked_height_);
     stacked_height_ += c->intrinsics.height;
     stacked_width_ = std::max(stacked_width_, c->intrinsics.width);
   }
@@ -144,7 +146,36 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
   cv::convertMaps(secondary, cv::noArray(), secondary_xy_, secondary_frac_, CV_16SC2);
 }
 
-cv::Mat TopViewFusion::Fuse(const std::vector<cv::Mat>& images) const {
+namespace {
+
+// A fixed-point map (cv::convertMaps: integer part, and the fraction as
+// y * 32 + x in 32ths) rounded to the nearest pixel, kept inside the rows
+// [first_row, first_row + rows) of the camera it reads (`camera` -1: the
+// pixel reads nothing and keeps its place).
+cv::Mat RoundedMap(const cv::Mat& xy, const cv::Mat& frac, const cv::Mat& camera,
+                   const std::vector<int>& first_row, const std::vector<cv::Size>& sizes) {
+  constexpr int kTab = cv::INTER_TAB_SIZE;  // 32 steps a pixel
+  cv::Mat out = xy.clone();
+  for (int v = 0; v < out.rows; ++v) {
+    cv::Vec2s* o = out.ptr<cv::Vec2s>(v);
+    const uint16_t* f = frac.ptr<uint16_t>(v);
+    const int8_t* c = camera.ptr<int8_t>(v);
+    for (int u = 0; u < out.cols; ++u) {
+      if (c[u] < 0) continue;
+      const cv::Size& size = sizes[static_cast<size_t>(c[u])];
+      const int top = first_row[static_cast<size_t>(c[u])];
+      const int x = o[u][0] + ((f[u] % kTab) >= kTab / 2 ? 1 : 0);
+      const int y = o[u][1] + ((f[u] / kTab) >= kTab / 2 ? 1 : 0);
+      o[u][0] = static_cast<short>(std::clamp(x, 0, size.width - 1));
+      o[u][1] = static_cast<short>(std::clamp(y, top, top + size.height - 1));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+cv::Mat TopViewFusion::Fuse(const std::vector<cv::Mat>& images, FusionLookup lookup) const {
   if (images.size() != names_.size()) {
     throw std::invalid_argument("top view: expected " + std::to_string(names_.size()) +
                                 " images, got " + std::to_string(images.size()));
@@ -167,8 +198,20 @@ cv::Mat TopViewFusion::Fuse(const std::vector<cv::Mat>& images) const {
     row += sizes_[c].height;
   }
   cv::Mat a, b;
-  cv::remap(stacked, a, primary_xy_, primary_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-  cv::remap(stacked, b, secondary_xy_, secondary_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  if (lookup == FusionLookup::kNearest) {
+    // Where the primary camera is alone the secondary map repeats it.
+    cv::Mat secondary_camera = secondary_camera_.clone();
+    primary_camera_.copyTo(secondary_camera, secondary_camera_ < 0);
+    cv::remap(stacked, a,
+              RoundedMap(primary_xy_, primary_frac_, primary_camera_, row_offsets_, sizes_),
+              cv::noArray(), cv::INTER_NEAREST, cv::BORDER_CONSTANT);
+    cv::remap(stacked, b,
+              RoundedMap(secondary_xy_, secondary_frac_, secondary_camera, row_offsets_, sizes_),
+              cv::noArray(), cv::INTER_NEAREST, cv::BORDER_CONSTANT);
+  } else {
+    cv::remap(stacked, a, primary_xy_, primary_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    cv::remap(stacked, b, secondary_xy_, secondary_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  }
   // out = (w a + (256 - w) b) / 256, zero where nothing is seen.
   cv::Mat out(a.size(), a.type());
   const int channels = a.channels();

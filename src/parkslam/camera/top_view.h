@@ -54,6 +54,11 @@ struct TopViewOptions {
   }
 };
 
+// How a top-view pixel takes its value from a camera's image: bilinear
+// interpolation (the default), or the nearest pixel, as surround-view units
+// with plain lookup tables do (their lines come out jagged and sharp).
+enum class FusionLookup { kBilinear, kNearest };
+
 class TopViewFusion {
  public:
   // `fusion_rig` holds the extrinsics used for fusion: pass a perturbed copy
@@ -65,7 +70,8 @@ class TopViewFusion {
   // One 8-bit image (grey or BGR, all alike) per camera, in the order of
   // camera_names. Throws std::invalid_argument naming the camera when an
   // image has the wrong size or type.
-  cv::Mat Fuse(const std::vector<cv::Mat>& images) const;
+  cv::Mat Fuse(const std::vector<cv::Mat>& images,
+               FusionLookup lookup = FusionLookup::kBilinear) const;
 
   // Top-view pixel (0-based, centre of the top-left pixel at (0, 0)) of a
   // ground point in the vehicle frame, and back.
@@ -90,6 +96,9 @@ class TopViewFusion {
   // Maps into the stacked input (cameras one below the other): the best
   // camera, the second best; fixed point as cv::convertMaps makes them.
   cv::Mat primary_xy_, primary_frac_, secondary_xy_, secondary_frac_;
+  // The camera each map reads (-1: none) and its first row in the stacked
+  // input, for rounding a map to the nearest pixel within that camera.
+  std::vector<int> row_offsets_;
   cv::Mat primary_weight_;    // CV_16U, 256: the best camera alone
   cv::Mat valid_;             // CV_8U, 0 where no camera sees the ground (or the car)
   cv::Mat primary_camera_;    // CV_8S, the best camera's index, -1 where none

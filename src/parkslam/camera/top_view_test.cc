@@ -50,10 +50,12 @@ TEST(TopViewTest, PixelAndVehicleConversionsAreInverse) {
   EXPECT_LT(fusion.VehicleToPixel({1.4, 1.0}).x(), c.x());
 }
 
-TEST(TopViewTest, GroundPointsLandAtTheirPredictedPixels) {
+class TopViewLookupTest : public ::testing::TestWithParam<FusionLookup> {};
+
+TEST_P(TopViewLookupTest, GroundPointsLandAtTheirPredictedPixels) {
   const CameraRig rig = DefaultRig();
   const TopViewFusion fusion(rig, kFisheyes);
-  const cv::Mat top = fusion.Fuse(RenderAll(rig));
+  const cv::Mat top = fusion.Fuse(RenderAll(rig), GetParam());
   ASSERT_EQ(top.rows, 600);
   cv::Mat binary;
   cv::threshold(top, binary, 100, 255, cv::THRESH_BINARY);
@@ -61,24 +63,58 @@ TEST(TopViewTest, GroundPointsLandAtTheirPredictedPixels) {
   const int n = cv::connectedComponentsWithStats(binary, labels, stats, centroids);
   int checked = 0;
   double worst = 0.0;
+  Eigen::Vector2d bias = Eigen::Vector2d::Zero();
   for (double x = -3.5; x <= 6.5; x += 1.0) {
     for (double y = -4.5; y <= 4.5; y += 1.0) {
       const Eigen::Vector2d expected = fusion.VehicleToPixel({x, y});
       if (expected.x() < 10 || expected.y() < 10 || expected.x() > 589 || expected.y() > 589)
         continue;
       // The blob nearest the expected pixel.
-      double best = 1e9;
+      Eigen::Vector2d best(1e9, 1e9);
       for (int i = 1; i < n; ++i) {
-        best = std::min(best, std::hypot(centroids.at<double>(i, 0) - expected.x(),
-                                         centroids.at<double>(i, 1) - expected.y()));
+        const Eigen::Vector2d offset(centroids.at<double>(i, 0) - expected.x(),
+                                     centroids.at<double>(i, 1) - expected.y());
+        if (offset.norm() < best.norm()) best = offset;
       }
-      if (best > 5.0) continue;  // under the car's footprint
-      worst = std::max(worst, best);
+      if (best.norm() > 5.0) continue;  // under the car's footprint
+      worst = std::max(worst, best.norm());
+      bias += best;
       ++checked;
     }
   }
   EXPECT_GT(checked, 60);
-  EXPECT_LT(worst, 1.0);
+  // Each value from the nearest camera pixel moves a dot's edges by up to
+  // half a camera pixel, more than a top-view pixel far from the cameras;
+  // on average nothing moves (no half-pixel shift).
+  EXPECT_LT(worst, GetParam() == FusionLookup::kBilinear ? 1.0 : 1.5);
+  EXPECT_LT((bias / checked).norm(), 0.15) << (bias / checked).transpose();
+}
+
+INSTANTIATE_TEST_SUITE_P(BothLookups, TopViewLookupTest,
+                         ::testing::Values(FusionLookup::kBilinear, FusionLookup::kNearest));
+
+// The nearest lookup takes each value from one camera pixel: where one
+// camera alone is seen, a black-and-white ground stays black and white;
+// the bilinear lookup mixes neighbours into greys at the dots' edges.
+TEST(TopViewTest, NearestLookupMakesNoNewValues) {
+  const CameraRig rig = DefaultRig();
+  const TopViewFusion fusion(rig, kFisheyes);
+  const std::vector<cv::Mat> images = RenderAll(rig);
+  const cv::Mat nearest = fusion.Fuse(images, FusionLookup::kNearest);
+  const cv::Mat bilinear = fusion.Fuse(images);
+  int alone = 0, grey_nearest = 0, grey_bilinear = 0;
+  for (int v = 0; v < nearest.rows; ++v) {
+    for (int u = 0; u < nearest.cols; ++u) {
+      if (fusion.PrimaryCamera(u, v) < 0 || fusion.PrimaryWeight(u, v) < 1.0) continue;
+      ++alone;
+      const int a = nearest.at<uint8_t>(v, u), b = bilinear.at<uint8_t>(v, u);
+      if (a != 0 && a != 255) ++grey_nearest;
+      if (b != 0 && b != 255) ++grey_bilinear;
+    }
+  }
+  EXPECT_GT(alone, 100000);
+  EXPECT_EQ(grey_nearest, 0);
+  EXPECT_GT(grey_bilinear, 1000);
 }
 
 // A camera's priority widens the part of the view it is primary for; the

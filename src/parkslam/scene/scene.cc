@@ -758,7 +758,8 @@ void SampleCameras(Random& rng, const SceneSamplerOptions& options, bool outdoor
           : -1;
   // Many surround-view units have coarse sensors: what they see far off
   // smears into radial streaks once fused.
-  const double sensor_scale = rng.Bernoulli(0.6) ? rng.Uniform(0.55, 0.95) : 1.0;
+  const double sensor_scale =
+      rng.Bernoulli(options.coarse_sensor_share) ? rng.Uniform(0.55, 0.95) : 1.0;
   for (int c = 0; c < options.fisheye_cameras; ++c) {
     CameraLook look;
     look.sensor_scale = sensor_scale;
@@ -789,6 +790,8 @@ void SampleCameras(Random& rng, const SceneSamplerOptions& options, bool outdoor
   scene->top_view_jpeg_quality = static_cast<int>(rng.Uniform(55, 95));
   scene->top_view_sharpen = rng.Bernoulli(0.3) ? rng.Uniform(0.2, 0.8) : 0.0;
   scene->saturation = rng.Uniform(0.55, 1.15);
+  scene->fusion_nearest =
+      options.nearest_lookup_share > 0 && rng.Bernoulli(options.nearest_lookup_share);
 }
 
 }  // namespace
@@ -808,6 +811,10 @@ bool SceneSamplerOptions::IsValid(std::string* error) const {
     return fail("outdoor_probability must be in [0, 1]");
   if (!(seven_segment_share >= 0 && seven_segment_share <= 1))
     return fail("seven_segment_share must be in [0, 1]");
+  if (!(coarse_sensor_share >= 0 && coarse_sensor_share <= 1))
+    return fail("coarse_sensor_share must be in [0, 1]");
+  if (!(nearest_lookup_share >= 0 && nearest_lookup_share <= 1))
+    return fail("nearest_lookup_share must be in [0, 1]");
   if (!(parked_car_probability_max >= 0 && parked_car_probability_max <= 1)) {
     return fail("parked_car_probability_max must be in [0, 1]");
   }

@@ -195,6 +195,7 @@ struct Scene {
   int fusion_seams = 0;             // which of the renderer's seam layouts the unit draws
   int top_view_jpeg_quality = 90;   // the fused view as saved
   double top_view_sharpen = 0.0;    // unsharp mask some surround-view units apply
+  bool fusion_nearest = false;      // the unit's lookup takes the nearest camera pixel
   double saturation = 1.0;          // colour saturation of the whole unit
 };
 
@@ -210,6 +211,14 @@ struct SceneSamplerOptions {
   // seven-segment face (font/digit_font.h). Taken from the row's font
   // draw, so that 0 leaves every scene exactly as it was.
   double seven_segment_share = 0.0;
+  // Share of scenes whose surround-view unit has a coarse sensor (its
+  // fisheyes resampled down and up: far lines smear), and share whose
+  // fusion takes the nearest camera pixel instead of interpolating
+  // (camera::FusionLookup: sharp, jagged lines). Drawn last among the
+  // cameras' looks, so that a nearest share of 0 leaves every scene as it
+  // was.
+  double coarse_sensor_share = 0.6;
+  double nearest_lookup_share = 0.0;
 
   bool IsValid(std::string* error) const;
 };

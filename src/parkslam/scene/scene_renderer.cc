@@ -1224,7 +1224,8 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts,
                                           request.solids ? &solid_masks[c] : nullptr));
   }
   const camera::TopViewFusion& fusion = FusionOf(scene);
-  cv::Mat top = fusion.Fuse(out.fisheyes);
+  cv::Mat top = fusion.Fuse(out.fisheyes, scene.fusion_nearest ? camera::FusionLookup::kNearest
+                                                               : camera::FusionLookup::kBilinear);
   ProcessLikeTheUnit(scene, &top);
   out.top_view = top;
   if (request.front && m.front) {

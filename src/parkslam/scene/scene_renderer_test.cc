@@ -105,6 +105,32 @@ TEST(SceneRendererTest, LabelledMarkingPointsLieOnTheirRenderedJunctions) {
               checked, perturbed, worst_px);
 }
 
+// Sharper units (make-training-set --fisheye-scale 2 --nearest-lookup-share
+// 1): fisheyes of twice the resolution, a nearest-pixel fusion, and the
+// labels still within 1 px of their junctions.
+TEST(SceneRendererTest, SharperUnitsKeepTheirLabels) {
+  const SceneRenderer sharp(camera::WithFisheyeResolution(camera::DefaultRig(), 2.0));
+  SceneSamplerOptions options;
+  options.nearest_lookup_share = 1.0;
+  RenderRequest request;
+  request.dots = true;
+  int checked = 0;
+  for (std::uint64_t seed = 100; seed < 110; ++seed) {
+    const Scene scene = SampleScene(seed, options);
+    ASSERT_TRUE(scene.fusion_nearest);
+    const RenderedScene r = sharp.Render(scene, nullptr, request);
+    ASSERT_EQ(r.fisheyes.front().size(), cv::Size(1280, 960));
+    const TopViewLabels labels = LabelTopView(sharp, scene, r);
+    for (const LabelledMark& m : labels.marks) {
+      const auto centroid = DotCentroid(r.dots, m.px);
+      if (!centroid) continue;
+      EXPECT_LT((*centroid - m.px).norm(), 1.0) << "seed " << seed << " at " << m.px.transpose();
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 15);
+}
+
 TEST(SceneRendererTest, SolidsHideTheFloorAndItsLabels) {
   // A scene with a box standing over a marking point: the point is not labelled.
   Scene scene = SampleScene(5);

@@ -89,6 +89,38 @@ TEST(SceneTest, SolidsKeepOffTheCar) {
   }
 }
 
+// The unit's sensor and lookup shares: 0 and 1 mean none and all, and a
+// nearest share of 0 changes nothing else (it is drawn last).
+TEST(SceneTest, SensorAndLookupSharesPickTheUnits) {
+  SceneSamplerOptions sharp;
+  sharp.coarse_sensor_share = 0.0;
+  sharp.nearest_lookup_share = 1.0;
+  SceneSamplerOptions half;
+  half.nearest_lookup_share = 0.5;
+  int nearest_by_default = 0, coarse_by_default = 0, nearest_half = 0;
+  for (std::uint64_t seed = 0; seed < 200; ++seed) {
+    const Scene plain = SampleScene(seed), s = SampleScene(seed, sharp);
+    const Scene h = SampleScene(seed, half);
+    nearest_by_default += plain.fusion_nearest;
+    coarse_by_default += plain.cameras.front().sensor_scale < 1.0;
+    EXPECT_TRUE(s.fusion_nearest);
+    EXPECT_EQ(s.cameras.front().sensor_scale, 1.0);
+    nearest_half += h.fusion_nearest;
+    EXPECT_EQ(h.saturation, plain.saturation);
+    EXPECT_EQ(h.cameras.back().seed, plain.cameras.back().seed);
+  }
+  EXPECT_EQ(nearest_by_default, 0);
+  EXPECT_GT(coarse_by_default, 90);  // 0.6 of 200
+  EXPECT_LT(coarse_by_default, 150);
+  EXPECT_GT(nearest_half, 70);
+  EXPECT_LT(nearest_half, 130);
+  SceneSamplerOptions wrong;
+  wrong.nearest_lookup_share = -0.1;
+  std::string error;
+  EXPECT_FALSE(wrong.IsValid(&error));
+  EXPECT_NE(error.find("nearest_lookup_share"), std::string::npos);
+}
+
 TEST(SceneTest, RejectsInvalidOptions) {
   SceneSamplerOptions options;
   options.outdoor_probability = 1.5;
