@@ -238,6 +238,30 @@ class AugmentedViews(torch.utils.data.Dataset):
         return torch.from_numpy(image), mask[0], reg[0]
 
 
+def random_convolution(pixels, share, generator):
+    """Random convolutions (RandConv; Xu et al., "Robust and Generalizable
+    Visual Representation Learning via Random Convolutions", ICLR 2021):
+    with probability `share` a view (float, 0-255, N x 3 x H x W) passes
+    through a 3-to-3-channel convolution of random Gaussian weights (kernel
+    1, 3 or 5 px), is rescaled to the view's own per-channel mean and
+    spread, and is blended with the view by a random weight. Colours,
+    contrast (even its sign) and local texture change while shapes stay: a
+    way to generalize beyond the rendering's look without target images."""
+    out = pixels.clone()
+    for b in range(pixels.shape[0]):
+        if torch.rand(1, generator=generator).item() >= share:
+            continue
+        k = (1, 3, 5)[int(torch.randint(0, 3, (1,), generator=generator))]
+        weights = torch.randn(3, 3, k, k, generator=generator) / math.sqrt(3 * k * k)
+        x = pixels[b:b + 1]
+        y = F.conv2d(x, weights.to(x.device), padding=k // 2)
+        y = ((y - y.mean((2, 3), keepdim=True)) / y.std((2, 3), keepdim=True).clamp(min=1e-3)
+             * x.std((2, 3), keepdim=True) + x.mean((2, 3), keepdim=True))
+        a = torch.rand(1, generator=generator).item()
+        out[b] = (a * x + (1 - a) * y).clamp(0, 255)[0]
+    return out
+
+
 def loss_of(raw, mask, reg):
     conf = F.binary_cross_entropy_with_logits(raw[:, 0], mask,
                                               pos_weight=torch.tensor(2.0, device=raw.device))
@@ -317,6 +341,7 @@ def write_outputs(model, args, size, training_images, validation_images, stopper
     common.write_json_atomically(args.out + ".json", {
         "network": "MarkingPointNet", "input_size": size, "stride": MarkingPointNet.STRIDE,
         "widths": list(args.widths), "input_norm": args.input_norm,
+        "random_conv": args.random_conv,
         "outputs": ["confidence", "offset_x", "offset_y", "cos", "sin", "t_shape"],
         "command": " ".join(["scripts/learned/train_marking_points.py"] + sys.argv[1:]),
         "seed": args.seed, "torch": torch.__version__, "threads": torch.get_num_threads(),
@@ -390,6 +415,9 @@ def main():
     parser.add_argument("--occluders", type=float, default=0.0,
                         help="share of views augmented with opaque blobs over the floor; marks "
                              "under them leave the targets (0: the committed recipe)")
+    parser.add_argument("--random-conv", type=float, default=0.0,
+                        help="share of views passed through a random convolution and blended "
+                             "with it (random_convolution; 0: the committed recipe)")
     args = parser.parse_args()
     if args.device.startswith("cuda") and not torch.cuda.is_available():
         common.fail(f"--device {args.device}: torch sees no CUDA device")
@@ -419,11 +447,14 @@ def main():
     best_state, best_scores, history = None, None, []
     train_started = time.time()
     views = AugmentedViews(images, marks, size, grid, args.seed, args.shadows, args.occluders)
+    conv_generator = torch.Generator().manual_seed(args.seed)
     for epoch in range(args.epochs):
         model.train()
         total = 0.0
         for step, (batch, mask, reg) in enumerate(batches(views, rng, epoch, args, steps_per_epoch)):
             pixels = batch.to(device, non_blocking=True).permute(0, 3, 1, 2).float()
+            if args.random_conv > 0:
+                pixels = random_convolution(pixels, args.random_conv, conv_generator)
             loss = loss_of(model.raw(pixels),
                            mask.to(device, non_blocking=True), reg.to(device, non_blocking=True))
             optimizer.zero_grad()
