@@ -139,8 +139,7 @@ std::string DescribeMapping(const mapping::Mapper& mapper, double total_s) {
       text, sizeof text,
       "%d keyframes, %d slot observations (%d with several candidates), %d tag "
       "observations; %d slots created, %d merged, %d dropped as overlapping, %zu in the map, "
-      "%zu tags; "
-      "keyframe update median %.2f ms, max %.2f ms; final %.2f s; total %.2f s",
+      "%zu tags; keyframe update median %.2f ms, max %.2f ms; final %.2f s; total %.2f s",
       st.keyframes, st.slot_observations, st.mixture_observations, st.tag_observations,
       st.slots_created, st.slots_merged, st.slots_overlapping, map.slots.size(), map.tags.size(),
       median, worst, st.final_solve_ms / 1000.0, total_s);

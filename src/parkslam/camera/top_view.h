@@ -96,8 +96,8 @@ class TopViewFusion {
   // Maps into the stacked input (cameras one below the other): the best
   // camera, the second best; fixed point as cv::convertMaps makes them.
   cv::Mat primary_xy_, primary_frac_, secondary_xy_, secondary_frac_;
-  // The camera each map reads (-1: none) and its first row in the stacked
-  // input, for rounding a map to the nearest pixel within that camera.
+  // Each camera's first row in the stacked input, for rounding a map to the
+  // nearest pixel within the camera it reads (FusionLookup::kNearest).
   std::vector<int> row_offsets_;
   cv::Mat primary_weight_;    // CV_16U, 256: the best camera alone
   cv::Mat valid_;             // CV_8U, 0 where no camera sees the ground (or the car)
