@@ -231,32 +231,30 @@ int DropOverlappingSlots(MapState* state, const MapperOptions& options) {
     if (named_a != named_b) return named_a;
     return slots[a].observations > slots[b].observations;
   });
-  auto outline = [&slots](int s) {
-    std::vector<Eigen::Vector2d> corners;
-    for (int j = 0; j < kSlotCorners; ++j) corners.push_back(slots[s].Corner(j));
-    return corners;
+  struct Kept {
+    Eigen::Vector2d entrance;
+    std::vector<Eigen::Vector2d> outline;
+    double area_m2;
   };
-  std::vector<int> kept;
+  std::vector<Kept> kept;
   int dropped = 0;
   for (int s : order) {
-    const std::vector<Eigen::Vector2d> mine = outline(s);
-    const double my_area = PolygonArea(mine);
-    bool overlaps = false;
-    for (int k : kept) {
-      const std::vector<Eigen::Vector2d> theirs = outline(k);
-      // Far apart: no need to clip (two slots are at most ~10 m across).
-      if ((slots[s].Corner(0) - slots[k].Corner(0)).norm() > 20.0) continue;
-      const double smaller = std::min(my_area, PolygonArea(theirs));
-      if (ConvexOverlapArea(mine, theirs) > options.max_overlap_share * smaller) {
-        overlaps = true;
-        break;
-      }
-    }
-    if (overlaps && slots[s].id.empty()) {
+    std::vector<Eigen::Vector2d> outline;
+    for (int j = 0; j < kSlotCorners; ++j) outline.push_back(slots[s].Corner(j));
+    const double area_m2 = PolygonArea(outline);
+    // Named slots stay whatever they overlap; only unnamed ones are tested.
+    const bool overlaps =
+        slots[s].id.empty() && std::any_of(kept.begin(), kept.end(), [&](const Kept& k) {
+          // Far apart: no need to clip (two slots are at most ~10 m across).
+          if ((slots[s].Corner(0) - k.entrance).norm() > 20.0) return false;
+          return ConvexOverlapArea(outline, k.outline) >
+                 options.max_overlap_share * std::min(area_m2, k.area_m2);
+        });
+    if (overlaps) {
       slots[s].alive = false;
       ++dropped;
     } else {
-      kept.push_back(s);
+      kept.push_back({slots[s].Corner(0), std::move(outline), area_m2});
     }
   }
   for (SlotRecord& record : state->slot_records) {
