@@ -41,7 +41,10 @@ nlohmann::json ToJson(const Scores& s) {
     j["ids"] = {{"readable", s.ids.readable},
                 {"right", s.ids.correct},
                 {"unread", s.ids.unread},
-                {"accuracy", s.ids.accuracy()}};
+                {"accuracy", s.ids.accuracy()},
+                {"unreadable", s.ids.unreadable},
+                {"unreadable_read", s.ids.invented},
+                {"unreadable_read_right", s.ids.invented_right}};
   }
   if (!s.frame_ms.empty()) {
     j["time_ms_median"] = {{"fusion", Median(s.fusion_ms)},
@@ -73,6 +76,10 @@ void Print(const Scores& s) {
   if (s.ids.readable > 0) {
     std::printf("IDs: %d of %d readable IDs right (%.2f %%)\n", s.ids.correct, s.ids.readable,
                 100 * s.ids.accuracy());
+  }
+  if (s.ids.unreadable > 0) {
+    std::printf("IDs worn, hidden or absent: %d, read whole anyway %d (%d of them the painted ID)\n",
+                s.ids.unreadable, s.ids.invented, s.ids.invented_right);
   }
   if (!s.frame_ms.empty()) {
     std::printf(

@@ -224,6 +224,7 @@ void IdCounts::Add(const IdCounts& other) {
   unread += other.unread;
   unreadable += other.unreadable;
   invented += other.invented;
+  invented_right += other.invented_right;
 }
 
 double IdCounts::accuracy() const {
@@ -242,7 +243,9 @@ void AddIdCounts(const DetectionMatch& match, const std::vector<std::string>& de
       if (read.empty()) ++counts->unread;
     } else {
       ++counts->unreadable;
-      if (!read.empty()) ++counts->invented;
+      if (read.empty() || read.find('?') != std::string::npos) continue;
+      ++counts->invented;
+      if (read == truth.id) ++counts->invented_right;
     }
   }
 }

@@ -198,7 +198,10 @@ struct IdCounts {
   int correct = 0;     // of those, the detected ID equals it
   int unread = 0;      // of those, no ID was read at all (counted wrong)
   int unreadable = 0;  // matched slots whose truth has no readable ID
-  int invented = 0;    // of those, some ID was read anyway
+  // Of those, a whole ID (no unread digit) was read anyway: what a mapper
+  // would take as the slot's name. A partial reading ("3?") is not counted.
+  int invented = 0;
+  int invented_right = 0;  // of those, the painted ID itself (worn paint read right)
 
   void Add(const IdCounts& other);
   // correct / readable; 1 when no matched slot had a readable ID.

@@ -323,21 +323,23 @@ TEST(ErrorAccumulatorTest, MeanRmsMaxAndMerge) {
 }
 
 TEST(IdCountsTest, OnlyTheFullIdIsRight) {
-  // Six slots side by side, each detected exactly.
+  // Eight slots side by side, each detected exactly.
   std::vector<EntranceLine> lines;
-  for (int i = 0; i < 6; ++i) lines.push_back(Line(100.0 * i, 0, 100.0 * i + 90, 0));
+  for (int i = 0; i < 8; ++i) lines.push_back(Line(100.0 * i, 0, 100.0 * i + 90, 0));
   const DetectionMatch match = MatchSlots(lines, lines);
-  ASSERT_EQ(match.true_positives(), 6);
+  ASSERT_EQ(match.true_positives(), 8);
   const std::vector<SlotIdTruth> truth = {{"38", true}, {"39", true},  {"40", true},
-                                          {"41", true}, {"42", false}, {"", true}};
-  const std::vector<std::string> read = {"38", "3?", "", "14", "42", ""};
+                                          {"41", true}, {"42", false}, {"", true},
+                                          {"43", false}, {"44", false}};
+  const std::vector<std::string> read = {"38", "3?", "", "14", "42", "", "13", "4?"};
   IdCounts counts;
   AddIdCounts(match, read, truth, &counts);
-  EXPECT_EQ(counts.readable, 4);  // "42" is worn, "" has none
+  EXPECT_EQ(counts.readable, 4);  // "42", "43" and "44" are worn, "" has none
   EXPECT_EQ(counts.correct, 1);   // "3?" partial, "" unread, "14" wrong
   EXPECT_EQ(counts.unread, 1);
-  EXPECT_EQ(counts.unreadable, 2);
-  EXPECT_EQ(counts.invented, 1);  // "42" read where the truth is worn
+  EXPECT_EQ(counts.unreadable, 4);
+  EXPECT_EQ(counts.invented, 2);        // "42" and "13" read where the truth is worn; "4?" partial
+  EXPECT_EQ(counts.invented_right, 1);  // "42" is the worn paint's own ID
   EXPECT_DOUBLE_EQ(counts.accuracy(), 0.25);
 }
 
