@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
@@ -50,6 +51,7 @@ bool LearnedSlotIdReaderOptions::IsValid(std::string* error) const {
   c.NonNegative(id_setback_m, "id_setback_m");
   c.Rate(min_hypothesis_probability, "min_hypothesis_probability");
   c.InRange(min_digit_probability, min_hypothesis_probability, 1.0, "min_digit_probability", "");
+  c.Rate(min_end_probability, "min_end_probability");
   return c.ok();
 }
 
@@ -89,6 +91,52 @@ cv::Mat LearnedSlotIdReader::Probabilities(const cv::Mat& crop) const {
   return out.reshape(1, {kIdPositions, kClasses});
 }
 
+SlotIdReading LearnedSlotIdReader::Decode(const cv::Mat& p,
+                                          const LearnedSlotIdReaderOptions& options) {
+  if (p.type() != CV_32F || p.rows != kIdPositions || p.cols != kClasses) {
+    throw std::invalid_argument("LearnedSlotIdReader::Decode: expected " +
+                                std::to_string(kIdPositions) + " x " + std::to_string(kClasses) +
+                                " floats");
+  }
+  SlotIdReading reading;
+  for (int k = 0; k < kIdPositions; ++k) {
+    const float* row = p.ptr<float>(k);
+    const int best = static_cast<int>(std::max_element(row, row + kClasses) - row);
+    // No character, surely: the ID ends here. Unsure whether one stands
+    // there, the position is an unread character, so that a worn last
+    // digit makes a partial reading ("1?"), not a shorter ID ("1").
+    if (best == 0 && row[0] >= options.min_end_probability) break;
+    DigitReading digit;
+    if (best == 0) {
+      reading.digits.push_back(digit);
+      continue;
+    }
+    // A character's hypotheses share what the position does not give to
+    // "no character".
+    const double present = std::max(1e-9, 1.0 - static_cast<double>(row[0]));
+    for (int c = 1; c < kClasses; ++c) {
+      const double probability = row[c] / present;
+      if (probability >= options.min_hypothesis_probability) {
+        digit.hypotheses.push_back({kIdAlphabet[c - 1], probability});
+      }
+    }
+    std::sort(digit.hypotheses.begin(), digit.hypotheses.end(),
+              [](const DigitHypothesis& a, const DigitHypothesis& b) {
+                return a.probability > b.probability;
+              });
+    if (digit.hypotheses.empty() ||
+        digit.hypotheses.front().probability < options.min_digit_probability) {
+      digit.hypotheses.clear();
+    }
+    reading.digits.push_back(digit);
+  }
+  if (std::none_of(reading.digits.begin(), reading.digits.end(),
+                   [](const DigitReading& d) { return d.read(); })) {
+    return {};
+  }
+  return reading;
+}
+
 SlotIdReading LearnedSlotIdReader::ReadBox(const cv::Mat& top_view, const TextBox& box) const {
   CheckImage(top_view);
   // The text's own box (without the crop's margins) must lie in view, on
@@ -103,37 +151,7 @@ SlotIdReading LearnedSlotIdReader::ReadBox(const cv::Mat& top_view, const TextBo
       if (Unseen(top_view, u, v)) return {};
     }
   }
-  const cv::Mat p = Probabilities(Crop(top_view, box));
-  SlotIdReading reading;
-  for (int k = 0; k < kIdPositions; ++k) {
-    const float* row = p.ptr<float>(k);
-    const int best = static_cast<int>(std::max_element(row, row + kClasses) - row);
-    if (best == 0) break;  // no character: the ID ends here
-    DigitReading digit;
-    // A character's hypotheses share what the position does not give to
-    // "no character".
-    const double present = std::max(1e-9, 1.0 - static_cast<double>(row[0]));
-    for (int c = 1; c < kClasses; ++c) {
-      const double probability = row[c] / present;
-      if (probability >= options_.min_hypothesis_probability) {
-        digit.hypotheses.push_back({kIdAlphabet[c - 1], probability});
-      }
-    }
-    std::sort(digit.hypotheses.begin(), digit.hypotheses.end(),
-              [](const DigitHypothesis& a, const DigitHypothesis& b) {
-                return a.probability > b.probability;
-              });
-    if (digit.hypotheses.empty() ||
-        digit.hypotheses.front().probability < options_.min_digit_probability) {
-      digit.hypotheses.clear();
-    }
-    reading.digits.push_back(digit);
-  }
-  if (std::none_of(reading.digits.begin(), reading.digits.end(),
-                   [](const DigitReading& d) { return d.read(); })) {
-    return {};
-  }
-  return reading;
+  return Decode(Probabilities(Crop(top_view, box)), options_);
 }
 
 SlotIdReading LearnedSlotIdReader::Read(const cv::Mat& top_view,

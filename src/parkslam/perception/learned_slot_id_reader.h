@@ -40,9 +40,12 @@ struct LearnedSlotIdReaderOptions {
   double id_height_m = 0.6;
   // Hypotheses below this probability are dropped from a character's
   // reading; a character whose best class falls below
-  // min_digit_probability is unread.
+  // min_digit_probability is unread. The ID ends only at a position whose
+  // "no character" reaches min_end_probability; a position less sure than
+  // that is an unread character.
   double min_hypothesis_probability = 0.05;
   double min_digit_probability = 0.5;
+  double min_end_probability = 0.5;
 
   bool IsValid(std::string* error) const;
 
@@ -55,6 +58,7 @@ struct LearnedSlotIdReaderOptions {
     v("id_height_m", id_height_m);
     v("min_hypothesis_probability", min_hypothesis_probability);
     v("min_digit_probability", min_digit_probability);
+    v("min_end_probability", min_end_probability);
   }
 };
 
@@ -89,6 +93,11 @@ class LearnedSlotIdReader {
   // The network's output for a crop (grey or BGR): kIdPositions x
   // (1 + alphabet) floats.
   cv::Mat Probabilities(const cv::Mat& crop) const;
+  // The reading of the network's output `p` (kIdPositions x (1 +
+  // alphabet), CV_32F): characters from the left until a position is surely
+  // empty ("no character" at least min_end_probability); a position
+  // unsure whether it holds a character, or which, is an unread character.
+  static SlotIdReading Decode(const cv::Mat& p, const LearnedSlotIdReaderOptions& options);
 
   const LearnedSlotIdReaderOptions& options() const { return options_; }
 

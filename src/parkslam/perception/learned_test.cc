@@ -10,6 +10,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -313,6 +315,47 @@ TEST(LearnedSlotIdReaderTest, ReadsNothingOutsideTheView) {
   const cv::Mat unseen(600, 600, CV_8UC3, cv::Scalar(0, 0, 0));
   box.centre_px = {300, 300};
   EXPECT_TRUE(reader.ReadBox(unseen, box).empty());
+}
+
+// The network's output with, at each position, "no character" or one
+// character at the given probabilities (the rest spread evenly).
+cv::Mat Output(const std::vector<std::pair<char, float>>& positions) {
+  const int classes = static_cast<int>(sizeof(kIdAlphabet));  // "no character" and the alphabet
+  cv::Mat p(kIdPositions, classes, CV_32F);
+  for (int k = 0; k < kIdPositions; ++k) {
+    const auto [c, probability] = k < static_cast<int>(positions.size())
+                                      ? positions[static_cast<std::size_t>(k)]
+                                      : std::pair<char, float>{' ', 1.0f};
+    const int cls = c == ' ' ? 0 : 1 + static_cast<int>(std::string(kIdAlphabet).find(c));
+    p.row(k).setTo((1.0f - probability) / static_cast<float>(classes - 1));
+    p.at<float>(k, cls) = probability;
+  }
+  return p;
+}
+
+TEST(LearnedSlotIdReaderTest, DecodeReadsUntilAPositionIsSurelyEmpty) {
+  const LearnedSlotIdReaderOptions options;  // both thresholds 0.5
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.95f}}), options).best(),
+            "14");
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'A', 0.9f}, {'7', 0.9f}, {' ', 0.9f}}), options)
+                .best(),
+            "A7");
+  // A character too unsure is unread; so is a position that is more likely
+  // empty than not, but not surely: a worn last digit gives "1?", not "1".
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.3f}}), options).best(),
+            "1?");
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.45f}}), options).best(),
+            "1?");
+  LearnedSlotIdReaderOptions strict;
+  strict.min_end_probability = 0.9;
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.8f}}), strict).best(), "1?");
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.95f}}), strict).best(), "1");
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.6f}}), strict).best(), "14");
+  // Nothing read at all: empty.
+  EXPECT_TRUE(LearnedSlotIdReader::Decode(Output({{' ', 0.45f}}), options).empty());
+  EXPECT_TRUE(LearnedSlotIdReader::Decode(Output({}), options).empty());
+  EXPECT_THROW(LearnedSlotIdReader::Decode(cv::Mat(2, 3, CV_32F, cv::Scalar(0)), options),
+               std::invalid_argument);
 }
 
 }  // namespace
