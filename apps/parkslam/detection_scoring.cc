@@ -78,8 +78,9 @@ void Print(const Scores& s) {
                 100 * s.ids.accuracy());
   }
   if (s.ids.unreadable > 0) {
-    std::printf("IDs worn, hidden or absent: %d, read whole anyway %d (%d of them the painted ID)\n",
-                s.ids.unreadable, s.ids.invented, s.ids.invented_right);
+    std::printf(
+        "IDs worn, hidden or absent: %d, read whole anyway %d (%d of them the painted ID)\n",
+        s.ids.unreadable, s.ids.invented, s.ids.invented_right);
   }
   if (!s.frame_ms.empty()) {
     std::printf(

@@ -328,8 +328,8 @@ TEST(IdCountsTest, OnlyTheFullIdIsRight) {
   for (int i = 0; i < 8; ++i) lines.push_back(Line(100.0 * i, 0, 100.0 * i + 90, 0));
   const DetectionMatch match = MatchSlots(lines, lines);
   ASSERT_EQ(match.true_positives(), 8);
-  const std::vector<SlotIdTruth> truth = {{"38", true}, {"39", true},  {"40", true},
-                                          {"41", true}, {"42", false}, {"", true},
+  const std::vector<SlotIdTruth> truth = {{"38", true},  {"39", true},  {"40", true},
+                                          {"41", true},  {"42", false}, {"", true},
                                           {"43", false}, {"44", false}};
   const std::vector<std::string> read = {"38", "3?", "", "14", "42", "", "13", "4?"};
   IdCounts counts;

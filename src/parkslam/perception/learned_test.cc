@@ -337,13 +337,12 @@ TEST(LearnedSlotIdReaderTest, DecodeReadsUntilAPositionIsSurelyEmpty) {
   const LearnedSlotIdReaderOptions options;  // both thresholds 0.5
   EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.95f}}), options).best(),
             "14");
-  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'A', 0.9f}, {'7', 0.9f}, {' ', 0.9f}}), options)
-                .best(),
-            "A7");
+  EXPECT_EQ(
+      LearnedSlotIdReader::Decode(Output({{'A', 0.9f}, {'7', 0.9f}, {' ', 0.9f}}), options).best(),
+      "A7");
   // A character too unsure is unread; so is a position that is more likely
   // empty than not, but not surely: a worn last digit gives "1?", not "1".
-  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.3f}}), options).best(),
-            "1?");
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.3f}}), options).best(), "1?");
   EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.45f}}), options).best(),
             "1?");
   LearnedSlotIdReaderOptions strict;
