@@ -43,8 +43,8 @@ nlohmann::json ToJson(const Scores& s) {
                 {"unread", s.ids.unread},
                 {"accuracy", s.ids.accuracy()},
                 {"unreadable", s.ids.unreadable},
-                {"unreadable_read", s.ids.invented},
-                {"unreadable_read_right", s.ids.invented_right}};
+                {"unreadable_read_whole", s.ids.invented},
+                {"unreadable_read_whole_right", s.ids.invented_right}};
   }
   if (!s.frame_ms.empty()) {
     j["time_ms_median"] = {{"fusion", Median(s.fusion_ms)},
