@@ -14,8 +14,6 @@ namespace parkslam::perception {
 namespace {
 
 constexpr int kCropWidthPx = 96, kCropHeightPx = 32;
-// "No character" and the alphabet (sizeof counts its terminating NUL).
-constexpr int kClasses = 1 + static_cast<int>(sizeof(kIdAlphabet) - 1);
 // The crop's height over the text's (scene/labels.cc).
 constexpr double kBoxOverTextHeight = 1.6;
 
@@ -61,7 +59,7 @@ LearnedSlotIdReader::LearnedSlotIdReader(const LearnedSlotIdReaderOptions& optio
   if (!options.IsValid(&error)) throw std::invalid_argument("LearnedSlotIdReaderOptions: " + error);
   network_ = std::make_unique<OnnxNetwork>(options.model_path,
                                            std::vector<int>{1, 3, kCropHeightPx, kCropWidthPx},
-                                           std::vector<int>{1, kIdPositions, kClasses});
+                                           std::vector<int>{1, kIdPositions, kIdClasses});
 }
 
 cv::Mat LearnedSlotIdReader::Crop(const cv::Mat& top_view, const TextBox& box) {
@@ -88,33 +86,33 @@ cv::Mat LearnedSlotIdReader::Crop(const cv::Mat& top_view, const TextBox& box) {
 
 cv::Mat LearnedSlotIdReader::Probabilities(const cv::Mat& crop) const {
   const cv::Mat out = network_->Forward(cv::dnn::blobFromImage(AsBgr(crop)));
-  return out.reshape(1, {kIdPositions, kClasses});
+  return out.reshape(1, {kIdPositions, kIdClasses});
 }
 
 SlotIdReading LearnedSlotIdReader::Decode(const cv::Mat& p,
                                           const LearnedSlotIdReaderOptions& options) {
-  if (p.type() != CV_32F || p.rows != kIdPositions || p.cols != kClasses) {
+  if (p.type() != CV_32F || p.rows != kIdPositions || p.cols != kIdClasses) {
     throw std::invalid_argument("LearnedSlotIdReader::Decode: expected " +
-                                std::to_string(kIdPositions) + " x " + std::to_string(kClasses) +
+                                std::to_string(kIdPositions) + " x " + std::to_string(kIdClasses) +
                                 " floats");
   }
   SlotIdReading reading;
   for (int k = 0; k < kIdPositions; ++k) {
     const float* row = p.ptr<float>(k);
-    const int best = static_cast<int>(std::max_element(row, row + kClasses) - row);
+    const int best = static_cast<int>(std::max_element(row, row + kIdClasses) - row);
     // No character, surely: the ID ends here. Unsure whether one stands
     // there, the position is an unread character, so that a worn last
     // digit makes a partial reading ("1?"), not a shorter ID ("1").
-    if (best == 0 && row[0] >= options.min_end_probability) break;
-    DigitReading digit;
     if (best == 0) {
-      reading.digits.push_back(digit);
+      if (row[0] >= options.min_end_probability) break;
+      reading.digits.emplace_back();
       continue;
     }
+    DigitReading digit;
     // A character's hypotheses share what the position does not give to
     // "no character".
     const double present = std::max(1e-9, 1.0 - static_cast<double>(row[0]));
-    for (int c = 1; c < kClasses; ++c) {
+    for (int c = 1; c < kIdClasses; ++c) {
       const double probability = row[c] / present;
       if (probability >= options.min_hypothesis_probability) {
         digit.hypotheses.push_back({kIdAlphabet[c - 1], probability});

@@ -32,6 +32,9 @@ namespace parkslam::perception {
 // is "no character").
 inline constexpr char kIdAlphabet[] = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ-";
 inline constexpr int kIdPositions = 4;
+// Classes per position: "no character" and the alphabet (sizeof counts
+// its terminating NUL).
+inline constexpr int kIdClasses = 1 + static_cast<int>(sizeof(kIdAlphabet) - 1);
 
 struct LearnedSlotIdReaderOptions {
   std::string model_path;  // models/slot_ids.onnx in the source tree

@@ -320,14 +320,13 @@ TEST(LearnedSlotIdReaderTest, ReadsNothingOutsideTheView) {
 // The network's output with, at each position, "no character" or one
 // character at the given probabilities (the rest spread evenly).
 cv::Mat Output(const std::vector<std::pair<char, float>>& positions) {
-  const int classes = static_cast<int>(sizeof(kIdAlphabet));  // "no character" and the alphabet
-  cv::Mat p(kIdPositions, classes, CV_32F);
+  cv::Mat p(kIdPositions, kIdClasses, CV_32F);
   for (int k = 0; k < kIdPositions; ++k) {
     const auto [c, probability] = k < static_cast<int>(positions.size())
                                       ? positions[static_cast<std::size_t>(k)]
                                       : std::pair<char, float>{' ', 1.0f};
     const int cls = c == ' ' ? 0 : 1 + static_cast<int>(std::string(kIdAlphabet).find(c));
-    p.row(k).setTo((1.0f - probability) / static_cast<float>(classes - 1));
+    p.row(k).setTo((1.0f - probability) / static_cast<float>(kIdClasses - 1));
     p.at<float>(k, cls) = probability;
   }
   return p;
