@@ -4,8 +4,10 @@
 #include <cmath>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
+#include "parkslam/common/angles.h"
 #include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
@@ -92,6 +94,52 @@ Ps2Slot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path, std::
   return slot;
 }
 
+double AngleOf(const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); }
+
+// For each slot end that is an L, with the other end: the image angle from
+// the L towards its partner (the entrance arm). The first slot of an L
+// decides; an L is the end of a row and ends one slot.
+struct LEnd {
+  std::size_t mark = 0;
+  std::size_t partner = 0;
+  double entrance_rad = 0.0;
+};
+
+std::vector<LEnd> LEndsOf(const Ps2Labels& labels) {
+  std::vector<LEnd> ends;
+  std::vector<bool> seen(labels.marking_points.size(), false);
+  for (const Ps2Slot& s : labels.slots) {
+    const auto a = static_cast<std::size_t>(s.a), b = static_cast<std::size_t>(s.b);
+    for (const auto& [mark, partner] : {std::pair{a, b}, std::pair{b, a}}) {
+      if (labels.marking_points[mark].is_t || seen[mark]) continue;
+      seen[mark] = true;
+      const Eigen::Vector2d to_partner =
+          labels.marking_points[partner].px - labels.marking_points[mark].px;
+      ends.push_back({mark, partner, AngleOf(to_partner)});
+    }
+  }
+  return ends;
+}
+
+// DMPR-PS's L directions to separating lines (the header's rule). The
+// partners' directions are read before any is changed.
+void ToSeparatingLines(Ps2Labels* labels) {
+  const std::vector<LEnd> ends = LEndsOf(*labels);
+  std::vector<double> labelled(labels->marking_points.size());
+  for (std::size_t i = 0; i < labelled.size(); ++i)
+    labelled[i] = labels->marking_points[i].direction_rad;
+  for (const LEnd& e : ends) {
+    if (std::abs(AngleDiff(e.entrance_rad, labelled[e.mark])) > kPs2EntranceArmTolerance_rad) {
+      continue;  // labelled along its separating line already
+    }
+    const double partner_rad = labelled[e.partner];
+    const bool partner_along_entrance =
+        std::abs(AngleDiff(e.entrance_rad + kPi, partner_rad)) <= kPs2EntranceArmTolerance_rad;
+    labels->marking_points[e.mark].direction_rad =
+        partner_along_entrance ? NormalizeAngle(labelled[e.mark] + kPi / 2) : partner_rad;
+  }
+}
+
 }  // namespace
 
 Ps2Labels Ps2LabelsFromJson(const nlohmann::json& json, const std::string& source_name) {
@@ -116,15 +164,25 @@ Ps2Labels Ps2LabelsFromJson(const nlohmann::json& json, const std::string& sourc
     labels.slots.push_back(
         ReadSlot(*slot_entries[i], r, flat_slots ? slots : slot, labels.marking_points.size()));
   }
+  ToSeparatingLines(&labels);
   return labels;
 }
 
 nlohmann::json Ps2LabelsToJson(const Ps2Labels& labels) {
+  // DMPR-PS's convention: an L whose entrance leaves at a negative angle
+  // from its separating line is labelled along the entrance.
+  std::vector<double> labelled(labels.marking_points.size());
+  for (std::size_t i = 0; i < labelled.size(); ++i)
+    labelled[i] = labels.marking_points[i].direction_rad;
+  for (const LEnd& e : LEndsOf(labels)) {
+    if (AngleDiff(e.entrance_rad, labelled[e.mark]) < 0.0) labelled[e.mark] = e.entrance_rad;
+  }
   nlohmann::json marks = nlohmann::json::array();
-  for (const Ps2MarkingPoint& m : labels.marking_points) {
+  for (std::size_t i = 0; i < labels.marking_points.size(); ++i) {
+    const Ps2MarkingPoint& m = labels.marking_points[i];
     const double x = m.px.x() + kPs2LabelOffsetPx, y = m.px.y() + kPs2LabelOffsetPx;
-    marks.push_back({x, y, x + kPs2DirectionLengthPx * std::cos(m.direction_rad),
-                     y + kPs2DirectionLengthPx * std::sin(m.direction_rad), m.is_t ? 0 : 1});
+    marks.push_back({x, y, x + kPs2DirectionLengthPx * std::cos(labelled[i]),
+                     y + kPs2DirectionLengthPx * std::sin(labelled[i]), m.is_t ? 0 : 1});
   }
   nlohmann::json slots = nlohmann::json::array();
   for (const Ps2Slot& s : labels.slots) slots.push_back({s.a + 1, s.b + 1, s.type, s.angle_deg});

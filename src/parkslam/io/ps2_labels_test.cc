@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "parkslam/common/angles.h"
 #include "parkslam/io/io_error.h"
@@ -21,8 +22,9 @@ using ::testing::HasSubstr;
 using testing::TempDir;
 
 // Two marks: a T at label (101, 51) whose separating line runs down the
-// image (+y), an L at label (251, 51) whose line runs left (-x); one slot
-// between them, written nested.
+// image (+y), an L at label (251.5, 51) labelled along its entrance, left
+// (-x) towards the T, as DMPR-PS labels an L at the second end of a slot;
+// one slot between them, written nested.
 constexpr char kNested[] =
     R"({"marks": [[101, 51, 101, 200, 0], [251.5, 51, 150, 51, 1]],
         "slots": [[1, 2, 1, 90]]})";
@@ -37,7 +39,8 @@ TEST(Ps2LabelsTest, ReadsNestedListsZeroBased) {
   EXPECT_TRUE(t.is_t);
   const Ps2MarkingPoint& l = labels.marking_points[1];
   EXPECT_NEAR((l.px - Eigen::Vector2d(251.0, 50.5)).norm(), 0.0, 1e-12);
-  EXPECT_NEAR(std::abs(l.direction_rad), kPi, 1e-12);  // to the left
+  // Read as its separating line: the T's, down the image.
+  EXPECT_NEAR(l.direction_rad, kPi / 2, 1e-12);
   EXPECT_FALSE(l.is_t);
   ASSERT_EQ(labels.slots.size(), 1u);
   EXPECT_EQ(labels.slots[0].a, 0);
@@ -82,15 +85,74 @@ std::string ErrorReading(const std::string& content) {
   return message;
 }
 
-TEST(Ps2LabelsTest, WrittenLabelsReadBackToTheSamePointsAndSlots) {
+TEST(Ps2LabelsTest, AnLLabelledAlongItsEntranceWithoutASeparatingPartnerTurnsBy90Degrees) {
+  // Both ends labelled along the entrance (no separating line to copy): the
+  // L's other arm, +90 degrees from its label, is its separating line.
+  const TempDir dir;
+  const Ps2Labels labels =
+      ReadPs2Labels(dir.Write("a.json", R"({"marks": [[101, 51, 200, 51, 1], [251, 51, 150, 51, 1]],
+                    "slots": [[1, 2, 1, 90]]})"));
+  ASSERT_EQ(labels.marking_points.size(), 2u);
+  EXPECT_NEAR(labels.marking_points[0].direction_rad, kPi / 2, 1e-12);
+  EXPECT_NEAR(labels.marking_points[1].direction_rad, -kPi / 2, 1e-12);
+}
+
+TEST(Ps2LabelsTest, AnLAlongItsSeparatingLineOrInNoSlotKeepsItsDirection) {
+  // The L is the first end: its entrance leaves at +90 degrees from its
+  // separating line (up the image, -y), so the label is that line. An
+  // angled separating line 40 degrees from the entrance is not mistaken
+  // for the entrance either.
+  const TempDir dir;
+  const Ps2Labels labels = ReadPs2Labels(
+      dir.Write("a.json", R"({"marks": [[251, 151, 251, 51, 1], [101, 151, 101, 51, 0],
+                              [401, 151, 324.4, 86.7, 1], [500, 500, 400, 500, 1]],
+                    "slots": [[1, 2, 1, 90], [3, 1, 1, 40]]})"));
+  ASSERT_EQ(labels.marking_points.size(), 4u);
+  EXPECT_NEAR(labels.marking_points[0].direction_rad, -kPi / 2, 1e-12);
+  EXPECT_NEAR(RadToDeg(labels.marking_points[2].direction_rad), -140.0, 0.1);
+  EXPECT_NEAR(std::abs(labels.marking_points[3].direction_rad), kPi, 1e-12);
+}
+
+TEST(Ps2LabelsTest, WritesAnLAlongItsEntranceWhereDmprPsDoes) {
+  // A slot from the T at x = 400 (first end: the entrance leaves it at +90
+  // degrees from its separating line) to the L at x = 250; both separating
+  // lines run down the image (+pi/2). The entrance leaves the L towards the
+  // T, +x, at -90 degrees from its separating line, so the L is written
+  // along the entrance, and read back as its separating line.
   Ps2Labels labels;
-  labels.marking_points.push_back({Eigen::Vector2d(10.25, 300.5), 0.3, true});
+  labels.marking_points.push_back({Eigen::Vector2d(400.0, 50.0), kPi / 2, true});
+  labels.marking_points.push_back({Eigen::Vector2d(250.0, 50.0), kPi / 2, false});
+  labels.slots.push_back({0, 1, 1, 90.0});
+  const nlohmann::json json = Ps2LabelsToJson(labels);
+  EXPECT_NEAR(json["marks"][1][2].get<double>(), 250.5 + kPs2DirectionLengthPx, 1e-9);
+  EXPECT_NEAR(json["marks"][1][3].get<double>(), 50.5, 1e-9);
+  EXPECT_NEAR(json["marks"][0][3].get<double>(), 50.5 + kPs2DirectionLengthPx, 1e-9);
+  const Ps2Labels back = Ps2LabelsFromJson(json, "written");
+  ASSERT_EQ(back.marking_points.size(), 2u);
+  EXPECT_NEAR(back.marking_points[1].direction_rad, kPi / 2, 1e-9);
+  // Mirrored, the L at x = 400 and the T at 250: the entrance leaves the L
+  // at +90 degrees, so it is written along its separating line.
+  labels.marking_points[0].is_t = false;
+  labels.marking_points[1].is_t = true;
+  const nlohmann::json mirrored = Ps2LabelsToJson(labels);
+  EXPECT_NEAR(mirrored["marks"][0][2].get<double>(), 400.5, 1e-9);
+  EXPECT_NEAR(mirrored["marks"][0][3].get<double>(), 50.5 + kPs2DirectionLengthPx, 1e-9);
+}
+
+TEST(Ps2LabelsTest, WrittenLabelsReadBackToTheSamePointsAndSlots) {
+  // An L at the second end, its separating line parallel to the T's, its
+  // entrance leaving at a negative angle: written along the entrance.
+  Ps2Labels labels;
+  labels.marking_points.push_back({Eigen::Vector2d(10.25, 300.5), -2.0, true});
   labels.marking_points.push_back({Eigen::Vector2d(250.0, 0.0), -2.0, false});
   labels.slots.push_back({1, 0, 2, 60.0});
   const nlohmann::json json = Ps2LabelsToJson(labels);
   // 1-based in the file, as ps2.0's own labels.
   EXPECT_DOUBLE_EQ(json["marks"][0][0].get<double>(), 10.75);
   EXPECT_EQ(json["marks"][1][4].get<int>(), 1);
+  // The L's arm point lies along the entrance, towards the T.
+  EXPECT_LT(json["marks"][1][2].get<double>(), 250.5);
+  EXPECT_GT(json["marks"][1][3].get<double>(), 0.5);
   EXPECT_EQ(json["slots"][0][0].get<int>(), 2);
   const Ps2Labels back = Ps2LabelsFromJson(json, "written");
   ASSERT_EQ(back.marking_points.size(), 2u);
@@ -255,6 +317,30 @@ TEST(Ps2LabelsSampleTest, ReadsAllRealLabels) {
       EXPECT_LT(length_px, 420.0);
     }
   }
+  // Every L of the sample ends a perpendicular slot; read as separating
+  // lines, each leaves its entrance within 5 degrees of square, and parallel
+  // to its partner's within 5 degrees (7 of the 11 are labelled along the
+  // entrance, as DMPR-PS labels an L at a slot's second end).
+  int l_ends = 0;
+  for (const std::string& name : names) {
+    const Ps2Labels labels = ReadPs2Labels(SampleDir() / (name + ".json"));
+    for (const Ps2Slot& slot : labels.slots) {
+      for (const auto& [m, o] : {std::pair{slot.a, slot.b}, std::pair{slot.b, slot.a}}) {
+        const Ps2MarkingPoint& mark = labels.marking_points[static_cast<std::size_t>(m)];
+        const Ps2MarkingPoint& other = labels.marking_points[static_cast<std::size_t>(o)];
+        if (mark.is_t) continue;
+        ++l_ends;
+        const Eigen::Vector2d entrance = other.px - mark.px;
+        const double off_square = std::abs(
+            std::abs(AngleDiff(std::atan2(entrance.y(), entrance.x()), mark.direction_rad)) -
+            kPi / 2);
+        EXPECT_LT(RadToDeg(off_square), 5.0) << name;
+        EXPECT_LT(RadToDeg(std::abs(AngleDiff(mark.direction_rad, other.direction_rad))), 5.0)
+            << name;
+      }
+    }
+  }
+  EXPECT_EQ(l_ends, 11);
   // Counted independently, with Python's json module.
   EXPECT_EQ(marks, 50);
   EXPECT_EQ(t_marks, 39);
