@@ -206,14 +206,34 @@ TEST(SlotPairingTest, RejectsDisagreeingOrImplausiblePairs) {
       PairMarkingPoints({Point(400, 150, 0.0), Point(400, 210, 0.0)}, {600, 600}, o).empty());
   EXPECT_TRUE(
       PairMarkingPoints({Point(550, -100, 0.0), Point(550, 380, 0.0)}, {600, 600}, o).empty());
-  // Opening away from the car (separating lines run left on the right).
+  // Opening away from the car (separating lines run left on the right),
+  // the car 4.7 m past the entrance: beyond the row, where a back line's
+  // junctions would pair.
   EXPECT_TRUE(
-      PairMarkingPoints({Point(400, 150, M_PI), Point(400, 300, M_PI)}, {600, 600}, o).empty());
+      PairMarkingPoints({Point(580, 150, M_PI), Point(580, 300, M_PI)}, {600, 600}, o).empty());
   // A parallel slot: 5 m long, 2.5 m deep.
   const std::vector<DetectedSlot> parallel =
       PairMarkingPoints({Point(400, 150, 0.0), Point(400, 450, 0.0)}, {600, 600}, o);
   ASSERT_EQ(parallel.size(), 1u);
   EXPECT_NEAR((parallel[0].corners_px[2] - parallel[0].corners_px[1]).norm(), 2.5 * 60, 1e-6);
+}
+
+// A row whose entrance runs 1.7 m right of the car, its separating lines
+// running left, under the car: the car stands in the row, as when it parks,
+// and the 2.5 m slot is kept; a 5 m (parallel) one is not, nor any without
+// the exception.
+TEST(SlotPairingTest, KeepsASlotOpeningTowardsTheCarOnlyWhenTheCarIsInItsRow) {
+  SlotPairingOptions o;
+  EXPECT_EQ(PairMarkingPoints({Point(400, 150, M_PI), Point(400, 300, M_PI)}, {600, 600}, o).size(),
+            1u);
+  EXPECT_TRUE(
+      PairMarkingPoints({Point(400, 150, M_PI), Point(400, 450, M_PI)}, {600, 600}, o).empty());
+  o.max_vehicle_depth_in_row_m = 0.0;
+  EXPECT_TRUE(
+      PairMarkingPoints({Point(400, 150, M_PI), Point(400, 300, M_PI)}, {600, 600}, o).empty());
+  o.max_vehicle_depth_in_row_m = 1.5;  // the car 1.7 m in: beyond the allowed depth
+  EXPECT_TRUE(
+      PairMarkingPoints({Point(400, 150, M_PI), Point(400, 300, M_PI)}, {600, 600}, o).empty());
 }
 
 // The end line of a row at the image's left edge, its two ends 5.3 m apart

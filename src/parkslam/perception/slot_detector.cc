@@ -524,7 +524,21 @@ bool SlotDetectorOptions::IsValid(std::string* error) const {
   c.AtLeast(max_lines_nearby, 0, "max_lines_nearby");
   c.Positive(nearby_radius_m, "nearby_radius_m");
   c.NonNegative(end_tolerance_px, "end_tolerance_px");
+  c.Require(max_vehicle_depth_in_row_m >= 0.0 && max_vehicle_depth_in_row_m <= 100.0,
+            "max_vehicle_depth_in_row_m", "must be in [0, 100] m");
   return c.ok();
+}
+
+// The car stands at `centre_px`; a slot opening away from it is the usual
+// case. One opening towards it has the car on its interior side of the
+// entrance line: inside its row if the car is less than
+// max_vehicle_depth_m past that line, else beyond its far end.
+bool SlotOpensAsAllowed(const Eigen::Vector2d& a_px, const Eigen::Vector2d& b_px,
+                        const Eigen::Vector2d& depth_dir, const Eigen::Vector2d& centre_px,
+                        double pixels_per_m, bool require_facing, double max_vehicle_depth_m) {
+  const double vehicle_depth_px = depth_dir.dot(centre_px - (a_px + b_px) / 2);
+  if (!require_facing || vehicle_depth_px <= 0.0) return true;
+  return vehicle_depth_px < max_vehicle_depth_m * pixels_per_m;
 }
 
 SlotDetector::SlotDetector(const SlotDetectorOptions& options) : options_(options) {
@@ -887,7 +901,9 @@ class EntrancePairing {
     // The slot opens towards the car: its interior lies beyond the
     // entrance as seen from the image centre.
     const Eigen::Vector2d centre_px((f_.grey.cols - 1) / 2.0, (f_.grey.rows - 1) / 2.0);
-    if (o.require_entrance_facing_vehicle && depth_dir.dot((pi.px + pj.px) / 2 - centre_px) < 0.0) {
+    if (!SlotOpensAsAllowed(
+            pi.px, pj.px, depth_dir, centre_px, f_.s, o.require_entrance_facing_vehicle,
+            length_m < o.parallel_min_entrance_m ? o.max_vehicle_depth_in_row_m : 0.0)) {
       return std::nullopt;
     }
     if (ThirdPointOn(i, j)) return std::nullopt;

@@ -116,6 +116,14 @@ struct SlotDetectorOptions {
   // seen from the image centre. Removes the false slots that a painted back
   // line and its junctions would make.
   bool require_entrance_facing_vehicle = true;
+  // ... unless the car stands in the slot's row: the image centre less than
+  // this past the entrance of a slot narrower than parallel_min_entrance_m,
+  // as when it parks (0: never). A back line's junctions lie a slot's depth
+  // (5.3 m) behind the entrance, and the car stands in the aisle in front of
+  // it, over 6 m from them. Off here: on the synthetic validation set it
+  // adds as many false slots as true ones to this detector (the learned
+  // pairing, SlotPairingOptions, has it on).
+  double max_vehicle_depth_in_row_m = 0.0;
 
   bool IsValid(std::string* error) const;
 
@@ -150,8 +158,18 @@ struct SlotDetectorOptions {
     v("end_tolerance_px", end_tolerance_px);
     v("min_junction_angle_rad", min_junction_angle_rad);
     v("require_entrance_facing_vehicle", require_entrance_facing_vehicle);
+    v("max_vehicle_depth_in_row_m", max_vehicle_depth_in_row_m);
   }
 };
+
+// Whether a slot whose entrance runs through `a_px` and `b_px` and whose
+// interior lies along the unit `depth_dir` opens as the options allow:
+// away from the car at `centre_px`, or towards it with the car less than
+// max_vehicle_depth_in_row_m (at `pixels_per_m`) past the entrance, inside
+// the slot's row.
+bool SlotOpensAsAllowed(const Eigen::Vector2d& a_px, const Eigen::Vector2d& b_px,
+                        const Eigen::Vector2d& depth_dir, const Eigen::Vector2d& centre_px,
+                        double pixels_per_m, bool require_facing, double max_vehicle_depth_m);
 
 // A painted line's centreline found in the image, from end to end.
 struct PaintedLine {

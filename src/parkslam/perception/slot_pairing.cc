@@ -40,6 +40,8 @@ bool SlotPairingOptions::IsValid(std::string* error) const {
   c.PositiveAtMost(border_width_share, 1.0, "border_width_share", "");
   c.Between(max_direction_difference_rad, 0.0, M_PI, "max_direction_difference_rad", "rad");
   c.NonNegative(on_line_tolerance_m, "on_line_tolerance_m");
+  c.Require(max_vehicle_depth_in_row_m >= 0.0 && max_vehicle_depth_in_row_m <= 100.0,
+            "max_vehicle_depth_in_row_m", "must be in [0, 100] m");
   c.Require(min_junction_angle_rad >= 0.0 && min_junction_angle_rad < M_PI / 2,
             "min_junction_angle_rad", "must be in [0, pi/2) rad");
   return c.ok();
@@ -67,7 +69,9 @@ std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& poi
       const Eigen::Vector2d depth_dir = (da + db).normalized();
       // The separating lines leave the entrance line, not run along it.
       if (std::abs(Cross(e.normalized(), depth_dir)) < min_sin) continue;
-      if (o.require_entrance_facing_vehicle && depth_dir.dot((a.px + b.px) / 2 - centre_px) < 0.0) {
+      if (!SlotOpensAsAllowed(
+              a.px, b.px, depth_dir, centre_px, s, o.require_entrance_facing_vehicle,
+              length_m < o.parallel_min_entrance_m ? o.max_vehicle_depth_in_row_m : 0.0)) {
         continue;
       }
       bool third_point = false;

@@ -48,8 +48,12 @@ struct SlotPairingOptions {
   // The separating lines leave the entrance at least at this angle (angled
   // slots meet it at 45 degrees or more).
   double min_junction_angle_rad = 0.6;
-  // Slots open towards the car, which stands at the image's centre.
+  // Slots open towards the car, which stands at the image's centre, unless
+  // the car stands less than max_vehicle_depth_in_row_m past the entrance of
+  // a slot narrower than parallel_min_entrance_m, inside its row (parking
+  // into it; 0: never). SlotDetectorOptions says why.
   bool require_entrance_facing_vehicle = true;
+  double max_vehicle_depth_in_row_m = 4.0;
   // A marking point inside a slot (beyond on_line_tolerance_m past its
   // entrance), weaker than both of the slot's points, is dropped with the
   // slots it makes: painted digits inside a slot make such points.
@@ -73,6 +77,7 @@ struct SlotPairingOptions {
     v("on_line_tolerance_m", on_line_tolerance_m);
     v("min_junction_angle_rad", min_junction_angle_rad);
     v("require_entrance_facing_vehicle", require_entrance_facing_vehicle);
+    v("max_vehicle_depth_in_row_m", max_vehicle_depth_in_row_m);
     v("drop_points_inside_slots", drop_points_inside_slots);
   }
 };
