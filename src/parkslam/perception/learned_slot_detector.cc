@@ -24,6 +24,8 @@ bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
   c.Require(input_size_px >= kStride && input_size_px % kStride == 0, "input_size_px",
             "must be a positive multiple of 16");
   c.Between(min_confidence, 0.0, 1.0, "min_confidence", "");
+  c.Require(min_partner_confidence >= 0.0 && min_partner_confidence <= min_confidence,
+            "min_partner_confidence", "must be in [0, min_confidence]");
   c.Require(flips == 1 || flips == 2 || flips == 4, "flips", "must be 1, 2 or 4");
   c.NonNegative(nms_radius_px, "nms_radius_px");
   c.Positive(extend_tolerance_m, "extend_tolerance_m");
@@ -175,7 +177,10 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
   for (int cy = 0; cy < g; ++cy) {
     for (int cx = 0; cx < g; ++cx) {
       const auto at = [&](int k) { return static_cast<double>(cells.at<float>(k, cy, cx)); };
-      if (at(0) < options_.min_confidence) continue;
+      if (at(0) < options_.min_confidence &&
+          (options_.min_partner_confidence <= 0.0 || at(0) < options_.min_partner_confidence)) {
+        continue;
+      }
       MarkingPoint p;
       p.px = Eigen::Vector2d((cx + at(1)) * scale_x - 0.5, (cy + at(2)) * scale_y - 0.5);
       p.direction_rad = std::atan2(at(4), at(3));
@@ -202,6 +207,24 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
         std::any_of(result.marking_points.begin(), result.marking_points.end(),
                     [&](const MarkingPoint& q) { return (p.px - q.px).squaredNorm() < r2; });
     if (!near_kept) result.marking_points.push_back(p);
+  }
+  if (options_.min_partner_confidence > 0.0) {
+    // Weak points stay only as partners of strong ones in a slot.
+    const std::vector<DetectedSlot> candidates =
+        PairMarkingPoints(result.marking_points, top_view.size(), options_.pairing);
+    std::vector<bool> keep(result.marking_points.size(), false);
+    for (size_t i = 0; i < keep.size(); ++i)
+      keep[i] = result.marking_points[i].score >= options_.min_confidence;
+    for (const DetectedSlot& slot : candidates) {
+      const int a = slot.marking_points[0], b = slot.marking_points[1];
+      const bool strong_a = result.marking_points[a].score >= options_.min_confidence;
+      const bool strong_b = result.marking_points[b].score >= options_.min_confidence;
+      if (strong_a || strong_b) keep[a] = keep[b] = true;
+    }
+    std::vector<MarkingPoint> kept;
+    for (size_t i = 0; i < keep.size(); ++i)
+      if (keep[i]) kept.push_back(result.marking_points[i]);
+    result.marking_points = std::move(kept);
   }
   if (classical_ != nullptr) {
     const std::vector<MarkingPoint> lines_points =

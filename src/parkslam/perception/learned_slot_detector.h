@@ -48,6 +48,10 @@ struct LearnedSlotDetectorOptions {
   // The threshold with the best F1 on the synthetic validation set
   // (models/marking_points.onnx.json, "validation").
   double min_confidence = 0.6;
+  // A weaker point, of at least min_partner_confidence, is kept where it
+  // makes a slot (every pairing rule) with a point of min_confidence or
+  // more (0: none kept).
+  double min_partner_confidence = 0.0;
   // Test-time flips: the network also sees the view mirrored left-right
   // (2) or left-right, up-down and both (4), and the cells are averaged
   // after mirroring them back. 1: the view alone. Each flip costs one more
@@ -93,6 +97,7 @@ struct LearnedSlotDetectorOptions {
     v("model_path", model_path);
     v("input_size_px", input_size_px);
     v("min_confidence", min_confidence);
+    v("min_partner_confidence", min_partner_confidence);
     v("flips", flips);
     v("nms_radius_px", nms_radius_px);
     v("border_margin_m", border_margin_m);
