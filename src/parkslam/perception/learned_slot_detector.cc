@@ -28,6 +28,7 @@ bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
             "min_partner_confidence", "must be in [0, min_confidence]");
   c.Require(flips == 1 || flips == 2 || flips == 4, "flips", "must be 1, 2 or 4");
   c.NonNegative(nms_radius_px, "nms_radius_px");
+  c.InRange(max_point_depth_towards_car_m, 0.0, 100.0, "max_point_depth_towards_car_m", "m");
   c.Positive(extend_tolerance_m, "extend_tolerance_m");
   c.InRange(border_margin_m, 0.0, 2.0, "border_margin_m", "m");
   c.Positive(classical_match_px, "classical_match_px");
@@ -173,6 +174,9 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
   const double scale_x = static_cast<double>(top_view.cols) / g;
   const double scale_y = static_cast<double>(top_view.rows) / g;
   const double border_px = options_.border_margin_m * options_.pairing.pixels_per_m;
+  const Eigen::Vector2d centre_px((top_view.cols - 1) / 2.0, (top_view.rows - 1) / 2.0);
+  const double max_towards_px =
+      options_.max_point_depth_towards_car_m * options_.pairing.pixels_per_m;
   std::vector<MarkingPoint> found;
   for (int cy = 0; cy < g; ++cy) {
     for (int cx = 0; cx < g; ++cx) {
@@ -186,6 +190,9 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
       p.direction_rad = std::atan2(at(4), at(3));
       p.shape = at(5) >= 0.5 ? MarkingShape::kT : MarkingShape::kL;
       p.score = at(0);
+      const double towards_car_px = std::cos(p.direction_rad) * (centre_px.x() - p.px.x()) +
+                                    std::sin(p.direction_rad) * (centre_px.y() - p.px.y());
+      if (options_.max_point_depth_towards_car_m > 0.0 && towards_car_px > max_towards_px) continue;
       if (p.px.x() < border_px || p.px.y() < border_px ||
           p.px.x() > top_view.cols - 1 - border_px || p.px.y() > top_view.rows - 1 - border_px) {
         continue;

@@ -57,6 +57,13 @@ struct LearnedSlotDetectorOptions {
   // after mirroring them back. 1: the view alone. Each flip costs one more
   // pass of the network.
   int flips = 1;
+  // A point whose separating line leads towards the car (the image centre)
+  // from more than this is dropped (0: none): its slot would open towards a
+  // car beyond its far end, which the pairing rejects
+  // (SlotPairingOptions::max_vehicle_depth_in_row_m). Such points are the
+  // far ends of separating lines; on the synthetic validation set every one
+  // is false.
+  double max_point_depth_towards_car_m = 4.0;
   // Two marking points closer than this (top-view pixels) are one.
   double nms_radius_px = 20.0;
   // Points closer than this to the image's border are dropped: a junction
@@ -99,6 +106,7 @@ struct LearnedSlotDetectorOptions {
     v("min_confidence", min_confidence);
     v("min_partner_confidence", min_partner_confidence);
     v("flips", flips);
+    v("max_point_depth_towards_car_m", max_point_depth_towards_car_m);
     v("nms_radius_px", nms_radius_px);
     v("border_margin_m", border_margin_m);
     v("pairing", pairing);
