@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Width and edge sharpness of the painted separating lines at labelled
 marking points of 600 x 600 top views (ps2.0 convention, 10 m across, DMPR-PS
-labels: `marks` [x, y, x2, y2, shape], (x2, y2) along the separating line).
+labels: `marks` [x, y, x2, y2, shape], read as separating lines by
+learned/ps2_labels.py).
 
 For each mark, a grey-level profile is sampled across the separating line
 18, 24 or 30 px from the junction (the first where the line stands at least
@@ -20,29 +21,20 @@ Used to compare rendered views with real ones (docs/training_data.md,
 import argparse
 import glob
 import json
+import math
 import os
 import sys
 
 import cv2
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "learned"))
+from ps2_labels import read_marks  # noqa: E402
+
 STEP_PX = 0.25
 HALF_LENGTH_PX = 20.0
 ALONG_PX = (18.0, 24.0, 30.0)
 MIN_CONTRAST = 15.0
-
-
-def read_marks(path):
-    with open(path) as f:
-        labels = json.load(f)
-    marks = labels.get("marks", [])
-    if marks and not isinstance(marks[0], list):
-        marks = [marks]
-    for m in marks:
-        if len(m) != 5:
-            raise ValueError(f"{path}: marks: expected [x, y, x2, y2, shape], got {m}")
-    # Labels are 1-based pixel centres.
-    return [(x - 0.5, y - 0.5, x2 - 0.5, y2 - 0.5) for x, y, x2, y2, _ in marks]
 
 
 def profile_figures(profile):
@@ -83,12 +75,8 @@ def measure(path):
     grey = image.astype(np.float32)
     offsets = np.arange(-HALF_LENGTH_PX, HALF_LENGTH_PX + STEP_PX / 2, STEP_PX)
     out = []
-    for x, y, x2, y2 in read_marks(os.path.splitext(path)[0] + ".json"):
-        along = np.array([x2 - x, y2 - y])
-        norm = np.linalg.norm(along)
-        if norm < 1e-6:
-            continue
-        along /= norm
+    for x, y, direction, _ in read_marks(os.path.splitext(path)[0] + ".json"):
+        along = np.array([math.cos(direction), math.sin(direction)])
         across = np.array([-along[1], along[0]])
         for distance in ALONG_PX:
             points = (np.array([x, y]) + distance * along)[None, :] + offsets[:, None] * across
