@@ -165,6 +165,23 @@ TEST(LearnedSlotDetectorTest, FlippedCellsAreMirrorConsistent) {
               HasSubstr("flips: must be 1, 2 or 4"));
 }
 
+TEST(LearnedSlotDetectorTest, PointFiltersAreCheckedAndNamed) {
+  LearnedSlotDetectorOptions options;
+  options.model_path = "marking_points.onnx";
+  std::string error;
+  EXPECT_TRUE(options.IsValid(&error)) << error;
+  EXPECT_DOUBLE_EQ(options.max_point_depth_towards_car_m, 4.0);
+  EXPECT_DOUBLE_EQ(options.min_partner_confidence, 0.0);
+  options.max_point_depth_towards_car_m = -1.0;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("max_point_depth_towards_car_m"));
+  options.max_point_depth_towards_car_m = 0.0;  // off
+  options.min_partner_confidence = options.min_confidence + 0.1;
+  error.clear();
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("min_partner_confidence"));
+}
+
 MarkingPoint Point(double x, double y, double direction_rad, double score = 0.9) {
   MarkingPoint p;
   p.px = {x, y};
