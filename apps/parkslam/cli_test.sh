@@ -102,6 +102,18 @@ expect nonzero "no camera 'roof'" -- "$PARKSLAM" tags --image "$tmp/img/images/f
 # Slots in a top view: JSON with the issue's keys, an overlay, clear errors.
 expect 0 '^\{"marking_points":\[.*\],"slots":\[' -- "$PARKSLAM" detect --image "$tmp/top.png" --json
 expect 0 "wrote $tmp/overlay.png" -- "$PARKSLAM" detect --image "$tmp/top.png" --out "$tmp/overlay.png"
+# The learned detector on the same view (the corridor: nothing to find), on
+# a real ps2.0 view where a car parks in the middle one of three slots
+# (skipped without ../shared/data), and its scale and files.
+expect 0 '^\{"marking_points":\[.*\],"slots":\[' -- "$PARKSLAM" detect --image "$tmp/top.png" --detector learned --json
+sample="${PARKSLAM_SHARED_DATA:-$(dirname "$0")/../../../shared/data}/ps2.0-sample/20160816-1-1540.jpg"
+if [ -f "$sample" ]; then
+  expect 0 "^4 marking points, 3 slots" -- "$PARKSLAM" detect --image "$sample" --detector learned --no-ids
+else
+  echo "skipped: real ps2.0 view not found at $sample"
+fi
+expect nonzero "needs 60 .*got 50" -- "$PARKSLAM" detect --image "$tmp/top.png" --detector learned --pixels-per-m 50
+expect nonzero "nomodels/marking_points.onnx: no such weights file" -- "$PARKSLAM" detect --image "$tmp/top.png" --detector learned --models "$tmp/nomodels"
 [ -s "$tmp/overlay.png" ] && pass || fail "no overlay written"
 expect nonzero "nope.png: no such file" -- "$PARKSLAM" detect --image "$tmp/nope.png"
 printf 'not an image' > "$tmp/fake.png"

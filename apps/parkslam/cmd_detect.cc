@@ -8,6 +8,9 @@
 #include "commands.h"
 #include "image_files.h"
 #include "parkslam/io/output_guard.h"
+#include "parkslam/perception/front_end.h"
+#include "parkslam/perception/learned_slot_detector.h"
+#include "parkslam/perception/learned_slot_id_reader.h"
 #include "parkslam/perception/slot_detector.h"
 #include "parkslam/perception/slot_id_reader.h"
 
@@ -60,9 +63,14 @@ cv::Mat DrawOverlay(const cv::Mat& image, const perception::SlotDetection& detec
 
 struct Options {
   std::string image, out;
+  std::string detector = "classical";
+  std::string models;
   double pixels_per_m = 60.0;
   bool json = false, no_ids = false;
 };
+
+// The networks were trained on 600 px views of 10 m.
+constexpr double kLearnedPixelsPerM = 60.0;
 
 // The top view's grey levels; fails on an image too small or of another kind.
 cv::Mat GreyTopView(const cv::Mat& image, const std::string& path) {
@@ -83,16 +91,30 @@ cv::Mat GreyTopView(const cv::Mat& image, const std::string& path) {
   return grey;
 }
 
-// The painted ID of every detected slot.
-std::vector<SlotIdReading> ReadIds(const cv::Mat& grey, const perception::SlotDetection& detection,
-                                   double pixels_per_m) {
+// The painted ID of every detected slot. With `learned` (the ID network's
+// file), as the front end reads them: the classical reader first, the
+// network where it does not read every digit surely.
+std::vector<SlotIdReading> ReadIds(const cv::Mat& image, const cv::Mat& grey,
+                                   const perception::SlotDetection& detection, double pixels_per_m,
+                                   const std::string& learned) {
   std::vector<SlotIdReading> ids(detection.slots.size());
   perception::SlotIdReaderOptions reader_options;
   reader_options.pixels_per_m = pixels_per_m;
   const perception::SlotIdReader reader(reader_options);
+  std::unique_ptr<perception::LearnedSlotIdReader> network;
+  if (!learned.empty()) {
+    perception::LearnedSlotIdReaderOptions network_options;
+    network_options.model_path = learned;
+    network = std::make_unique<perception::LearnedSlotIdReader>(network_options);
+  }
+  const double min_confidence = perception::PerceptionOptions{}.classical_id_min_confidence;
   for (size_t k = 0; k < detection.slots.size(); ++k) {
     const perception::DetectedSlot& slot = detection.slots[k];
-    ids[k] = reader.Read(grey, {slot.corners_px[0], slot.corners_px[1], slot.depth_dir_px});
+    const perception::EntranceInImage entrance{slot.corners_px[0], slot.corners_px[1],
+                                               slot.depth_dir_px};
+    ids[k] = reader.Read(grey, entrance);
+    const bool sure = !ids[k].empty() && !ids[k].partial() && ids[k].confidence() >= min_confidence;
+    if (network != nullptr && !sure) ids[k] = network->Read(image, entrance);
   }
   return ids;
 }
@@ -147,16 +169,35 @@ void PrintDetection(const perception::SlotDetection& detection,
 }
 
 void Run(const Options& o) {
-  io::CheckOutputsSpareInputs({{o.out, "--out"}}, {{o.image, "--image"}});
+  io::CheckOutputsSpareInputs({{o.out, "--out"}}, {{o.image, "--image"}, {o.models, "--models"}});
   const cv::Mat image = ReadImage(o.image, cv::IMREAD_UNCHANGED);
   const cv::Mat grey = GreyTopView(image, o.image);
-  perception::SlotDetectorOptions detector_options;
-  detector_options.pixels_per_m = o.pixels_per_m;
-  const perception::SlotDetector detector(detector_options);
-  const perception::SlotDetection detection = detector.Detect(grey);
-  const std::vector<SlotIdReading> ids = o.no_ids
-                                             ? std::vector<SlotIdReading>(detection.slots.size())
-                                             : ReadIds(grey, detection, o.pixels_per_m);
+  const bool learned = o.detector == "learned";
+  if (learned && o.pixels_per_m != kLearnedPixelsPerM) {
+    char got[32];
+    std::snprintf(got, sizeof got, "%g", o.pixels_per_m);
+    throw std::invalid_argument(
+        std::string("--pixels-per-m: --detector learned needs 60 (its networks learned 600 px "
+                    "for 10 m), got ") +
+        got);
+  }
+  const std::string models = o.models.empty() ? perception::DefaultModelDir() : o.models;
+  perception::SlotDetection detection;
+  if (learned) {
+    perception::LearnedSlotDetectorOptions detector_options;
+    detector_options.model_path = models + "/marking_points.onnx";
+    cv::Mat colour = image;
+    if (image.channels() == 1) cv::cvtColor(image, colour, cv::COLOR_GRAY2BGR);
+    detection = perception::LearnedSlotDetector(detector_options).Detect(colour);
+  } else {
+    perception::SlotDetectorOptions detector_options;
+    detector_options.pixels_per_m = o.pixels_per_m;
+    detection = perception::SlotDetector(detector_options).Detect(grey);
+  }
+  const std::vector<SlotIdReading> ids =
+      o.no_ids ? std::vector<SlotIdReading>(detection.slots.size())
+               : ReadIds(image.channels() == 1 ? grey : image, grey, detection, o.pixels_per_m,
+                         learned ? models + "/slot_ids.onnx" : "");
 
   if (!o.out.empty()) WriteImage(o.out, DrawOverlay(image, detection, ids));
 
@@ -185,6 +226,15 @@ void AddDetectCommand(CLI::App& app) {
                   "Top-view scale (ps2.0 and the default top view: 600 px for 10 m)")
       ->check(CLI::Range(10.0, 500.0))
       ->capture_default_str();
+  cmd->add_option("--detector", options->detector,
+                  "Slot detector and ID reader: classical (lines and corners, seven-segment "
+                  "digits) or learned (the networks of models/, docs/learned_perception.md; "
+                  "60 px/m only)")
+      ->check(CLI::IsMember({"classical", "learned"}))
+      ->capture_default_str();
+  cmd->add_option("--models", options->models,
+                  "Folder holding marking_points.onnx and slot_ids.onnx for --detector learned "
+                  "(default: the committed networks)");
   cmd->add_flag("--no-ids", options->no_ids, "Do not read slot IDs");
   cmd->add_flag("--json", options->json,
                 "Print one JSON object: marking_points (x, y, direction_rad, shape) and slots "
