@@ -226,15 +226,10 @@ void AddDetectCommand(CLI::App& app) {
                   "Top-view scale (ps2.0 and the default top view: 600 px for 10 m)")
       ->check(CLI::Range(10.0, 500.0))
       ->capture_default_str();
-  cmd->add_option("--detector", options->detector,
-                  "Slot detector and ID reader: classical (lines and corners, seven-segment "
-                  "digits) or learned (the networks of models/, docs/learned_perception.md; "
-                  "60 px/m only)")
-      ->check(CLI::IsMember({"classical", "learned"}))
-      ->capture_default_str();
+  AddDetectorOption(cmd, &options->detector);
   cmd->add_option("--models", options->models,
                   "Folder holding marking_points.onnx and slot_ids.onnx for --detector learned "
-                  "(default: the committed networks)");
+                  "(default: the committed networks; 60 px/m only)");
   cmd->add_flag("--no-ids", options->no_ids, "Do not read slot IDs");
   cmd->add_flag("--json", options->json,
                 "Print one JSON object: marking_points (x, y, direction_rad, shape) and slots "

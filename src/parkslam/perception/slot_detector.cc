@@ -535,10 +535,11 @@ bool SlotDetectorOptions::IsValid(std::string* error) const {
 // max_vehicle_depth_m past that line, else beyond its far end.
 bool SlotOpensAsAllowed(const Eigen::Vector2d& a_px, const Eigen::Vector2d& b_px,
                         const Eigen::Vector2d& depth_dir, const Eigen::Vector2d& centre_px,
-                        double pixels_per_m, bool require_facing, double max_vehicle_depth_m) {
+                        double pixels_per_m, bool parallel, bool require_facing,
+                        double max_vehicle_depth_m) {
   const double vehicle_depth_px = depth_dir.dot(centre_px - (a_px + b_px) / 2);
   if (!require_facing || vehicle_depth_px <= 0.0) return true;
-  return vehicle_depth_px < max_vehicle_depth_m * pixels_per_m;
+  return !parallel && vehicle_depth_px < max_vehicle_depth_m * pixels_per_m;
 }
 
 SlotDetector::SlotDetector(const SlotDetectorOptions& options) : options_(options) {
@@ -901,9 +902,9 @@ class EntrancePairing {
     // The slot opens towards the car: its interior lies beyond the
     // entrance as seen from the image centre.
     const Eigen::Vector2d centre_px((f_.grey.cols - 1) / 2.0, (f_.grey.rows - 1) / 2.0);
-    if (!SlotOpensAsAllowed(
-            pi.px, pj.px, depth_dir, centre_px, f_.s, o.require_entrance_facing_vehicle,
-            length_m < o.parallel_min_entrance_m ? o.max_vehicle_depth_in_row_m : 0.0)) {
+    if (!SlotOpensAsAllowed(pi.px, pj.px, depth_dir, centre_px, f_.s,
+                            length_m >= o.parallel_min_entrance_m,
+                            o.require_entrance_facing_vehicle, o.max_vehicle_depth_in_row_m)) {
       return std::nullopt;
     }
     if (ThirdPointOn(i, j)) return std::nullopt;

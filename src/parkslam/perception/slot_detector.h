@@ -164,12 +164,13 @@ struct SlotDetectorOptions {
 
 // Whether a slot whose entrance runs through `a_px` and `b_px` and whose
 // interior lies along the unit `depth_dir` opens as the options allow:
-// away from the car at `centre_px`, or towards it with the car less than
-// max_vehicle_depth_in_row_m (at `pixels_per_m`) past the entrance, inside
-// the slot's row.
+// away from the car at `centre_px`, or, unless it is `parallel`, towards it
+// with the car less than max_vehicle_depth_m (at `pixels_per_m`) past the
+// entrance, inside the slot's row.
 bool SlotOpensAsAllowed(const Eigen::Vector2d& a_px, const Eigen::Vector2d& b_px,
                         const Eigen::Vector2d& depth_dir, const Eigen::Vector2d& centre_px,
-                        double pixels_per_m, bool require_facing, double max_vehicle_depth_m);
+                        double pixels_per_m, bool parallel, bool require_facing,
+                        double max_vehicle_depth_m);
 
 // A painted line's centreline found in the image, from end to end.
 struct PaintedLine {

@@ -69,9 +69,9 @@ std::vector<DetectedSlot> PairMarkingPoints(const std::vector<MarkingPoint>& poi
       const Eigen::Vector2d depth_dir = (da + db).normalized();
       // The separating lines leave the entrance line, not run along it.
       if (std::abs(Cross(e.normalized(), depth_dir)) < min_sin) continue;
-      if (!SlotOpensAsAllowed(
-              a.px, b.px, depth_dir, centre_px, s, o.require_entrance_facing_vehicle,
-              length_m < o.parallel_min_entrance_m ? o.max_vehicle_depth_in_row_m : 0.0)) {
+      if (!SlotOpensAsAllowed(a.px, b.px, depth_dir, centre_px, s,
+                              length_m >= o.parallel_min_entrance_m,
+                              o.require_entrance_facing_vehicle, o.max_vehicle_depth_in_row_m)) {
         continue;
       }
       bool third_point = false;
