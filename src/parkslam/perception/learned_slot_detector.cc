@@ -26,6 +26,11 @@ bool LearnedSlotDetectorOptions::IsValid(std::string* error) const {
   c.Between(min_confidence, 0.0, 1.0, "min_confidence", "");
   c.Require(min_partner_confidence >= 0.0 && min_partner_confidence <= min_confidence,
             "min_partner_confidence", "must be in [0, min_confidence]");
+  c.Require(weak_point_min_confidence >= 0.0 && weak_point_min_confidence <= min_confidence,
+            "weak_point_min_confidence", "must be in [0, min_confidence]");
+  c.PositiveAtMost(weak_point_max_angle_rad, 1.5707963267948966, "weak_point_max_angle_rad", "rad");
+  c.Require(weak_point_min_painted_share >= 0.0 && weak_point_min_painted_share <= 1.0,
+            "weak_point_min_painted_share", "must be in [0, 1]");
   c.Require(flips == 1 || flips == 2 || flips == 4, "flips", "must be 1, 2 or 4");
   c.NonNegative(nms_radius_px, "nms_radius_px");
   c.InRange(max_point_depth_towards_car_m, 0.0, 100.0, "max_point_depth_towards_car_m", "m");
@@ -181,10 +186,11 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
   for (int cy = 0; cy < g; ++cy) {
     for (int cx = 0; cx < g; ++cx) {
       const auto at = [&](int k) { return static_cast<double>(cells.at<float>(k, cy, cx)); };
-      if (at(0) < options_.min_confidence &&
-          (options_.min_partner_confidence <= 0.0 || at(0) < options_.min_partner_confidence)) {
-        continue;
-      }
+      const double lowest = std::min(
+          {options_.min_confidence,
+           options_.min_partner_confidence > 0.0 ? options_.min_partner_confidence : 1.0,
+           options_.weak_point_min_confidence > 0.0 ? options_.weak_point_min_confidence : 1.0});
+      if (at(0) < lowest) continue;
       MarkingPoint p;
       p.px = Eigen::Vector2d((cx + at(1)) * scale_x - 0.5, (cy + at(2)) * scale_y - 0.5);
       p.direction_rad = std::atan2(at(4), at(3));
@@ -214,6 +220,35 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
         std::any_of(result.marking_points.begin(), result.marking_points.end(),
                     [&](const MarkingPoint& q) { return (p.px - q.px).squaredNorm() < r2; });
     if (!near_kept) result.marking_points.push_back(p);
+  }
+  cv::Mat grey = top_view;
+  if (grey.channels() == 3) cv::cvtColor(top_view, grey, cv::COLOR_BGR2GRAY);
+  if (options_.weak_point_min_confidence > 0.0 || options_.strong_points_need_paint) {
+    // Points below the threshold stay where the paint shows their
+    // junction; with strong_points_need_paint, points above it go where
+    // the paint is in view and shows none.
+    std::vector<MarkingPoint> kept;
+    for (const MarkingPoint& p : result.marking_points) {
+      const bool strong = p.score >= options_.min_confidence;
+      const bool weak =
+          options_.weak_point_min_confidence > 0.0 && p.score >= options_.weak_point_min_confidence;
+      const bool partner =
+          options_.min_partner_confidence > 0.0 && p.score >= options_.min_partner_confidence;
+      if (!strong && !weak) {
+        if (partner) kept.push_back(p);  // left to the partner rule below
+        continue;
+      }
+      if (strong && !options_.strong_points_need_paint) {
+        kept.push_back(p);
+        continue;
+      }
+      const PointPaint paint =
+          MeasurePointPaint(grey, mask, p.px, p.direction_rad, options_.weak_point_max_angle_rad,
+                            options_.weak_point_min_painted_share, paint_check_);
+      const bool junction = paint.separating && paint.entrance;
+      if (junction || (strong && !paint.in_view)) kept.push_back(p);
+    }
+    result.marking_points = std::move(kept);
   }
   if (options_.min_partner_confidence > 0.0) {
     // Weak points stay only as partners of strong ones in a slot.
@@ -257,8 +292,6 @@ SlotDetection LearnedSlotDetector::Detect(const cv::Mat& top_view, const cv::Mat
   }
   result.slots = PairMarkingPoints(result.marking_points, top_view.size(), options_.pairing);
   if (options_.check_paint || options_.refine_on_paint) {
-    cv::Mat grey = top_view;
-    if (grey.channels() == 3) cv::cvtColor(top_view, grey, cv::COLOR_BGR2GRAY);
     if (options_.check_paint) CheckOnPaint(grey, mask, &result);
     if (options_.refine_on_paint) {
       for (DetectedSlot& slot : result.slots) {

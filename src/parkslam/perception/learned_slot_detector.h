@@ -52,6 +52,18 @@ struct LearnedSlotDetectorOptions {
   // makes a slot (every pairing rule) with a point of min_confidence or
   // more (0: none kept).
   double min_partner_confidence = 0.0;
+  // A weaker point, of at least weak_point_min_confidence, is kept where
+  // the paint shows its junction (slot_paint_check.h, MeasurePointPaint):
+  // its separating line along the network's direction, within
+  // weak_point_max_angle_rad, and an entrance line at a right angle to it
+  // (0: none kept). With strong_points_need_paint, points of
+  // min_confidence or more wholly in view without that junction go too.
+  double weak_point_min_confidence = 0.0;
+  double weak_point_max_angle_rad = 0.35;
+  // Each line painted in at least this share of its cross-sections in view
+  // (0: refine_min_sections of them suffice).
+  double weak_point_min_painted_share = 0.0;
+  bool strong_points_need_paint = false;
   // Test-time flips: the network also sees the view mirrored left-right
   // (2) or left-right, up-down and both (4), and the cells are averaged
   // after mirroring them back. 1: the view alone. Each flip costs one more
@@ -105,6 +117,10 @@ struct LearnedSlotDetectorOptions {
     v("input_size_px", input_size_px);
     v("min_confidence", min_confidence);
     v("min_partner_confidence", min_partner_confidence);
+    v("weak_point_min_confidence", weak_point_min_confidence);
+    v("weak_point_max_angle_rad", weak_point_max_angle_rad);
+    v("weak_point_min_painted_share", weak_point_min_painted_share);
+    v("strong_points_need_paint", strong_points_need_paint);
     v("flips", flips);
     v("max_point_depth_towards_car_m", max_point_depth_towards_car_m);
     v("nms_radius_px", nms_radius_px);

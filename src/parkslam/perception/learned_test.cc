@@ -180,6 +180,17 @@ TEST(LearnedSlotDetectorTest, PointFiltersAreCheckedAndNamed) {
   error.clear();
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_THAT(error, HasSubstr("min_partner_confidence"));
+  options.min_partner_confidence = 0.0;
+  EXPECT_DOUBLE_EQ(options.weak_point_min_confidence, 0.0);
+  options.weak_point_min_confidence = options.min_confidence + 0.1;
+  error.clear();
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("weak_point_min_confidence"));
+  options.weak_point_min_confidence = 0.5;
+  options.weak_point_min_painted_share = 1.5;
+  error.clear();
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("weak_point_min_painted_share"));
 }
 
 MarkingPoint Point(double x, double y, double direction_rad, double score = 0.9) {

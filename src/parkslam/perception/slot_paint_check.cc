@@ -86,11 +86,14 @@ StraightFit FitStraight(const std::vector<double>& x, const std::vector<double>&
 // least min_contrast; the centroid of each section's response above a
 // quarter of its peak is a centre. Fits the line through the centres
 // (least squares of the offset against t) and returns false when fewer
-// than min_sections show paint.
+// than min_sections show paint. in_view_count, when given, counts the
+// sections wholly in view, painted or not, and painted_count those with
+// paint.
 bool FitLineNear(const cv::Mat& grey, const cv::Mat& mask, const Eigen::Vector2d& origin,
                  const Eigen::Vector2d& dir, double t_begin, double t_end, double half_window,
                  double min_contrast, int min_sections, Eigen::Vector2d* point,
-                 Eigen::Vector2d* direction) {
+                 Eigen::Vector2d* direction, int* in_view_count = nullptr,
+                 int* painted_count = nullptr) {
   const Eigen::Vector2d normal(-dir.y(), dir.x());
   const int half = static_cast<int>(std::ceil(half_window));
   std::vector<double> ts, offsets, profile(2 * half + 1), sorted;
@@ -102,6 +105,7 @@ bool FitLineNear(const cv::Mat& grey, const cv::Mat& mask, const Eigen::Vector2d
       in_view = !std::isnan(profile[i + half]);
     }
     if (!in_view) continue;
+    if (in_view_count != nullptr) ++*in_view_count;
     sorted = profile;
     std::nth_element(sorted.begin(), sorted.begin() + half, sorted.end());
     const double floor = sorted[half];
@@ -117,6 +121,7 @@ bool FitLineNear(const cv::Mat& grey, const cv::Mat& mask, const Eigen::Vector2d
     ts.push_back(t);
     offsets.push_back(moment / sum);
   }
+  if (painted_count != nullptr) *painted_count = static_cast<int>(ts.size());
   if (static_cast<int>(ts.size()) < min_sections) return false;
   const StraightFit fit = FitStraight(ts, offsets);
   *point = origin + fit.mean_x * dir + fit.mean_y * normal;
@@ -324,6 +329,42 @@ int RefineSlotCorners(const cv::Mat& grey, const cv::Mat& mask, const SlotPaintC
   slot->corners_px[3] = slot->corners_px[0] + depth_px * slot->depth_dir_px;
   slot->corners_px[2] = slot->corners_px[1] + depth_px * slot->depth_dir_px;
   return moved;
+}
+
+PointPaint MeasurePointPaint(const cv::Mat& grey, const cv::Mat& mask, const Eigen::Vector2d& px,
+                             double direction_rad, double max_angle_rad, double min_painted_share,
+                             const SlotPaintCheckOptions& o) {
+  PointPaint result;
+  const double s = o.pixels_per_m;
+  const double half_window = o.refine_half_window_m * s;
+  const double min_cos = std::cos(max_angle_rad);
+  // A line from px along unit dir over [begin, end] m: whether it is there,
+  // and how many of its cross-sections were in view.
+  const auto line_along = [&](const Eigen::Vector2d& dir, double end_m, int* in_view) {
+    Eigen::Vector2d point, fitted;
+    int painted = 0;
+    *in_view = 0;
+    return FitLineNear(grey, mask, px, dir, o.refine_begin_m * s, end_m * s, half_window,
+                       o.min_contrast_grey, o.refine_min_sections, &point, &fitted, in_view,
+                       &painted) &&
+           painted >= min_painted_share * *in_view && fitted.dot(dir) >= min_cos;
+  };
+  const Eigen::Vector2d along(std::cos(direction_rad), std::sin(direction_rad));
+  int separating_in_view = 0;
+  result.separating = line_along(along, o.refine_separating_end_m, &separating_in_view);
+  // The entrance line leaves the junction at a right angle, to one side
+  // (an L) or to both (a T).
+  int entrance_in_view = 0;
+  for (const double side : {1.0, -1.0}) {
+    int in_view = 0;
+    if (line_along(side * Eigen::Vector2d(-along.y(), along.x()), o.refine_end_m, &in_view)) {
+      result.entrance = true;
+    }
+    entrance_in_view = std::max(entrance_in_view, in_view);
+  }
+  result.in_view =
+      separating_in_view >= o.refine_min_sections && entrance_in_view >= o.refine_min_sections;
+  return result;
 }
 
 }  // namespace parkslam::perception

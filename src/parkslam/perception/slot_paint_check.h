@@ -131,6 +131,26 @@ std::vector<RowCorner> FindRowCorners(const cv::Mat& grey, const cv::Mat& mask,
 int RefineSlotCorners(const cv::Mat& grey, const cv::Mat& mask,
                       const SlotPaintCheckOptions& options, DetectedSlot* slot);
 
+// What the paint shows next to a marking point at px whose separating line
+// leaves along direction_rad: that line (cross-sections from refine_begin_m
+// to refine_separating_end_m along it), and the entrance line leaving the
+// point at a right angle to either side (refine_begin_m to refine_end_m),
+// each fitted as RefineSlotCorners fits them, within max_angle_rad of the
+// direction expected, and with paint in at least min_painted_share of its
+// cross-sections in view (0: refine_min_sections of them suffice). A
+// detector's weak points may be checked so: a junction of paint is there
+// or it is not.
+struct PointPaint {
+  // Both lines had at least refine_min_sections cross-sections in view,
+  // so that their absence means something.
+  bool in_view = false;
+  bool separating = false;
+  bool entrance = false;
+};
+PointPaint MeasurePointPaint(const cv::Mat& grey, const cv::Mat& mask, const Eigen::Vector2d& px,
+                             double direction_rad, double max_angle_rad, double min_painted_share,
+                             const SlotPaintCheckOptions& options);
+
 }  // namespace parkslam::perception
 
 #endif  // PARKSLAM_PERCEPTION_SLOT_PAINT_CHECK_H_

@@ -167,6 +167,46 @@ TEST(SlotPaintCheckTest, CornersMoveToTheCentrelinesCrossing) {
   EXPECT_EQ(bare.corners_px[0], Eigen::Vector2d(250, 560));
 }
 
+TEST(SlotPaintCheckTest, AJunctionOfPaintIsSeenAtItsPointOnly) {
+  const cv::Mat grey = DrawnRow();
+  SlotPaintCheckOptions options;
+  const double down = M_PI / 2.0;  // separating lines run to +y
+  const double max_angle = 0.35;
+  const double share = 0.7;
+  // A T at (250, 200), an L at (550, 200) (entrance to one side only).
+  for (const double x : {250.0, 550.0}) {
+    const PointPaint at =
+        MeasurePointPaint(grey, cv::Mat(), {x, 200.0}, down, max_angle, share, options);
+    EXPECT_TRUE(at.in_view) << x;
+    EXPECT_TRUE(at.separating) << x;
+    EXPECT_TRUE(at.entrance) << x;
+  }
+  // A few pixels off still finds it: the network's point is that coarse.
+  EXPECT_TRUE(MeasurePointPaint(grey, cv::Mat(), {254.0, 204.0}, down, max_angle, share, options)
+                  .separating);
+  // The L turned outwards, along where its entrance line would go on: no
+  // paint there (a T turned a quarter is a junction still).
+  const PointPaint turned =
+      MeasurePointPaint(grey, cv::Mat(), {550.0, 200.0}, 0.0, max_angle, share, options);
+  EXPECT_TRUE(turned.in_view);
+  EXPECT_FALSE(turned.separating);
+  // Bare floor between the lines: in view, no junction.
+  const PointPaint floor =
+      MeasurePointPaint(grey, cv::Mat(), {175.0, 350.0}, down, max_angle, share, options);
+  EXPECT_TRUE(floor.in_view);
+  EXPECT_FALSE(floor.separating);
+  EXPECT_FALSE(floor.entrance);
+  // The far end of a separating line: the line runs away from the point,
+  // no entrance line crosses it.
+  const PointPaint far_end =
+      MeasurePointPaint(grey, cv::Mat(), {250.0, 500.0}, -down, max_angle, share, options);
+  EXPECT_TRUE(far_end.separating);
+  EXPECT_FALSE(far_end.entrance);
+  // Off the image: nothing can be said.
+  EXPECT_FALSE(
+      MeasurePointPaint(grey, cv::Mat(), {-100.0, 200.0}, down, max_angle, share, options).in_view);
+}
+
 TEST(SlotPairingTest, AWeakPointInsideASlotIsDroppedWithItsSlots) {
   // A parallel slot 6 m long, and a weaker point 0.37 m inside it (painted
   // digits): it pairs with both ends into two false slots.
