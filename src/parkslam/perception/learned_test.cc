@@ -381,7 +381,9 @@ cv::Mat Output(const std::vector<std::pair<char, float>>& positions) {
 }
 
 TEST(LearnedSlotIdReaderTest, DecodeReadsUntilAPositionIsSurelyEmpty) {
-  const LearnedSlotIdReaderOptions options;  // both thresholds 0.5
+  const LearnedSlotIdReaderOptions options;  // both thresholds 0.8
+  EXPECT_DOUBLE_EQ(options.min_digit_probability, 0.8);
+  EXPECT_DOUBLE_EQ(options.min_end_probability, 0.8);
   EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.95f}}), options).best(),
             "14");
   EXPECT_EQ(
@@ -389,14 +391,15 @@ TEST(LearnedSlotIdReaderTest, DecodeReadsUntilAPositionIsSurelyEmpty) {
       "A7");
   // A character too unsure is unread; so is a position that is more likely
   // empty than not, but not surely: a worn last digit gives "1?", not "1".
-  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.3f}}), options).best(), "1?");
-  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.45f}}), options).best(),
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.6f}}), options).best(), "1?");
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.7f}}), options).best(),
             "1?");
-  LearnedSlotIdReaderOptions strict;
-  strict.min_end_probability = 0.9;
-  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.8f}}), strict).best(), "1?");
-  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.95f}}), strict).best(), "1");
-  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.6f}}), strict).best(), "14");
+  LearnedSlotIdReaderOptions loose;
+  loose.min_digit_probability = 0.5;
+  loose.min_end_probability = 0.5;
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.45f}}), loose).best(), "1?");
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.7f}}), loose).best(), "1");
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.6f}}), loose).best(), "14");
   // Nothing read at all: empty.
   EXPECT_TRUE(LearnedSlotIdReader::Decode(Output({{' ', 0.45f}}), options).empty());
   EXPECT_TRUE(LearnedSlotIdReader::Decode(Output({}), options).empty());
