@@ -101,7 +101,7 @@ struct Options {
   double follow_speed_kmh = 10.0;
   double live_images_hz = 5.0;
   bool observations = false;
-  std::string detector = "classical";
+  std::string detector = "learned";
   int perception_frames = 24;
   bool no_report = false;
   ConfigOptions config;

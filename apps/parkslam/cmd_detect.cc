@@ -63,7 +63,7 @@ cv::Mat DrawOverlay(const cv::Mat& image, const perception::SlotDetection& detec
 
 struct Options {
   std::string image, out;
-  std::string detector = "classical";
+  std::string detector = "learned";
   std::string models;
   double pixels_per_m = 60.0;
   bool json = false, no_ids = false;
@@ -179,7 +179,7 @@ void Run(const Options& o) {
     throw std::invalid_argument(
         std::string("--pixels-per-m: --detector learned needs 60 (its networks learned 600 px "
                     "for 10 m), got ") +
-        got);
+        got + "; --detector classical takes any scale");
   }
   const std::string models = o.models.empty() ? perception::DefaultModelDir() : o.models;
   perception::SlotDetection detection;

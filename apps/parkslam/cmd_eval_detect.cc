@@ -31,7 +31,7 @@ struct Options {
   double rate_hz = 0.5;
   int max_frames = 0;
   bool json = false;
-  std::string detector = "classical";
+  std::string detector = "learned";
   std::string models;
   std::string classical_check = "none";
   int input_size = 256;

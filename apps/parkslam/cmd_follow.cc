@@ -99,7 +99,7 @@ struct Options {
   std::uint64_t seed = 1;
   bool odometry_only = false, json = false;
   double live_images_hz = 0.0;
-  std::string detector = "classical";
+  std::string detector = "learned";
   std::string vehicle = "ideal";
   ConfigOptions config;
 };

@@ -42,7 +42,10 @@ struct PerceptionOptions {
   std::vector<std::string> fisheye_cameras = camera::FisheyeCameraNames();
   std::string tag_camera = camera::kTagCameraName;
   camera::TopViewOptions top_view;
-  DetectorKind detector = DetectorKind::kClassical;
+  // The learned detector is the default since it wins on real views
+  // (docs/learned_perception.md, "Where it stands"); the classical one
+  // stays for comparison and for top views at other scales.
+  DetectorKind detector = DetectorKind::kLearned;
   SlotDetectorOptions slots;
   SlotIdReaderOptions ids;
   // The learned detector and reader; an empty model_path takes the

@@ -392,8 +392,7 @@ TEST(LearnedSlotIdReaderTest, DecodeReadsUntilAPositionIsSurelyEmpty) {
   // A character too unsure is unread; so is a position that is more likely
   // empty than not, but not surely: a worn last digit gives "1?", not "1".
   EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {'4', 0.6f}}), options).best(), "1?");
-  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.7f}}), options).best(),
-            "1?");
+  EXPECT_EQ(LearnedSlotIdReader::Decode(Output({{'1', 0.99f}, {' ', 0.7f}}), options).best(), "1?");
   LearnedSlotIdReaderOptions loose;
   loose.min_digit_probability = 0.5;
   loose.min_end_probability = 0.5;
