@@ -17,7 +17,7 @@ namespace {
 
 struct Fixture {
   camera::CameraRig rig = camera::DefaultRig();
-  perception::PerceptionFrontEnd front_end{rig};
+  perception::PerceptionFrontEnd front_end{rig, ClassicalOptions()};
   perception::PerceptionFrontEnd learned_front_end{rig, LearnedOptions()};
   perception::PerceptionFrontEnd network_ids_front_end{rig, LearnedOptions(false)};
   perception::LearnedSlotDetector learned_detector{learned_front_end.options().learned_slots};
@@ -30,7 +30,12 @@ struct Fixture {
   cv::Mat front_mono, top_view;
   perception::SlotDetection detection;
 
-  // The learned front end; the classical reader reads the IDs it is sure
+  static perception::PerceptionOptions ClassicalOptions() {
+    perception::PerceptionOptions o;
+    o.detector = perception::DetectorKind::kClassical;
+    return o;
+  }
+  // The learned front end (the default); the classical reader reads the IDs it is sure
   // of first unless !classical_ids (then the network reads every ID, as in
   // a lot whose IDs are painted in another face).
   static perception::PerceptionOptions LearnedOptions(bool classical_ids = true) {

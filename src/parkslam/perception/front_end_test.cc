@@ -33,8 +33,13 @@ const render::Renderer& Renderer() {
   return r;
 }
 
+// The classical front end (the learned one is the default, tested below).
 const PerceptionFrontEnd& FrontEnd() {
-  static const PerceptionFrontEnd f(camera::DefaultRig());
+  static const PerceptionFrontEnd f(camera::DefaultRig(), [] {
+    PerceptionOptions options;
+    options.detector = DetectorKind::kClassical;
+    return options;
+  }());
   return f;
 }
 
@@ -76,6 +81,7 @@ TEST(PerceptionFrontEndTest, SlotsInTheAisleLandOnTheTruth) {
 // a missed one).
 TEST(PerceptionFrontEndTest, LearnedSlotsInTheAisleLandOnTheTruth) {
   PerceptionOptions options;
+  EXPECT_EQ(options.detector, DetectorKind::kLearned);  // the default
   options.detector = DetectorKind::kLearned;
   const PerceptionFrontEnd learned(camera::DefaultRig(), options);
   const SE2 T_map_vehicle(30.0, 9.1, 0.0);
