@@ -109,10 +109,14 @@ expect 0 '^\{"marking_points":\[.*\],"slots":\[' -- "$PARKSLAM" detect --image "
 sample="${PARKSLAM_SHARED_DATA:-$(dirname "$0")/../../../shared/data}/ps2.0-sample/20160816-1-1540.jpg"
 if [ -f "$sample" ]; then
   expect 0 "^4 marking points, 3 slots" -- "$PARKSLAM" detect --image "$sample" --detector learned --no-ids
+  # The learned detector is the default; the classical one pairs none there.
+  expect 0 "^4 marking points, 3 slots" -- "$PARKSLAM" detect --image "$sample" --no-ids
+  expect 0 "^4 marking points, 0 slots" -- "$PARKSLAM" detect --image "$sample" --detector classical --no-ids
 else
   echo "skipped: real ps2.0 view not found at $sample"
 fi
-expect nonzero "needs 60 .*got 50" -- "$PARKSLAM" detect --image "$tmp/top.png" --detector learned --pixels-per-m 50
+expect nonzero "needs 60 .*got 50; --detector classical takes any scale" -- "$PARKSLAM" detect --image "$tmp/top.png" --pixels-per-m 50
+expect 0 '"slots":' -- "$PARKSLAM" detect --image "$tmp/top.png" --detector classical --pixels-per-m 50 --json
 expect nonzero "nomodels/marking_points.onnx: no such weights file" -- "$PARKSLAM" detect --image "$tmp/top.png" --detector learned --models "$tmp/nomodels"
 [ -s "$tmp/overlay.png" ] && pass || fail "no overlay written"
 expect nonzero "nope.png: no such file" -- "$PARKSLAM" detect --image "$tmp/nope.png"
