@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
@@ -96,6 +97,16 @@ void PerceptionFrontEnd::MakeDetectors() {
   options_.learned_slots.classical_options = options_.slots;
   options_.learned_ids.pixels_per_m = pixels_per_m;
   if (options_.detector == DetectorKind::kLearned) {
+    // The networks learned 600 px for 10 m (the ps2.0 scale).
+    if (std::abs(pixels_per_m - 60.0) > 0.01 * 60.0) {
+      char got[64];
+      std::snprintf(got, sizeof got, "%g px for %g m",
+                    static_cast<double>(options_.top_view.size_px), options_.top_view.extent_m);
+      throw std::invalid_argument(
+          std::string("perception: top_view: the learned detector needs 60 px a metre "
+                      "(size_px 600, extent_m 10), got ") +
+          got + "; the classical detector (--detector classical) takes any scale");
+    }
     if (options_.learned_slots.model_path.empty()) {
       options_.learned_slots.model_path = DefaultModelDir() + "/marking_points.onnx";
     }

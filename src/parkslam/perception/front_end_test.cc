@@ -167,6 +167,22 @@ TEST(PerceptionSourceTest, ReplacesObservationsByWhatTheCamerasSee) {
   EXPECT_GT(source.frames_processed(), 5);
 }
 
+TEST(PerceptionFrontEndTest, TheLearnedDetectorRefusesAnotherScale) {
+  PerceptionOptions options;       // learned
+  options.top_view.size_px = 500;  // 50 px a metre
+  try {
+    PerceptionFrontEnd f(camera::DefaultRig(), options);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("top_view: the learned detector needs 60 px a metre"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("got 500 px for 10 m"), std::string::npos) << e.what();
+  }
+  options.detector = DetectorKind::kClassical;
+  EXPECT_NO_THROW(PerceptionFrontEnd(camera::DefaultRig(), options));
+}
+
 TEST(PerceptionFrontEndTest, MissingCamerasAreNamed) {
   camera::CameraRig rig = camera::DefaultRig();
   rig.cameras.erase(rig.cameras.begin());  // "front"
