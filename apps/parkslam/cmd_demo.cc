@@ -101,7 +101,7 @@ struct Options {
   double follow_speed_kmh = 10.0;
   double live_images_hz = 5.0;
   bool observations = false;
-  std::string detector = "learned";
+  std::string detector;  // --detector; empty: the configuration's front_end.detector
   int perception_frames = 24;
   bool no_report = false;
   ConfigOptions config;
@@ -319,7 +319,7 @@ void Run(const Options& o) {
                 : harness::FrameSource(harness::FromObservations{});
   const AlgorithmOptions config = o.config.Load();
   perception::PerceptionOptions perception = config.front_end;
-  perception.detector = perception::ParseDetectorKind(o.detector);
+  if (!o.detector.empty()) perception.detector = perception::ParseDetectorKind(o.detector);
   const sim::ScenarioConfig scenario = ResolveScenario(o.scenario);
   nlohmann::json metrics;
   const int steps = 7 + (o.consistency_runs > 0) + (o.follow_runs > 0) + (o.perception_frames > 0) +

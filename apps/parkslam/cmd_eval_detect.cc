@@ -31,7 +31,7 @@ struct Options {
   double rate_hz = 0.5;
   int max_frames = 0;
   bool json = false;
-  std::string detector = "learned";
+  std::string detector;  // --detector; empty: the configuration's front_end.detector
   std::string models;
   std::string classical_check = "none";
   int input_size = 256;
@@ -60,10 +60,9 @@ void AddFlags(CLI::App* cmd, Options* options) {
       "simulated frames the top view itself (N_top.png)");
   cmd->add_flag("--json", options->json, "Print one JSON object");
   cmd->add_option("--detector", options->detector,
-                  "Slot detector and ID reader: classical (lines and corners) or learned (the "
-                  "networks of models/)")
-      ->check(CLI::IsMember({"classical", "learned"}))
-      ->capture_default_str();
+                  "Slot detector and ID reader: learned (the networks of models/) or classical "
+                  "(lines and corners); default: front_end.detector of --config, learned")
+      ->check(CLI::IsMember({"classical", "learned"}));
   cmd->add_option("--models", options->models,
                   "Folder holding marking_points.onnx and slot_ids.onnx for --detector learned "
                   "(default: the committed ones)");
@@ -95,7 +94,7 @@ void AddFlags(CLI::App* cmd, Options* options) {
 // The front end's options: --config, then the learned detector's flags.
 perception::PerceptionOptions PerceptionOf(const Options& o) {
   perception::PerceptionOptions perception_options = o.config.Load().front_end;
-  perception_options.detector = perception::ParseDetectorKind(o.detector);
+  if (!o.detector.empty()) perception_options.detector = perception::ParseDetectorKind(o.detector);
   if (!o.models.empty()) {
     perception_options.learned_slots.model_path = o.models + "/marking_points.onnx";
     perception_options.learned_ids.model_path = o.models + "/slot_ids.onnx";

@@ -99,7 +99,7 @@ struct Options {
   std::uint64_t seed = 1;
   bool odometry_only = false, json = false;
   double live_images_hz = 0.0;
-  std::string detector = "learned";
+  std::string detector;  // --detector; empty: the configuration's front_end.detector
   std::string vehicle = "ideal";
   ConfigOptions config;
 };
@@ -141,7 +141,7 @@ harness::TraceFollowingOptions FollowOptionsOf(const Options& o) {
   follow.seed = o.seed;
   follow.odometry_only = o.odometry_only;
   if (o.live_images_hz > 0.0) follow.frames = harness::FromLiveRendering{o.live_images_hz};
-  follow.perception.detector = perception::ParseDetectorKind(o.detector);
+  if (!o.detector.empty()) follow.perception.detector = perception::ParseDetectorKind(o.detector);
   if (o.vehicle == "realistic") follow.vehicle_dynamics = sim::RealisticDynamics();
   return follow;
 }

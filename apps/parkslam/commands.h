@@ -92,7 +92,7 @@ void AddConfigOptions(CLI::App* command, ConfigOptions* options);
 struct PixelOptions {
   double live_images_hz = 0.0;
   bool images = false;
-  std::string detector = "learned";
+  std::string detector;             // --detector; empty: the configuration's front_end.detector
   std::vector<std::string> faults;  // --fault, as written
   // The front end's options (from --config, else the defaults) with the
   // chosen detector.

@@ -161,17 +161,16 @@ harness::StreamOptions PixelOptions::Stream(const std::filesystem::path& dataset
 void AddDetectorOption(CLI::App* command, std::string* detector) {
   command
       ->add_option("--detector", *detector,
-                   "On pixels: the slot detector and ID reader, classical (lines and corners, "
-                   "seven-segment digits) or learned (the networks of models/, "
-                   "docs/learned_perception.md)")
-      ->check(CLI::IsMember({"classical", "learned"}))
-      ->capture_default_str();
+                   "On pixels: the slot detector and ID reader, learned (the networks of "
+                   "models/, docs/learned_perception.md) or classical (lines and corners, "
+                   "seven-segment digits); default: front_end.detector of --config, learned")
+      ->check(CLI::IsMember({"classical", "learned"}));
 }
 
 perception::PerceptionOptions PixelOptions::Perception(
     const perception::PerceptionOptions& base) const {
   perception::PerceptionOptions o = base;
-  o.detector = perception::ParseDetectorKind(detector);
+  if (!detector.empty()) o.detector = perception::ParseDetectorKind(detector);
   return o;
 }
 

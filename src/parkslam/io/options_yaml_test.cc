@@ -25,6 +25,7 @@ std::string OptionsErrorOf(const std::string& yaml) {
 TEST(OptionsYamlTest, TheShippedExampleLoadsAndChangesWhatItSays) {
   const AlgorithmOptions o =
       LoadOptionsFile(std::filesystem::path(PARKSLAM_CONFIG_DIR) / "options.yaml");
+  EXPECT_EQ(o.front_end.detector, perception::DetectorKind::kLearned);
   EXPECT_EQ(o.front_end.corner_sigma_m, 0.05);
   EXPECT_EQ(o.mapper.min_observations, 4);
   EXPECT_EQ(o.localizer.lost_position_sigma_m, 1.0);
@@ -41,6 +42,7 @@ TEST(OptionsYamlTest, DumpedDefaultsReadBackExactly) {
   changed.front_end.top_view.camera_priority_rad = {0.1, -0.2, 0.3, 0.4};
   changed.front_end.tags.quad_decimate = 1.5f;
   changed.localizer.reloc_min_inliers = 9;
+  changed.front_end.detector = perception::DetectorKind::kClassical;
   const std::string text = OptionsToYaml(changed);
   const AlgorithmOptions back = OptionsFromYaml(text, AlgorithmOptions{}, "dump.yaml");
   EXPECT_EQ(OptionsToYaml(back), text);
@@ -49,6 +51,13 @@ TEST(OptionsYamlTest, DumpedDefaultsReadBackExactly) {
   EXPECT_EQ(back.front_end.tags.quad_decimate, 1.5f);
   EXPECT_EQ(back.localizer.reloc_min_inliers, 9);
   EXPECT_THAT(text, HasSubstr("\nmapper:\n  keyframe_distance_m: 0.1\n"));
+  EXPECT_THAT(text, HasSubstr("\n  detector: classical\n"));
+  EXPECT_EQ(back.front_end.detector, perception::DetectorKind::kClassical);
+  // The default is the learned front end, and a file may choose either.
+  EXPECT_THAT(OptionsToYaml(AlgorithmOptions{}), HasSubstr("\n  detector: learned\n"));
+  EXPECT_EQ(OptionsFromYaml("front_end:\n  detector: classical\n", AlgorithmOptions{}, "d.yaml")
+                .front_end.detector,
+            perception::DetectorKind::kClassical);
 }
 
 TEST(OptionsYamlTest, UnknownKeysAndBadValuesNameTheFileLineAndKey) {
@@ -64,6 +73,10 @@ TEST(OptionsYamlTest, UnknownKeysAndBadValuesNameTheFileLineAndKey) {
             "o.yaml: follower.max_decel_mps2: must be positive");
   EXPECT_EQ(OptionsErrorOf("front_end:\n  tag_max_height_m: 0.5\n"),
             "o.yaml: front_end.tag_max_height_m: must be in [1, 10] m");
+  EXPECT_EQ(OptionsErrorOf("front_end:\n  detector: lernd\n"),
+            "o.yaml:2: front_end.detector: 'lernd' is none of classical, learned");
+  EXPECT_THAT(OptionsErrorOf("front_end:\n  detector: [learned]\n"),
+              HasSubstr("o.yaml:2: front_end.detector: "));
   EXPECT_EQ(OptionsErrorOf(""), "");
 }
 

@@ -48,12 +48,21 @@ inline constexpr bool kIsVector = false;
 template <typename T>
 inline constexpr bool kIsVector<std::vector<T>> = true;
 
+// An enum field written as one of its names: EnumNames(E{}), found by
+// argument-dependent lookup beside the enum, gives every value with its
+// name (perception::EnumNames(DetectorKind) is one).
+template <typename E>
+concept NamedEnum = std::is_enum_v<E> && requires(E e) {
+  { EnumNames(e).begin()->first } -> std::convertible_to<E>;
+  { EnumNames(e).begin()->second } -> std::convertible_to<std::string_view>;
+};
+
 // Fields written as one YAML scalar or one short flow list.
 template <typename T>
 inline constexpr bool kIsScalar =
     std::is_same_v<T, double> || std::is_same_v<T, float> || std::is_same_v<T, int> ||
     std::is_same_v<T, bool> || std::is_same_v<T, std::string> ||
-    std::is_same_v<T, Eigen::Vector2d> || std::is_same_v<T, std::vector<double>>;
+    std::is_same_v<T, Eigen::Vector2d> || std::is_same_v<T, std::vector<double>> || NamedEnum<T>;
 
 // ---------------------------------------------------------------------------
 // Reading. All overloads are declared before the templates that call them.
@@ -98,6 +107,20 @@ inline void ReadValue(const YamlReader& r, const YAML::Node& node, const std::st
     read.push_back(r.Point(node[i], IndexKey(path, i)));
   }
   *points = std::move(read);
+}
+template <NamedEnum E>
+inline void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
+                      E* value) {
+  const std::string name = r.String(node, path);
+  std::string names;
+  for (const auto& [e, known] : EnumNames(E{})) {
+    if (name == known) {
+      *value = e;
+      return;
+    }
+    names += (names.empty() ? "" : ", ") + std::string(known);
+  }
+  r.Fail(node, path, "'" + name + "' is none of " + names);
 }
 template <Visitable T>
 inline void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
@@ -180,6 +203,12 @@ inline void AppendScalar(std::string* out, const std::vector<double>& values) {
     yaml_util::AppendYamlDouble(out, values[i]);
   }
   out->push_back(']');
+}
+template <NamedEnum E>
+inline void AppendScalar(std::string* out, E value) {
+  for (const auto& [e, name] : EnumNames(E{})) {
+    if (e == value) out->append(name);
+  }
 }
 inline void AppendScalar(std::string* out, const Eigen::Vector2d& p) {
   out->push_back('[');

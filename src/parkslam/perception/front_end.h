@@ -7,9 +7,11 @@
 // their IDs read; AprilTags are detected in the front camera and located by
 // PnP checked by the direct angle.
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "parkslam/camera/camera_model.h"
@@ -29,6 +31,10 @@ namespace parkslam::perception {
 // (lines and corners, seven-segment digits) or the learned networks
 // (docs/learned_perception.md).
 enum class DetectorKind { kClassical, kLearned };
+// Every kind with its name, for the options file (io/visit_yaml.h).
+inline constexpr std::array<std::pair<DetectorKind, const char*>, 2> EnumNames(DetectorKind) {
+  return {{{DetectorKind::kClassical, "classical"}, {DetectorKind::kLearned, "learned"}}};
+}
 const char* ToString(DetectorKind kind);
 // "classical" or "learned"; throws std::invalid_argument otherwise.
 DetectorKind ParseDetectorKind(const std::string& text);
@@ -84,10 +90,12 @@ struct PerceptionOptions {
   double tag_yaw_sigma_per_m = 0.01;
 
   // The field list, walked by the options file reader (io/options_yaml.h).
-  // Not listed: fisheye_cameras, detector (choices set on the command line).
+  // Not listed: fisheye_cameras. `--detector` on the command line sets
+  // detector over the file's.
   template <typename V>
   void VisitFields(V& v) {
     v("tag_camera", tag_camera);
+    v("detector", detector);
     v("top_view", top_view);
     v("slots", slots);
     v("ids", ids);
