@@ -34,12 +34,16 @@ const camera::CameraConfig* FindCamera(const camera::CameraRig& rig, const std::
 }  // namespace
 
 const char* ToString(DetectorKind kind) {
-  return kind == DetectorKind::kLearned ? "learned" : "classical";
+  for (const auto& [k, name] : EnumNames(kind)) {
+    if (k == kind) return name;
+  }
+  return "unknown";
 }
 
 DetectorKind ParseDetectorKind(const std::string& text) {
-  if (text == "classical") return DetectorKind::kClassical;
-  if (text == "learned") return DetectorKind::kLearned;
+  for (const auto& [kind, name] : EnumNames(DetectorKind{})) {
+    if (text == name) return kind;
+  }
   throw std::invalid_argument("unknown detector '" + text + "' (expected classical or learned)");
 }
 
