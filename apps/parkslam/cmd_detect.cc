@@ -69,9 +69,6 @@ struct Options {
   bool json = false, no_ids = false;
 };
 
-// The networks were trained on 600 px views of 10 m.
-constexpr double kLearnedPixelsPerM = 60.0;
-
 // The top view's grey levels; fails on an image too small or of another kind.
 cv::Mat GreyTopView(const cv::Mat& image, const std::string& path) {
   if (image.cols < 64 || image.rows < 64) {
@@ -173,7 +170,7 @@ void Run(const Options& o) {
   const cv::Mat image = ReadImage(o.image, cv::IMREAD_UNCHANGED);
   const cv::Mat grey = GreyTopView(image, o.image);
   const bool learned = o.detector == "learned";
-  if (learned && o.pixels_per_m != kLearnedPixelsPerM) {
+  if (learned && o.pixels_per_m != perception::kLearnedPixelsPerM) {
     char got[32];
     std::snprintf(got, sizeof got, "%g", o.pixels_per_m);
     throw std::invalid_argument(

@@ -101,8 +101,7 @@ void PerceptionFrontEnd::MakeDetectors() {
   options_.learned_slots.classical_options = options_.slots;
   options_.learned_ids.pixels_per_m = pixels_per_m;
   if (options_.detector == DetectorKind::kLearned) {
-    // The networks learned 600 px for 10 m (the ps2.0 scale).
-    if (std::abs(pixels_per_m - 60.0) > 0.01 * 60.0) {
+    if (std::abs(pixels_per_m - kLearnedPixelsPerM) > 0.01 * kLearnedPixelsPerM) {
       char got[64];
       std::snprintf(got, sizeof got, "%g px for %g m",
                     static_cast<double>(options_.top_view.size_px), options_.top_view.extent_m);

@@ -32,6 +32,9 @@
 
 namespace parkslam::perception {
 
+// The scale the networks learned: 600 top-view pixels for 10 m (ps2.0).
+inline constexpr double kLearnedPixelsPerM = 60.0;
+
 // What the classical detector (slot_detector.h) does with the network's
 // marking points: nothing; kRefine: a point the classical detector also
 // found (within classical_match_px and classical_match_rad) takes its
