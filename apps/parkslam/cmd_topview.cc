@@ -19,6 +19,7 @@ void AddTopviewCommand(CLI::App& app) {
     std::string rig = "default", front, rear, left, right, out;
     int size_px = 600;
     double extent_m = 10.0;
+    std::string seams = "optical_axis";
   };
   auto options = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand(
@@ -38,6 +39,15 @@ void AddTopviewCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--extent-m", options->extent_m, "Ground covered (rig form)")
       ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
+  std::vector<std::string> seam_names;
+  for (const auto& [style, name] : camera::EnumNames(camera::SeamStyle{}))
+    seam_names.push_back(name);
+  cmd->add_option("--seams", options->seams,
+                  "Where the seams lie (rig form; docs/cameras.md): optical_axis, each ground "
+                  "point from the camera nearest its axis; footprint_rays, straight seams from "
+                  "the car's corners")
+      ->check(CLI::IsMember(seam_names))
       ->capture_default_str();
   cmd->callback([options] {
     io::CheckOutputsSpareInputs(
@@ -60,6 +70,9 @@ void AddTopviewCommand(CLI::App& app) {
       camera::TopViewOptions view;
       view.size_px = options->size_px;
       view.extent_m = options->extent_m;
+      for (const auto& [style, name] : camera::EnumNames(camera::SeamStyle{})) {
+        if (options->seams == name) view.seam_style = style;
+      }
       const camera::TopViewFusion fusion(rig, camera::FisheyeCameraNames(), view);
       std::vector<cv::Mat> images;
       for (const std::string* path :

@@ -12,44 +12,75 @@
 namespace parkslam::camera {
 namespace {
 
-// The two cameras that see a ground point best, by closeness to their axis
-// plus their priority, with the point's pixel in the stacked input.
-struct CameraPick {
-  double best_w = 0.0, second_w = 0.0;
-  bool has_best = false, has_second = false;
-  cv::Point2f best_px = cv::Point2f(-1, -1), second_px = cv::Point2f(-1, -1);
-  int best_camera = -1, second_camera = -1;
+// How each camera sees one ground point: its pixel in the stacked input and
+// its weight, the closeness of the point to its optical axis plus its
+// priority (radians).
+struct CameraView {
+  bool sees = false;
+  double w = 0.0;
+  cv::Point2f px = cv::Point2f(-1, -1);
 };
 
-CameraPick PickCameras(const Eigen::Vector2d& g, const std::vector<const CameraConfig*>& cameras,
-                       const std::vector<CameraModel>& models, const std::vector<int>& offsets,
-                       const std::vector<double>& camera_priority_rad) {
+// The camera a ground point comes from, the one blended in (if any), and
+// the primary's lead over it in radians (blend when below blend_angle_rad).
+struct CameraPick {
+  int best = -1, second = -1;
+  double gap_rad = 0.0;
+};
+
+// The optical-axis rule: the two cameras of highest weight.
+CameraPick PickByAxis(const std::vector<CameraView>& views) {
   CameraPick pick;
-  for (size_t c = 0; c < cameras.size(); ++c) {
-    const Eigen::Vector3d p_camera =
-        cameras[c]->T_vehicle_camera.inverse() * Eigen::Vector3d(g.x(), g.y(), 0.0);
-    const auto pixel = models[c].Project(p_camera);
-    if (!pixel) continue;
-    const double angle = std::acos(std::clamp(p_camera.normalized().z(), -1.0, 1.0));
-    const double w = -angle + (camera_priority_rad.empty() ? 0.0 : camera_priority_rad[c]);
-    const cv::Point2f stacked(static_cast<float>(pixel->x()),
-                              static_cast<float>(pixel->y() + offsets[c]));
-    if (!pick.has_best || w > pick.best_w) {
-      pick.second_w = pick.best_w;
-      pick.second_px = pick.best_px;
-      pick.second_camera = pick.best_camera;
-      pick.has_second = pick.has_best;
-      pick.best_w = w;
-      pick.best_px = stacked;
-      pick.has_best = true;
-      pick.best_camera = static_cast<int>(c);
-    } else if (!pick.has_second || w > pick.second_w) {
-      pick.second_w = w;
-      pick.second_px = stacked;
-      pick.second_camera = static_cast<int>(c);
-      pick.has_second = true;
+  for (int c = 0; c < static_cast<int>(views.size()); ++c) {
+    if (!views[c].sees) continue;
+    if (pick.best < 0 || views[c].w > views[pick.best].w) {
+      pick.second = pick.best;
+      pick.best = c;
+    } else if (pick.second < 0 || views[c].w > views[pick.second].w) {
+      pick.second = c;
     }
   }
+  if (pick.best >= 0 && pick.second >= 0) pick.gap_rad = views[pick.best].w - views[pick.second].w;
+  return pick;
+}
+
+enum Role { kFront, kRear, kLeft, kRight, kRoles };
+
+// A camera's role from its optical axis in the vehicle frame (x forward,
+// y left).
+Role RoleOf(const CameraConfig& camera) {
+  const Eigen::Vector3d axis = camera.T_vehicle_camera.rotation().col(2);
+  if (std::abs(axis.x()) >= std::abs(axis.y())) return axis.x() > 0 ? kFront : kRear;
+  return axis.y() > 0 ? kLeft : kRight;
+}
+
+// The footprint-rays rule (SeamStyle::kFootprintRays). Seen from the
+// footprint's front corner on the point's side, the point lies at
+// phi = atan2(|y| - w/2, x - x_front) from the car's axis; the front camera
+// owns phi < seam_front_angle_rad, and |phi - angle| is the distance to
+// the seam. The rear likewise, mirrored. Returns best = -1 where the rule
+// does not apply (inside the footprint) or the role's camera is absent or
+// blind there.
+CameraPick PickByRays(const Eigen::Vector2d& g, const std::vector<CameraView>& views,
+                      const std::array<int, kRoles>& camera_of_role, const TopViewOptions& o) {
+  const double x_front = o.footprint_length_m - o.footprint_rear_overhang_m;
+  const double x_rear = -o.footprint_rear_overhang_m;
+  const double dy = std::abs(g.y()) - o.footprint_width_m / 2;
+  CameraPick pick;
+  if (dy < 0 && g.x() >= x_rear && g.x() <= x_front) return pick;
+  const Role side = g.y() > 0 ? kLeft : kRight;
+  const bool front_half = g.x() > (x_front + x_rear) / 2;
+  const Role end = front_half ? kFront : kRear;
+  const double phi = front_half ? std::atan2(dy, g.x() - x_front) : std::atan2(dy, x_rear - g.x());
+  const double seam = front_half ? o.seam_front_angle_rad : o.seam_rear_angle_rad;
+  const Role role = phi < seam ? end : side;
+  const Role other = phi < seam ? side : end;
+  const int c = camera_of_role[role];
+  if (c < 0 || !views[c].sees) return pick;
+  pick.best = c;
+  pick.gap_rad = std::abs(phi - seam);
+  const int d = camera_of_role[other];
+  if (d >= 0 && views[d].sees) pick.second = d;
   return pick;
 }
 
@@ -61,6 +92,8 @@ bool TopViewOptions::IsValid(std::string* error) const {
   c.Between(extent_m, 0.5, 100.0, "extent_m", "m");
   c.Magnitude(center_x_m, 100.0, "center_x_m", "m");
   c.NonNegative(blend_angle_rad, "blend_angle_rad");
+  c.Between(seam_front_angle_rad, 0.0, M_PI / 2, "seam_front_angle_rad", "rad");
+  c.Between(seam_rear_angle_rad, 0.0, M_PI / 2, "seam_rear_angle_rad", "rad");
   for (const double p : camera_priority_rad) {
     c.InRange(p, -1.5, 1.5, "camera_priority_rad", "rad");
   }
@@ -115,6 +148,14 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
   primary_camera_ = cv::Mat(n, n, CV_8S, cv::Scalar(-1));
   secondary_camera_ = cv::Mat(n, n, CV_8S, cv::Scalar(-1));
   const double x_front = options_.footprint_length_m - options_.footprint_rear_overhang_m;
+  const std::vector<double>& priority = options_.camera_priority_rad;
+  std::array<int, kRoles> camera_of_role;
+  camera_of_role.fill(-1);
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    int& slot = camera_of_role[RoleOf(*cameras[c])];
+    if (slot < 0) slot = static_cast<int>(c);
+  }
+  std::vector<CameraView> views;
   for (int v = 0; v < n; ++v) {
     for (int u = 0; u < n; ++u) {
       const Eigen::Vector2d g = PixelToVehicle({u, v});
@@ -122,22 +163,35 @@ TopViewFusion::TopViewFusion(const CameraRig& rig, const std::vector<std::string
           g.x() < x_front && std::abs(g.y()) < options_.footprint_width_m / 2) {
         continue;
       }
-      const CameraPick pick =
-          PickCameras(g, cameras, models, offsets, options_.camera_priority_rad);
-      if (!pick.has_best) continue;
+      views.assign(cameras.size(), CameraView{});
+      for (size_t c = 0; c < cameras.size(); ++c) {
+        const Eigen::Vector3d p_camera =
+            cameras[c]->T_vehicle_camera.inverse() * Eigen::Vector3d(g.x(), g.y(), 0.0);
+        const auto pixel = models[c].Project(p_camera);
+        if (!pixel) continue;
+        const double angle = std::acos(std::clamp(p_camera.normalized().z(), -1.0, 1.0));
+        views[c] = {true, -angle + (priority.empty() ? 0.0 : priority[c]),
+                    cv::Point2f(static_cast<float>(pixel->x()),
+                                static_cast<float>(pixel->y() + offsets[c]))};
+      }
+      CameraPick pick;
+      if (options_.seam_style == SeamStyle::kFootprintRays) {
+        pick = PickByRays(g, views, camera_of_role, options_);
+      }
+      if (pick.best < 0) pick = PickByAxis(views);
+      if (pick.best < 0) continue;
       valid_.at<uint8_t>(v, u) = 255;
-      primary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(pick.best_camera);
-      primary.at<cv::Point2f>(v, u) = pick.best_px;
-      // Feather: the second camera takes up to half where the two are
-      // within blend_angle of each other.
+      primary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(pick.best);
+      primary.at<cv::Point2f>(v, u) = views[pick.best].px;
+      // Feather: the second camera takes up to half where the primary leads
+      // it by less than blend_angle.
       double alpha = 1.0;
-      if (pick.has_second && options_.blend_angle_rad > 0) {
-        const double gap = pick.best_w - pick.second_w;  // >= 0, radians
-        alpha = 0.5 + 0.5 * std::min(1.0, gap / options_.blend_angle_rad);
-        secondary.at<cv::Point2f>(v, u) = pick.second_px;
-        secondary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(pick.second_camera);
+      if (pick.second >= 0 && options_.blend_angle_rad > 0) {
+        alpha = 0.5 + 0.5 * std::min(1.0, pick.gap_rad / options_.blend_angle_rad);
+        secondary.at<cv::Point2f>(v, u) = views[pick.second].px;
+        secondary_camera_.at<int8_t>(v, u) = static_cast<int8_t>(pick.second);
       } else {
-        secondary.at<cv::Point2f>(v, u) = pick.best_px;
+        secondary.at<cv::Point2f>(v, u) = views[pick.best].px;
       }
       primary_weight_.at<uint16_t>(v, u) = static_cast<uint16_t>(std::lround(alpha * 256));
     }

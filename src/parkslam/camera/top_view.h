@@ -12,13 +12,34 @@
 // vehicle's -x; size_px pixels span extent_m metres (600 px for 10 m:
 // 1.667 cm a pixel), centred center_x_m ahead of the rear axle.
 
+#include <array>
 #include <opencv2/core.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "parkslam/camera/camera_model.h"
 
 namespace parkslam::camera {
+
+// Where the seams between the cameras lie.
+// - kOpticalAxis: every ground point comes from the camera that sees it
+//   closest to its optical axis. The seams curve, and the front and rear
+//   cameras' parts narrow away from the car.
+// - kFootprintRays: straight seams leave the footprint's four corners
+//   outwards, at seam_front_angle_rad (seam_rear_angle_rad) from the car's
+//   axis. The front and rear cameras own the wedges between them, which
+//   widen away from the car. That is how ps2.0's views and many
+//   surround-view units draw them.
+// A camera's role (front, rear, left, right) is read from its optical axis
+// in the vehicle frame. Where the role's camera does not see a point, the
+// optical-axis rule decides.
+enum class SeamStyle { kOpticalAxis, kFootprintRays };
+// Every style with its name, for the options file (io/visit_yaml.h).
+inline constexpr std::array<std::pair<SeamStyle, const char*>, 2> EnumNames(SeamStyle) {
+  return {
+      {{SeamStyle::kOpticalAxis, "optical_axis"}, {SeamStyle::kFootprintRays, "footprint_rays"}}};
+}
 
 struct TopViewOptions {
   int size_px = 600;
@@ -26,8 +47,12 @@ struct TopViewOptions {
   double center_x_m = 1.4;
   // Cameras are weighted by how close to their optical axis they see a
   // point; within this angle of the best camera's weight the second one is
-  // blended in (a feathered seam).
+  // blended in (a feathered seam). With kFootprintRays: within this angle
+  // of the seam, seen from its corner.
   double blend_angle_rad = 0.3;
+  SeamStyle seam_style = SeamStyle::kOpticalAxis;
+  double seam_front_angle_rad = 0.6;  // kFootprintRays only; in (0, pi/2)
+  double seam_rear_angle_rad = 0.6;
   // Optional, one per camera in camera_names' order: added to a camera's
   // weight, so that it wins over a wider area (empty: all zero). Real units
   // draw their seams in their own places; this moves ours.
@@ -47,6 +72,9 @@ struct TopViewOptions {
     v("center_x_m", center_x_m);
     v("blend_angle_rad", blend_angle_rad);
     v("camera_priority_rad", camera_priority_rad);
+    v("seam_style", seam_style);
+    v("seam_front_angle_rad", seam_front_angle_rad);
+    v("seam_rear_angle_rad", seam_rear_angle_rad);
     v("mask_footprint", mask_footprint);
     v("footprint_length_m", footprint_length_m);
     v("footprint_width_m", footprint_width_m);

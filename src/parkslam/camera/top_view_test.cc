@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <tuple>
 
 namespace parkslam::camera {
 namespace {
@@ -50,12 +51,15 @@ TEST(TopViewTest, PixelAndVehicleConversionsAreInverse) {
   EXPECT_LT(fusion.VehicleToPixel({1.4, 1.0}).x(), c.x());
 }
 
-class TopViewLookupTest : public ::testing::TestWithParam<FusionLookup> {};
+class TopViewLookupTest : public ::testing::TestWithParam<std::tuple<FusionLookup, SeamStyle>> {};
 
 TEST_P(TopViewLookupTest, GroundPointsLandAtTheirPredictedPixels) {
   const CameraRig rig = DefaultRig();
-  const TopViewFusion fusion(rig, kFisheyes);
-  const cv::Mat top = fusion.Fuse(RenderAll(rig), GetParam());
+  const auto [lookup, seams] = GetParam();
+  TopViewOptions options;
+  options.seam_style = seams;
+  const TopViewFusion fusion(rig, kFisheyes, options);
+  const cv::Mat top = fusion.Fuse(RenderAll(rig), lookup);
   ASSERT_EQ(top.rows, 600);
   cv::Mat binary;
   cv::threshold(top, binary, 100, 255, cv::THRESH_BINARY);
@@ -86,12 +90,14 @@ TEST_P(TopViewLookupTest, GroundPointsLandAtTheirPredictedPixels) {
   // Each value from the nearest camera pixel moves a dot's edges by up to
   // half a camera pixel, more than a top-view pixel far from the cameras;
   // on average nothing moves (no half-pixel shift).
-  EXPECT_LT(worst, GetParam() == FusionLookup::kBilinear ? 1.0 : 1.5);
+  EXPECT_LT(worst, lookup == FusionLookup::kBilinear ? 1.0 : 1.5);
   EXPECT_LT((bias / checked).norm(), 0.15) << (bias / checked).transpose();
 }
 
-INSTANTIATE_TEST_SUITE_P(BothLookups, TopViewLookupTest,
-                         ::testing::Values(FusionLookup::kBilinear, FusionLookup::kNearest));
+INSTANTIATE_TEST_SUITE_P(
+    BothLookupsBothSeams, TopViewLookupTest,
+    ::testing::Combine(::testing::Values(FusionLookup::kBilinear, FusionLookup::kNearest),
+                       ::testing::Values(SeamStyle::kOpticalAxis, SeamStyle::kFootprintRays)));
 
 // The nearest lookup takes each value from one camera pixel: where one
 // camera alone is seen, a black-and-white ground stays black and white;
@@ -140,6 +146,83 @@ TEST(TopViewTest, CameraPriorityMovesTheSeams) {
   wrong.camera_priority_rad = {0.1, 0.2};
   EXPECT_THROW(TopViewFusion(DefaultRig(), kFisheyes, wrong), std::invalid_argument);
   wrong.camera_priority_rad = {0.0, 0.0, 2.0, 0.0};
+  EXPECT_THROW(TopViewFusion(DefaultRig(), kFisheyes, wrong), std::invalid_argument);
+}
+
+// Straight seams from the footprint's corners: the front camera owns a
+// wedge ahead of the car bounded by straight lines at the asked angle; with
+// the optical-axis rule (and this rig) its part reaches nearly the whole
+// far edge of the view.
+TEST(TopViewTest, FootprintRaysDrawStraightSeamsAtTheirAngle) {
+  TopViewOptions axis;
+  axis.blend_angle_rad = 0.0;
+  TopViewOptions rays = axis;
+  rays.seam_style = SeamStyle::kFootprintRays;
+  rays.seam_front_angle_rad = 0.5;
+  rays.seam_rear_angle_rad = 0.3;
+  const TopViewFusion by_axis(DefaultRig(), kFisheyes, axis);
+  const TopViewFusion by_rays(DefaultRig(), kFisheyes, rays);
+  // The front camera's left edge, row by row, from the footprint's front
+  // edge (row 102) to the top of the view; its largest distance from the
+  // straight line through its two ends.
+  const auto seam_bend_px = [](const TopViewFusion& fusion) {
+    std::vector<int> left;
+    for (int v = 0; v <= 95; ++v) {
+      int u = 0;
+      while (u < 600 && fusion.PrimaryCamera(u, v) != 0) ++u;
+      left.push_back(u);
+    }
+    double worst = 0.0;
+    for (size_t v = 0; v < left.size(); ++v) {
+      const double line = left.back() + (left.front() - left.back()) *
+                                            static_cast<double>(left.size() - 1 - v) /
+                                            static_cast<double>(left.size() - 1);
+      worst = std::max(worst, std::abs(left[v] - line));
+    }
+    return worst;
+  };
+  EXPECT_LT(seam_bend_px(by_rays), 1.5);
+  const auto front_in_row = [](const TopViewFusion& fusion, int v) {
+    int n = 0;
+    for (int u = 0; u < 600; ++u) n += fusion.PrimaryCamera(u, v) == 0;
+    return n;
+  };
+  EXPECT_GT(front_in_row(by_axis, 0), 500);
+  // Row 0 lies 6.39 m ahead of the axle, 2.69 m past the footprint:
+  // 1.85 m + 2 tan(0.5) 2.69 m = 4.79 m, 288 px.
+  EXPECT_NEAR(front_in_row(by_rays, 0), 288, 3);
+
+  // On either side of each seam, seen from its corner (x_front 3.7 m,
+  // x_rear -1 m, half width 0.925 m); 2 m out along the direction.
+  const auto at = [&](double corner_x, double sign_x, double sign_y, double angle) {
+    const Eigen::Vector2d p(corner_x + sign_x * 2.0 * std::cos(angle),
+                            sign_y * (0.925 + 2.0 * std::sin(angle)));
+    const Eigen::Vector2d px = by_rays.VehicleToPixel(p);
+    return by_rays.PrimaryCamera(static_cast<int>(px.x()), static_cast<int>(px.y()));
+  };
+  EXPECT_EQ(at(3.7, 1, 1, 0.4), 0);    // front, left of the axis
+  EXPECT_EQ(at(3.7, 1, 1, 0.6), 2);    // left
+  EXPECT_EQ(at(3.7, 1, -1, 0.4), 0);   // front, right of the axis
+  EXPECT_EQ(at(3.7, 1, -1, 0.6), 3);   // right
+  EXPECT_EQ(at(-1.0, -1, 1, 0.2), 1);  // rear
+  EXPECT_EQ(at(-1.0, -1, 1, 0.4), 2);
+  EXPECT_EQ(at(-1.0, -1, -1, 0.2), 1);
+  EXPECT_EQ(at(-1.0, -1, -1, 0.4), 3);
+
+  // Blended seams: the second camera is the one across the seam, with up
+  // to half the weight right on it.
+  rays.blend_angle_rad = 0.2;
+  const TopViewFusion blended(DefaultRig(), kFisheyes, rays);
+  const Eigen::Vector2d on_seam =
+      blended.VehicleToPixel({3.7 + 2.0 * std::cos(0.49), 0.925 + 2.0 * std::sin(0.49)});
+  const int u = static_cast<int>(std::lround(on_seam.x())),
+            v = static_cast<int>(std::lround(on_seam.y()));
+  EXPECT_EQ(blended.PrimaryCamera(u, v), 0);
+  EXPECT_EQ(blended.SecondaryCamera(u, v), 2);
+  EXPECT_LT(blended.PrimaryWeight(u, v), 0.6);
+
+  TopViewOptions wrong = rays;
+  wrong.seam_front_angle_rad = 1.7;
   EXPECT_THROW(TopViewFusion(DefaultRig(), kFisheyes, wrong), std::invalid_argument);
 }
 

@@ -40,6 +40,7 @@ TEST(OptionsYamlTest, DumpedDefaultsReadBackExactly) {
   AlgorithmOptions changed;
   changed.mapper.null_chi2 = 31.25;
   changed.front_end.top_view.camera_priority_rad = {0.1, -0.2, 0.3, 0.4};
+  changed.front_end.top_view.seam_style = camera::SeamStyle::kFootprintRays;
   changed.front_end.tags.quad_decimate = 1.5f;
   changed.localizer.reloc_min_inliers = 9;
   changed.front_end.detector = perception::DetectorKind::kClassical;
@@ -53,6 +54,8 @@ TEST(OptionsYamlTest, DumpedDefaultsReadBackExactly) {
   EXPECT_THAT(text, HasSubstr("\nmapper:\n  keyframe_distance_m: 0.1\n"));
   EXPECT_THAT(text, HasSubstr("\n  detector: classical\n"));
   EXPECT_EQ(back.front_end.detector, perception::DetectorKind::kClassical);
+  EXPECT_THAT(text, HasSubstr("\n    seam_style: footprint_rays\n"));
+  EXPECT_EQ(back.front_end.top_view.seam_style, camera::SeamStyle::kFootprintRays);
   // The default is the learned front end, and a file may choose either.
   EXPECT_THAT(OptionsToYaml(AlgorithmOptions{}), HasSubstr("\n  detector: learned\n"));
   EXPECT_EQ(OptionsFromYaml("front_end:\n  detector: classical\n", AlgorithmOptions{}, "d.yaml")
