@@ -40,6 +40,7 @@ struct Options {
   double seven_segment_share = 0.0;
   double coarse_sensor_share = scene::SceneSamplerOptions{}.coarse_sensor_share;
   double nearest_lookup_share = scene::SceneSamplerOptions{}.nearest_lookup_share;
+  double ray_seam_share = scene::SceneSamplerOptions{}.ray_seam_share;
   double fisheye_scale = 1.0;
   std::string fonts = "/usr/share/fonts";
   bool fisheyes = false, front = false, overlays = false, force = false;
@@ -132,6 +133,7 @@ void WriteScene(const Options& o, const scene::SceneRenderer& renderer, scene::F
   sampler.seven_segment_share = o.seven_segment_share;
   sampler.coarse_sensor_share = o.coarse_sensor_share;
   sampler.nearest_lookup_share = o.nearest_lookup_share;
+  sampler.ray_seam_share = o.ray_seam_share;
   const scene::Scene s =
       scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)), sampler);
   const scene::RenderedScene r = renderer.Render(s, book, request);
@@ -189,11 +191,12 @@ void Run(const Options& o) {
   const auto t_setup = std::chrono::steady_clock::now();
   const scene::SceneRenderer renderer(
       camera::WithFisheyeResolution(camera::DefaultRig(), o.fisheye_scale));
-  const double setup_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_setup).count();
   const int threads = o.threads > 0
                           ? o.threads
                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  renderer.BuildFusions(threads, o.ray_seam_share > 0);
+  const double setup_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_setup).count();
   const bool ids = o.kind == "ids";
   if (ids) fs::create_directories(out / "ids");
   if (o.fisheyes) fs::create_directories(out / "fisheye");
@@ -292,6 +295,11 @@ void AddMakeTrainingSetCommand(CLI::App& app) {
   cmd->add_option("--nearest-lookup-share", options->nearest_lookup_share,
                   "Share of scenes whose fusion takes the nearest camera pixel instead of "
                   "interpolating (sharp, jagged lines; 0 leaves every scene as before)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--ray-seam-share", options->ray_seam_share,
+                  "Share of scenes whose seams are straight rays from the car's corners, as "
+                  "ps2.0's views show them (0 leaves every scene as before)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--fisheye-scale", options->fisheye_scale,

@@ -792,6 +792,12 @@ void SampleCameras(Random& rng, const SceneSamplerOptions& options, bool outdoor
   scene->saturation = rng.Uniform(0.55, 1.15);
   scene->fusion_nearest =
       options.nearest_lookup_share > 0 && rng.Bernoulli(options.nearest_lookup_share);
+  if (options.ray_seam_share > 0 && options.ray_seam_layouts > 0 &&
+      rng.Bernoulli(options.ray_seam_share)) {
+    scene->fusion_seams =
+        std::max(1, options.seam_layouts) +
+        static_cast<int>(rng.Index(static_cast<std::uint64_t>(options.ray_seam_layouts)));
+  }
 }
 
 }  // namespace
@@ -815,6 +821,10 @@ bool SceneSamplerOptions::IsValid(std::string* error) const {
     return fail("coarse_sensor_share must be in [0, 1]");
   if (!(nearest_lookup_share >= 0 && nearest_lookup_share <= 1))
     return fail("nearest_lookup_share must be in [0, 1]");
+  if (!(ray_seam_share >= 0 && ray_seam_share <= 1))
+    return fail("ray_seam_share must be in [0, 1]");
+  if (ray_seam_layouts < 0 || ray_seam_layouts > 16)
+    return fail("ray_seam_layouts must be in [0, 16]");
   if (!(parked_car_probability_max >= 0 && parked_car_probability_max <= 1)) {
     return fail("parked_car_probability_max must be in [0, 1]");
   }

@@ -193,6 +193,7 @@ struct Scene {
   CameraLook front_camera;          // the monocular front camera
   int fusion_calibration = 0;       // 0: exact; k > 0: the k-th perturbed calibration
   int fusion_seams = 0;             // which of the renderer's seam layouts the unit draws
+                                    // (its straight-seam layouts follow the others)
   int top_view_jpeg_quality = 90;   // the fused view as saved
   double top_view_sharpen = 0.0;    // unsharp mask some surround-view units apply
   bool fusion_nearest = false;      // the unit's lookup takes the nearest camera pixel
@@ -219,6 +220,12 @@ struct SceneSamplerOptions {
   // was.
   double coarse_sensor_share = 0.6;
   double nearest_lookup_share = 0.0;
+  // Share of units whose seams are straight rays from the footprint's
+  // corners (camera::SeamStyle::kFootprintRays, as ps2.0's views show),
+  // drawn among the renderer's ray_seam_layouts straight layouts. Drawn
+  // last of all, so that a share of 0 leaves every scene as it was.
+  double ray_seam_share = 0.0;
+  int ray_seam_layouts = 3;
 
   bool IsValid(std::string* error) const;
 };

@@ -1,11 +1,15 @@
 #include "parkslam/scene/scene_renderer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <thread>
 
 #include "parkslam/common/angles.h"
 #include "parkslam/common/random.h"
@@ -232,6 +236,9 @@ bool SceneRendererOptions::IsValid(std::string* error) const {
     if (layout.size() != fisheye_names.size())
       return fail("every seam layout needs one priority per fisheye");
   }
+  for (const double angle : ray_seam_angles_rad) {
+    if (!(angle > 0 && angle < M_PI / 2)) return fail("ray_seam_angles_rad must be in (0, pi/2)");
+  }
   return true;
 }
 
@@ -241,7 +248,13 @@ struct SceneRenderer::Impl {
   std::vector<camera::CameraConfig> fisheye_configs;
   std::vector<camera::CameraModel> fisheye_models;
   // Calibration k, seam layout l: fusions[k * layouts + l]; k = 0 exact.
-  std::vector<std::unique_ptr<camera::TopViewFusion>> fusions;
+  // Each is built when a scene first asks for it (Fusion()), from any
+  // thread: most runs use a few of the 54.
+  struct LazyFusion {
+    std::once_flag built;
+    std::unique_ptr<camera::TopViewFusion> fusion;
+  };
+  std::vector<std::unique_ptr<LazyFusion>> fusions;
   std::vector<camera::CameraRig> fusion_rigs;
   std::vector<CameraTable> fisheyes;
   std::optional<CameraTable> front;
@@ -249,6 +262,12 @@ struct SceneRenderer::Impl {
   cv::Mat noise_bank;  // CV_32F standard normal
 
   Impl(const camera::CameraRig& r, const SceneRendererOptions& o);
+  int Layouts() const {
+    return static_cast<int>(options.seam_layouts.size() + options.ray_seam_angles_rad.size());
+  }
+  // Calibration k (0: exact), seam layout l (the optical-axis layouts, then
+  // the straight ones).
+  const camera::TopViewFusion& Fusion(int k, int l) const;
   CameraTable BuildTable(const camera::CameraConfig& config) const;
   cv::Point2f AtlasPixel(const Eigen::Vector2d& g, double footprint) const;
   // full: every pixel; otherwise only those the top view needs (the rest black).
@@ -346,17 +365,31 @@ SceneRenderer::Impl::Impl(const camera::CameraRig& r, const SceneRendererOptions
         rig, options.calibration_rotation_sigma_rad, options.calibration_translation_sigma_m,
         MixSeed(options.calibration_seed, static_cast<std::uint64_t>(k))));
   }
-  for (const camera::CameraRig& fr : fusion_rigs) {
-    for (const std::vector<double>& layout : options.seam_layouts) {
-      camera::TopViewOptions view = options.top_view;
-      view.camera_priority_rad = layout;
-      fusions.push_back(std::make_unique<camera::TopViewFusion>(fr, options.fisheye_names, view));
-    }
+  for (size_t k = 0; k < fusion_rigs.size() * static_cast<size_t>(Layouts()); ++k) {
+    fusions.push_back(std::make_unique<LazyFusion>());
   }
   MarkNeeded();
   noise_bank = cv::Mat(kNoiseBankSize, kNoiseBankSize, CV_32F);
   cv::RNG rng(0x5eed);
   rng.fill(noise_bank, cv::RNG::NORMAL, 0.0, 1.0);
+}
+
+const camera::TopViewFusion& SceneRenderer::Impl::Fusion(int k, int l) const {
+  LazyFusion& lazy = *fusions[static_cast<size_t>(k * Layouts() + l)];
+  std::call_once(lazy.built, [&] {
+    camera::TopViewOptions view = options.top_view;
+    const int axis_layouts = static_cast<int>(options.seam_layouts.size());
+    if (l < axis_layouts) {
+      view.camera_priority_rad = options.seam_layouts[static_cast<size_t>(l)];
+    } else {
+      view.seam_style = camera::SeamStyle::kFootprintRays;
+      view.seam_front_angle_rad = view.seam_rear_angle_rad =
+          options.ray_seam_angles_rad[static_cast<size_t>(l - axis_layouts)];
+    }
+    lazy.fusion = std::make_unique<camera::TopViewFusion>(fusion_rigs[static_cast<size_t>(k)],
+                                                          options.fisheye_names, view);
+  });
+  return *lazy.fusion;
 }
 
 // The fisheye pixels that the exact fusion samples, widened by the largest
@@ -369,9 +402,13 @@ void SceneRenderer::Impl::MarkNeeded() {
     const camera::CameraModel model(fisheye_configs[c].intrinsics);
     const Eigen::Isometry3d T_camera_vehicle = fisheye_configs[c].T_vehicle_camera.inverse();
     // Every seam layout of the exact calibration (the perturbed ones are
-    // within the margin).
-    for (size_t l = 0; l < options.seam_layouts.size(); ++l) {
-      const camera::TopViewFusion& fusion = *fusions[l];
+    // within the margin). The camera meters its exposure on what the
+    // optical-axis layouts sample, so that adding straight layouts changes
+    // no exposure.
+    const int axis_layouts = static_cast<int>(options.seam_layouts.size());
+    for (int l = 0; l < Layouts(); ++l) {
+      if (l == axis_layouts) t.metered = t.needed.clone();
+      const camera::TopViewFusion& fusion = Fusion(0, l);
       for (int v = 0; v < size; ++v) {
         for (int u = 0; u < size; ++u) {
           const int camera = static_cast<int>(c);
@@ -384,7 +421,7 @@ void SceneRenderer::Impl::MarkNeeded() {
         }
       }
     }
-    t.metered = t.needed.clone();
+    if (options.ray_seam_angles_rad.empty()) t.metered = t.needed.clone();
     cv::dilate(t.needed, t.needed, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(25, 25)));
     int first = t.height, last = 0;
     for (int v = 0; v < t.height; ++v) {
@@ -1110,12 +1147,26 @@ SceneRenderer::~SceneRenderer() = default;
 SceneRenderer::SceneRenderer(SceneRenderer&&) noexcept = default;
 SceneRenderer& SceneRenderer::operator=(SceneRenderer&&) noexcept = default;
 
+void SceneRenderer::BuildFusions(int threads, bool straight_layouts) const {
+  const Impl& m = *impl_;
+  const int calibrations = static_cast<int>(m.fusion_rigs.size());
+  const int layouts =
+      straight_layouts ? m.Layouts() : static_cast<int>(m.options.seam_layouts.size());
+  std::atomic<int> next{0};
+  const auto work = [&] {
+    for (int i = next++; i < calibrations * layouts; i = next++) m.Fusion(i / layouts, i % layouts);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+}
+
 const camera::TopViewFusion& SceneRenderer::FusionOf(const Scene& scene) const {
-  const int layouts = static_cast<int>(impl_->options.seam_layouts.size());
   const int calibrations = static_cast<int>(impl_->fusion_rigs.size());
   const int k = std::clamp(scene.fusion_calibration, 0, calibrations - 1);
-  const int l = std::clamp(scene.fusion_seams, 0, layouts - 1);
-  return *impl_->fusions[static_cast<size_t>(k * layouts + l)];
+  const int l = std::clamp(scene.fusion_seams, 0, impl_->Layouts() - 1);
+  return impl_->Fusion(k, l);
 }
 
 const SceneRendererOptions& SceneRenderer::options() const { return impl_->options; }

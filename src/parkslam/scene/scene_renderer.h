@@ -58,6 +58,10 @@ struct SceneRendererOptions {
   // less of the corners.
   std::vector<std::vector<double>> seam_layouts = {
       {0, 0, 0, 0}, {0, 0, 0.25, 0.25}, {0, 0, 0.5, 0.5}};
+  // Straight-seam layouts (camera::SeamStyle::kFootprintRays), after the
+  // ones above: the seams' angle from the car's axis, front and rear.
+  // ps2.0's views show about 0.3-0.6 rad (read off the real sample).
+  std::vector<double> ray_seam_angles_rad = {0.3, 0.45, 0.6};
   double calibration_rotation_sigma_rad = 0.006;
   double calibration_translation_sigma_m = 0.015;
   std::uint64_t calibration_seed = 20261123;
@@ -105,7 +109,12 @@ class SceneRenderer {
                                               const Eigen::Vector2d& p_vehicle) const;
 
   // The fusion that a scene's unit uses: its calibration and seam layout.
+  // Built when first asked for (safe from any thread).
   const camera::TopViewFusion& FusionOf(const Scene& scene) const;
+  // Builds the fusions now, on this many threads, so that rendering times
+  // leave them out: every calibration's optical-axis layouts, and the
+  // straight ones too if asked.
+  void BuildFusions(int threads, bool straight_layouts) const;
   const SceneRendererOptions& options() const;
 
  private:

@@ -40,6 +40,28 @@ std::optional<Eigen::Vector2d> DotCentroid(const cv::Mat& dots, const Eigen::Vec
   return Eigen::Vector2d(sx / sum, sy / sum);
 }
 
+// Renders scenes seed_begin .. seed_end - 1 with a dot on every marking
+// point and expects each label within 1 px of its fused dot; returns how
+// many labels it checked.
+int CheckLabelsOnTheirDots(const SceneRenderer& renderer, const SceneSamplerOptions& options,
+                           std::uint64_t seed_begin, std::uint64_t seed_end) {
+  RenderRequest request;
+  request.dots = true;
+  int checked = 0;
+  for (std::uint64_t seed = seed_begin; seed < seed_end; ++seed) {
+    const Scene scene = SampleScene(seed, options);
+    const RenderedScene r = renderer.Render(scene, nullptr, request);
+    const TopViewLabels labels = LabelTopView(renderer, scene, r);
+    for (const LabelledMark& m : labels.marks) {
+      const auto centroid = DotCentroid(r.dots, m.px);
+      if (!centroid) continue;
+      EXPECT_LT((*centroid - m.px).norm(), 1.0) << "seed " << seed << " at " << m.px.transpose();
+      ++checked;
+    }
+  }
+  return checked;
+}
+
 TEST(SceneRendererTest, RendersColourFisheyesAndATopViewOfTheRigsSizes) {
   const Scene scene = SampleScene(3);
   RenderRequest request;
@@ -112,23 +134,25 @@ TEST(SceneRendererTest, SharperUnitsKeepTheirLabels) {
   const SceneRenderer sharp(camera::WithFisheyeResolution(camera::DefaultRig(), 2.0));
   SceneSamplerOptions options;
   options.nearest_lookup_share = 1.0;
-  RenderRequest request;
-  request.dots = true;
-  int checked = 0;
-  for (std::uint64_t seed = 100; seed < 110; ++seed) {
+  const Scene scene = SampleScene(100, options);
+  ASSERT_TRUE(scene.fusion_nearest);
+  ASSERT_EQ(sharp.Render(scene, nullptr).fisheyes.front().size(), cv::Size(1280, 960));
+  EXPECT_GT(CheckLabelsOnTheirDots(sharp, options, 100, 110), 15);
+}
+
+// Straight seams (make-training-set --ray-seam-share 1): the unit draws one
+// of the renderer's straight-seam layouts, and the labels stay within 1 px
+// of their junctions.
+TEST(SceneRendererTest, StraightSeamsKeepTheirLabels) {
+  const SceneRenderer renderer(camera::DefaultRig());
+  SceneSamplerOptions options;
+  options.ray_seam_share = 1.0;
+  for (std::uint64_t seed = 200; seed < 210; ++seed) {
     const Scene scene = SampleScene(seed, options);
-    ASSERT_TRUE(scene.fusion_nearest);
-    const RenderedScene r = sharp.Render(scene, nullptr, request);
-    ASSERT_EQ(r.fisheyes.front().size(), cv::Size(1280, 960));
-    const TopViewLabels labels = LabelTopView(sharp, scene, r);
-    for (const LabelledMark& m : labels.marks) {
-      const auto centroid = DotCentroid(r.dots, m.px);
-      if (!centroid) continue;
-      EXPECT_LT((*centroid - m.px).norm(), 1.0) << "seed " << seed << " at " << m.px.transpose();
-      ++checked;
-    }
+    ASSERT_GE(scene.fusion_seams, options.seam_layouts);
+    ASSERT_EQ(renderer.FusionOf(scene).options().seam_style, camera::SeamStyle::kFootprintRays);
   }
-  EXPECT_GT(checked, 15);
+  EXPECT_GT(CheckLabelsOnTheirDots(renderer, options, 200, 210), 15);
 }
 
 TEST(SceneRendererTest, SolidsHideTheFloorAndItsLabels) {

@@ -121,6 +121,41 @@ TEST(SceneTest, SensorAndLookupSharesPickTheUnits) {
   EXPECT_NE(error.find("nearest_lookup_share"), std::string::npos);
 }
 
+// Straight seams: a share of 0 (the default) leaves every scene as it was,
+// 1 gives every unit one of the straight layouts (after the others), and
+// the draw changes nothing else.
+TEST(SceneTest, RaySeamShareAddsStraightLayoutsLast) {
+  SceneSamplerOptions all;
+  all.ray_seam_share = 1.0;
+  SceneSamplerOptions half;
+  half.ray_seam_share = 0.5;
+  int straight_half = 0;
+  std::vector<int> layouts(6, 0);
+  for (std::uint64_t seed = 0; seed < 200; ++seed) {
+    const Scene plain = SampleScene(seed), s = SampleScene(seed, all), h = SampleScene(seed, half);
+    EXPECT_GE(plain.fusion_seams, 0);
+    EXPECT_LT(plain.fusion_seams, 3);
+    ASSERT_GE(s.fusion_seams, 3);
+    ASSERT_LT(s.fusion_seams, 6);
+    ++layouts[static_cast<size_t>(s.fusion_seams)];
+    straight_half += h.fusion_seams >= 3;
+    if (h.fusion_seams < 3) {
+      EXPECT_EQ(h.fusion_seams, plain.fusion_seams);
+    }
+    EXPECT_EQ(s.saturation, plain.saturation);
+    EXPECT_EQ(s.fusion_nearest, plain.fusion_nearest);
+    EXPECT_EQ(s.cameras.back().seed, plain.cameras.back().seed);
+  }
+  for (int l = 3; l < 6; ++l) EXPECT_GT(layouts[static_cast<size_t>(l)], 40) << "layout " << l;
+  EXPECT_GT(straight_half, 70);
+  EXPECT_LT(straight_half, 130);
+  SceneSamplerOptions wrong;
+  wrong.ray_seam_share = 1.5;
+  std::string error;
+  EXPECT_FALSE(wrong.IsValid(&error));
+  EXPECT_NE(error.find("ray_seam_share"), std::string::npos);
+}
+
 TEST(SceneTest, RejectsInvalidOptions) {
   SceneSamplerOptions options;
   options.outdoor_probability = 1.5;
