@@ -249,7 +249,7 @@ struct SceneRenderer::Impl {
   std::vector<camera::CameraModel> fisheye_models;
   // Calibration k, seam layout l: fusions[k * layouts + l]; k = 0 exact.
   // Each is built when a scene first asks for it (Fusion()), from any
-  // thread: most runs use a few of the 54.
+  // thread: most runs use a few of them.
   struct LazyFusion {
     std::once_flag built;
     std::unique_ptr<camera::TopViewFusion> fusion;
