@@ -41,6 +41,7 @@ struct Options {
   double coarse_sensor_share = scene::SceneSamplerOptions{}.coarse_sensor_share;
   double nearest_lookup_share = scene::SceneSamplerOptions{}.nearest_lookup_share;
   double ray_seam_share = scene::SceneSamplerOptions{}.ray_seam_share;
+  double chroma_noise_share = scene::SceneSamplerOptions{}.chroma_noise_share;
   double fisheye_scale = 1.0;
   std::string fonts = "/usr/share/fonts";
   bool fisheyes = false, front = false, overlays = false, force = false;
@@ -134,6 +135,7 @@ void WriteScene(const Options& o, const scene::SceneRenderer& renderer, scene::F
   sampler.coarse_sensor_share = o.coarse_sensor_share;
   sampler.nearest_lookup_share = o.nearest_lookup_share;
   sampler.ray_seam_share = o.ray_seam_share;
+  sampler.chroma_noise_share = o.chroma_noise_share;
   const scene::Scene s =
       scene::SampleScene(MixSeed(o.seed, static_cast<std::uint64_t>(i)), sampler);
   const scene::RenderedScene r = renderer.Render(s, book, request);
@@ -300,6 +302,11 @@ void AddMakeTrainingSetCommand(CLI::App& app) {
   cmd->add_option("--ray-seam-share", options->ray_seam_share,
                   "Share of scenes whose seams are straight rays from the car's corners, as "
                   "ps2.0's views show them (0 leaves every scene as before)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--chroma-noise-share", options->chroma_noise_share,
+                  "Share of scenes whose cameras show chroma noise, colour blotches a few pixels "
+                  "across as cheap sensors leave them (0 leaves every scene as before)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_option("--fisheye-scale", options->fisheye_scale,

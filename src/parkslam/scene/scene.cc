@@ -798,6 +798,10 @@ void SampleCameras(Random& rng, const SceneSamplerOptions& options, bool outdoor
         std::max(1, options.seam_layouts) +
         static_cast<int>(rng.Index(static_cast<std::uint64_t>(options.ray_seam_layouts)));
   }
+  if (options.chroma_noise_share > 0 && rng.Bernoulli(options.chroma_noise_share)) {
+    const double unit = rng.Uniform(0.3, 1.0) * options.chroma_noise_max;
+    for (CameraLook& look : scene->cameras) look.chroma_noise = unit * rng.Uniform(0.8, 1.2);
+  }
 }
 
 }  // namespace
@@ -825,6 +829,10 @@ bool SceneSamplerOptions::IsValid(std::string* error) const {
     return fail("ray_seam_share must be in [0, 1]");
   if (ray_seam_layouts < 0 || ray_seam_layouts > 16)
     return fail("ray_seam_layouts must be in [0, 16]");
+  if (!(chroma_noise_share >= 0 && chroma_noise_share <= 1))
+    return fail("chroma_noise_share must be in [0, 1]");
+  if (!(chroma_noise_max >= 0 && chroma_noise_max <= 50))
+    return fail("chroma_noise_max must be in [0, 50] grey levels");
   if (!(parked_car_probability_max >= 0 && parked_car_probability_max <= 1)) {
     return fail("parked_car_probability_max must be in [0, 1]");
   }

@@ -176,6 +176,10 @@ struct CameraLook {
   int dirt_spots = 0;         // a dirty lens
   double glare = 0.0;         // the sun or a lamp shining into the lens
   int jpeg_quality = 95;      // 100: no compression
+  // Colour blotches a few pixels across (grey levels, the standard
+  // deviation of the blue and red deviations), as cheap sensors' chroma
+  // noise and demosaicing leave them; 0: none.
+  double chroma_noise = 0.0;
   std::uint64_t seed = 0;
 };
 
@@ -226,6 +230,11 @@ struct SceneSamplerOptions {
   // last of all, so that a share of 0 leaves every scene as it was.
   double ray_seam_share = 0.0;
   int ray_seam_layouts = 3;
+  // Share of units whose cameras show chroma noise (CameraLook::
+  // chroma_noise, up to chroma_noise_max grey levels). Drawn after the
+  // seams, so that a share of 0 leaves every scene as it was.
+  double chroma_noise_share = 0.0;
+  double chroma_noise_max = 7.0;
 
   bool IsValid(std::string* error) const;
 };

@@ -1059,6 +1059,30 @@ void BlurOptics(const CameraLook& look, cv::Mat* out8) {
   }
 }
 
+// Chroma noise: blue and red deviations drawn on a grid three pixels
+// apart and interpolated (cubic), so that they come out as soft blotches a
+// few pixels across; green takes back a third of their sum, keeping the
+// brightness about where it was.
+void AddChromaNoise(const CameraLook& look, cv::Mat* out8) {
+  constexpr float kBlueShare = 1.4f;  // blue deviates more than red
+  cv::RNG rng(MixSeed(look.seed, 0xc4));
+  cv::Mat coarse(out8->rows / 3 + 2, out8->cols / 3 + 2, CV_32FC2);
+  rng.fill(coarse, cv::RNG::NORMAL, 0.0, look.chroma_noise);
+  cv::Mat fine;
+  cv::resize(coarse, fine, out8->size(), 0, 0, cv::INTER_CUBIC);
+  for (int r = 0; r < out8->rows; ++r) {
+    cv::Vec3b* o = out8->ptr<cv::Vec3b>(r);
+    const cv::Vec2f* n = fine.ptr<cv::Vec2f>(r);
+    for (int c = 0; c < out8->cols; ++c) {
+      if (o[c] == cv::Vec3b(0, 0, 0)) continue;  // not rendered
+      const float blue = kBlueShare * n[c][0], red = n[c][1];
+      o[c][0] = cv::saturate_cast<std::uint8_t>(o[c][0] + blue);
+      o[c][1] = cv::saturate_cast<std::uint8_t>(o[c][1] - (blue + red) / 3.0f);
+      o[c][2] = cv::saturate_cast<std::uint8_t>(o[c][2] + red);
+    }
+  }
+}
+
 }  // namespace
 
 // Exposure, white balance and vignetting into 8 bits (light), and sensor
@@ -1106,7 +1130,7 @@ void SceneRenderer::Impl::Develop(const cv::Mat& img, const CameraTable& table,
 }
 
 // The camera: exposure, white balance, vignetting, defocus, motion blur,
-// glare, a dirty lens, noise, and compression.
+// glare, a dirty lens, noise, chroma noise, and compression.
 void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& table,
                                     float auto_gain, bool full, cv::Mat* radiance,
                                     cv::Mat* out8) const {
@@ -1134,6 +1158,7 @@ void SceneRenderer::Impl::ApplyLook(const CameraLook& look, const CameraTable& t
   Develop(img, table, params, true, !blurred, out8);
   BlurOptics(look, out8);
   if (blurred) Develop(img, table, params, false, true, out8);
+  if (look.chroma_noise > 0) AddChromaNoise(look, out8);
   if (look.jpeg_quality < 95) {
     std::vector<std::uint8_t> bytes;
     cv::imencode(".jpg", *out8, bytes, {cv::IMWRITE_JPEG_QUALITY, look.jpeg_quality});

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/scene/labels.h"
@@ -153,6 +154,32 @@ TEST(SceneRendererTest, StraightSeamsKeepTheirLabels) {
     ASSERT_EQ(renderer.FusionOf(scene).options().seam_style, camera::SeamStyle::kFootprintRays);
   }
   EXPECT_GT(CheckLabelsOnTheirDots(renderer, options, 200, 210), 15);
+}
+
+// Chroma noise adds colour blotches a few pixels across: the fused view's
+// fine-scale colour variation (the a and b channels of CIELAB, difference
+// of Gaussians at 1.5 and 3 px) grows, its brightness stays.
+TEST(SceneRendererTest, ChromaNoiseColoursTheFineScale) {
+  SceneSamplerOptions noisy;
+  noisy.chroma_noise_share = 1.0;
+  const Scene plain = SampleScene(11), with = SampleScene(11, noisy);
+  const SceneRenderer& renderer = Renderer();
+  const cv::Mat a = renderer.Render(plain, nullptr).top_view;
+  const cv::Mat b = renderer.Render(with, nullptr).top_view;
+  const auto colour_detail = [](const cv::Mat& bgr) {
+    cv::Mat lab, f;
+    cv::cvtColor(bgr, lab, cv::COLOR_BGR2Lab);
+    lab.convertTo(f, CV_32FC3);
+    cv::Mat fine, coarse;
+    cv::GaussianBlur(f, fine, cv::Size(), 1.5);
+    cv::GaussianBlur(f, coarse, cv::Size(), 3.0);
+    const cv::Scalar detail = cv::mean(cv::abs(fine - coarse));
+    return std::pair<double, double>(detail[1] + detail[2], cv::mean(f)[0]);
+  };
+  const auto [detail_plain, light_plain] = colour_detail(a);
+  const auto [detail_noisy, light_noisy] = colour_detail(b);
+  EXPECT_GT(detail_noisy, 2.0 * detail_plain) << detail_plain << " -> " << detail_noisy;
+  EXPECT_NEAR(light_noisy, light_plain, 1.5);
 }
 
 TEST(SceneRendererTest, SolidsHideTheFloorAndItsLabels) {

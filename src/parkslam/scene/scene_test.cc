@@ -156,6 +156,33 @@ TEST(SceneTest, RaySeamShareAddsStraightLayoutsLast) {
   EXPECT_NE(error.find("ray_seam_share"), std::string::npos);
 }
 
+// Chroma noise: a share of 0 (the default) leaves every scene as it was;
+// 1 gives every fisheye of the unit some, near one amplitude per unit.
+TEST(SceneTest, ChromaNoiseShareGivesTheUnitsColourNoise) {
+  SceneSamplerOptions all;
+  all.chroma_noise_share = 1.0;
+  for (std::uint64_t seed = 0; seed < 50; ++seed) {
+    const Scene plain = SampleScene(seed), s = SampleScene(seed, all);
+    ASSERT_EQ(s.cameras.size(), plain.cameras.size());
+    double lo = 1e9, hi = 0.0;
+    for (size_t c = 0; c < s.cameras.size(); ++c) {
+      EXPECT_EQ(plain.cameras[c].chroma_noise, 0.0);
+      lo = std::min(lo, s.cameras[c].chroma_noise);
+      hi = std::max(hi, s.cameras[c].chroma_noise);
+      EXPECT_EQ(s.cameras[c].seed, plain.cameras[c].seed);
+    }
+    EXPECT_GE(lo, 0.3 * 0.8 * all.chroma_noise_max);
+    EXPECT_LE(hi, 1.2 * all.chroma_noise_max);
+    EXPECT_LE(hi, lo * 1.5 + 1e-9);  // one unit, cameras within 0.8-1.2 of its amplitude
+    EXPECT_EQ(s.fusion_seams, plain.fusion_seams);
+  }
+  SceneSamplerOptions wrong;
+  wrong.chroma_noise_share = 2.0;
+  std::string error;
+  EXPECT_FALSE(wrong.IsValid(&error));
+  EXPECT_NE(error.find("chroma_noise_share"), std::string::npos);
+}
+
 TEST(SceneTest, RejectsInvalidOptions) {
   SceneSamplerOptions options;
   options.outdoor_probability = 1.5;
