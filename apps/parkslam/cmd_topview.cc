@@ -8,6 +8,7 @@
 #include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/homography_top_view.h"
 #include "parkslam/camera/top_view.h"
+#include "parkslam/common/enum_names.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/homography_rig.h"
 #include "parkslam/io/output_guard.h"
@@ -40,14 +41,11 @@ void AddTopviewCommand(CLI::App& app) {
   cmd->add_option("--extent-m", options->extent_m, "Ground covered (rig form)")
       ->check(CLI::Range(1.0, 100.0))
       ->capture_default_str();
-  std::vector<std::string> seam_names;
-  for (const auto& [style, name] : camera::EnumNames(camera::SeamStyle{}))
-    seam_names.push_back(name);
   cmd->add_option("--seams", options->seams,
                   "Where the seams lie (rig form; docs/cameras.md): optical_axis, each ground "
                   "point from the camera nearest its axis; footprint_rays, straight seams from "
                   "the car's corners")
-      ->check(CLI::IsMember(seam_names))
+      ->check(CLI::IsMember(EnumNameList<camera::SeamStyle>()))
       ->capture_default_str();
   cmd->callback([options] {
     io::CheckOutputsSpareInputs(
@@ -70,9 +68,7 @@ void AddTopviewCommand(CLI::App& app) {
       camera::TopViewOptions view;
       view.size_px = options->size_px;
       view.extent_m = options->extent_m;
-      for (const auto& [style, name] : camera::EnumNames(camera::SeamStyle{})) {
-        if (options->seams == name) view.seam_style = style;
-      }
+      view.seam_style = *EnumFromName<camera::SeamStyle>(options->seams);  // checked above
       const camera::TopViewFusion fusion(rig, camera::FisheyeCameraNames(), view);
       std::vector<cv::Mat> images;
       for (const std::string* path :

@@ -16,6 +16,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "parkslam/common/enum_names.h"
 #include "parkslam/io/yaml_util.h"
 
 namespace parkslam::io::visit_yaml {
@@ -48,14 +49,9 @@ inline constexpr bool kIsVector = false;
 template <typename T>
 inline constexpr bool kIsVector<std::vector<T>> = true;
 
-// An enum field written as one of its names: EnumNames(E{}), found by
-// argument-dependent lookup beside the enum, gives every value with its
-// name (perception::EnumNames(DetectorKind) is one).
-template <typename E>
-concept NamedEnum = std::is_enum_v<E> && requires(E e) {
-  { EnumNames(e).begin()->first } -> std::convertible_to<E>;
-  { EnumNames(e).begin()->second } -> std::convertible_to<std::string_view>;
-};
+// An enum field is written as one of its names (common/enum_names.h;
+// perception::EnumNames(DetectorKind) is one table).
+using parkslam::NamedEnum;
 
 // Fields written as one YAML scalar or one short flow list.
 template <typename T>
@@ -112,15 +108,9 @@ template <NamedEnum E>
 inline void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
                       E* value) {
   const std::string name = r.String(node, path);
-  std::string names;
-  for (const auto& [e, known] : EnumNames(E{})) {
-    if (name == known) {
-      *value = e;
-      return;
-    }
-    names += (names.empty() ? "" : ", ") + std::string(known);
-  }
-  r.Fail(node, path, "'" + name + "' is none of " + names);
+  const std::optional<E> known = EnumFromName<E>(name);
+  if (!known) r.Fail(node, path, "'" + name + "' is none of " + EnumNamesJoined<E>());
+  *value = *known;
 }
 template <Visitable T>
 inline void ReadValue(const YamlReader& r, const YAML::Node& node, const std::string& path,
@@ -206,9 +196,7 @@ inline void AppendScalar(std::string* out, const std::vector<double>& values) {
 }
 template <NamedEnum E>
 inline void AppendScalar(std::string* out, E value) {
-  for (const auto& [e, name] : EnumNames(E{})) {
-    if (e == value) out->append(name);
-  }
+  out->append(EnumName(value));
 }
 inline void AppendScalar(std::string* out, const Eigen::Vector2d& p) {
   out->push_back('[');

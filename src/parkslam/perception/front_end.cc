@@ -4,12 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
 
 #include "parkslam/camera/image_plane.h"
 #include "parkslam/common/angles.h"
+#include "parkslam/common/enum_names.h"
 
 namespace parkslam::perception {
 namespace {
@@ -33,17 +35,10 @@ const camera::CameraConfig* FindCamera(const camera::CameraRig& rig, const std::
 
 }  // namespace
 
-const char* ToString(DetectorKind kind) {
-  for (const auto& [k, name] : EnumNames(kind)) {
-    if (k == kind) return name;
-  }
-  return "unknown";
-}
+const char* ToString(DetectorKind kind) { return EnumName(kind); }
 
 DetectorKind ParseDetectorKind(const std::string& text) {
-  for (const auto& [kind, name] : EnumNames(DetectorKind{})) {
-    if (text == name) return kind;
-  }
+  if (const std::optional<DetectorKind> kind = EnumFromName<DetectorKind>(text)) return *kind;
   throw std::invalid_argument("unknown detector '" + text + "' (expected classical or learned)");
 }
 
