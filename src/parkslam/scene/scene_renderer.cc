@@ -401,17 +401,11 @@ void SceneRenderer::Impl::MarkNeeded() {
     t.needed = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(0));
     const camera::CameraModel model(fisheye_configs[c].intrinsics);
     const Eigen::Isometry3d T_camera_vehicle = fisheye_configs[c].T_vehicle_camera.inverse();
-    // Every seam layout of the exact calibration (the perturbed ones are
-    // within the margin). The camera meters its exposure on what the
-    // optical-axis layouts sample, so that adding straight layouts changes
-    // no exposure.
-    const int axis_layouts = static_cast<int>(options.seam_layouts.size());
-    for (int l = 0; l < Layouts(); ++l) {
-      if (l == axis_layouts) t.metered = t.needed.clone();
+    const int camera = static_cast<int>(c);
+    const auto mark = [&](int l) {
       const camera::TopViewFusion& fusion = Fusion(0, l);
       for (int v = 0; v < size; ++v) {
         for (int u = 0; u < size; ++u) {
-          const int camera = static_cast<int>(c);
           if (fusion.PrimaryCamera(u, v) != camera && fusion.SecondaryCamera(u, v) != camera)
             continue;
           const Eigen::Vector2d g = fusion.PixelToVehicle(Eigen::Vector2d(u, v));
@@ -420,8 +414,15 @@ void SceneRenderer::Impl::MarkNeeded() {
           t.needed.at<std::uint8_t>(static_cast<int>(px->y()), static_cast<int>(px->x())) = 255;
         }
       }
-    }
-    if (options.ray_seam_angles_rad.empty()) t.metered = t.needed.clone();
+    };
+    // Every seam layout of the exact calibration (the perturbed ones are
+    // within the margin). The camera meters its exposure on what the
+    // optical-axis layouts sample, so that adding straight layouts changes
+    // no exposure.
+    const int axis_layouts = static_cast<int>(options.seam_layouts.size());
+    for (int l = 0; l < axis_layouts; ++l) mark(l);
+    t.metered = t.needed.clone();
+    for (int l = axis_layouts; l < Layouts(); ++l) mark(l);
     cv::dilate(t.needed, t.needed, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(25, 25)));
     int first = t.height, last = 0;
     for (int v = 0; v < t.height; ++v) {
