@@ -448,25 +448,9 @@ class Painter {
         }
         break;
       }
-      case DecalKind::kTyreMark: {
-        // An arc of the car's turn.
-        const double radius = 3.0 + Hash01(d.seed, 3, 4) * 8.0;
-        const Eigen::Vector2d ax(std::cos(d.yaw_rad), std::sin(d.yaw_rad));
-        const Eigen::Vector2d centre = d.center + Eigen::Vector2d(-ax.y(), ax.x()) * radius;
-        std::vector<cv::Point> pts;
-        const int steps = 16;
-        for (int i = 0; i <= steps; ++i) {
-          const double a = (static_cast<double>(i) / steps - 0.5) * d.length_m / radius;
-          const Eigen::Vector2d dir(std::cos(d.yaw_rad - kPi / 2 + a),
-                                    std::sin(d.yaw_rad - kPi / 2 + a));
-          pts.push_back(Fixed(c_.PixelOf(centre + dir * radius) - Eigen::Vector2d(roi.x, roi.y)));
-        }
-        cv::polylines(mask, pts, false, cv::Scalar(255),
-                      std::max(1, static_cast<int>(Px(d.width_m))), cv::LINE_AA, kShift);
-        cv::GaussianBlur(mask, mask, cv::Size(), std::max(0.8, Px(0.03)));
-        Darken(img_, roi, mask, 0.35f * s);
+      case DecalKind::kTyreMark:
+        TyreMark(d);
         break;
-      }
       case DecalKind::kCrack: {
         cv::RNG local(MixSeed(d.seed, 5));
         Eigen::Vector2d p = d.center;
@@ -515,21 +499,77 @@ class Painter {
         break;
       }
       case DecalKind::kGrate: {
+        // A drain grate: a frame of cast or galvanised metal around bars a
+        // few centimetres apart, or a grid of square holes. The holes are
+        // dark but not black (the channel's dirt shows through), so at the
+        // top view's 1.7 cm a pixel the cover reads as a grey, finely
+        // striped or dotted square, as in real lots, not as a black hole.
         FillPolygon(BoxPolygon(c_, d.center, d.yaw_rad, d.length_m / 2, d.width_m / 2), roi, &mask);
-        Blend(img_, roi, mask, Colour(60, 62, 65), 1.0f);
-        cv::Mat slots(roi.size(), CV_8UC1, cv::Scalar(0));
+        const float tone = 0.8f + 0.5f * Hash01(d.seed, 1, 3);
+        Blend(img_, roi, mask, Colour(125, 130, 135) * tone, 1.0f);
+        const double pitch_m = 0.04 + 0.03 * Hash01(d.seed, 2, 3);
+        const double hole_m = pitch_m * (0.45 + 0.15 * Hash01(d.seed, 3, 3));
+        const double frame_m = 0.03 + 0.03 * Hash01(d.seed, 4, 3);
         const Eigen::Vector2d ax(std::cos(d.yaw_rad), std::sin(d.yaw_rad)), ay(-ax.y(), ax.x());
-        for (double t = -d.length_m / 2 + 0.04; t < d.length_m / 2 - 0.03; t += 0.05) {
-          FillPolygon(StrokePolygon(c_, d.center + ax * t - ay * (d.width_m / 2 - 0.04),
-                                    d.center + ax * t + ay * (d.width_m / 2 - 0.04), 0.02),
-                      roi, &slots);
-        }
-        Darken(img_, roi, slots, 0.8f);
+        const double half_l = d.length_m / 2 - frame_m, half_w = d.width_m / 2 - frame_m;
+        if (half_l <= 0 || half_w <= 0) break;
+        const auto bars = [&](const Eigen::Vector2d& along, const Eigen::Vector2d& across,
+                              double half_along, double half_across) {
+          cv::Mat holes(roi.size(), CV_8UC1, cv::Scalar(0));
+          for (double t = -half_along + hole_m / 2; t < half_along - hole_m / 2; t += pitch_m) {
+            FillPolygon(StrokePolygon(c_, d.center + along * t - across * half_across,
+                                      d.center + along * t + across * half_across, hole_m),
+                        roi, &holes);
+          }
+          return holes;
+        };
+        cv::Mat holes = bars(ax, ay, half_l, half_w);
+        if (Hash01(d.seed, 5, 3) < 0.4) cv::bitwise_and(holes, bars(ay, ax, half_w, half_l), holes);
+        Darken(img_, roi, holes, 0.35f + 0.25f * Hash01(d.seed, 6, 3));
         break;
       }
       default:
         break;
     }
+  }
+
+  // Tyre marks: the arc of a car's turn, one wheel's or both wheels' a
+  // track apart. Rubber is laid down unevenly: the mark fades in and out
+  // along its length and is darkest in the middle, so it never ends in a
+  // crisp crescent.
+  void TyreMark(const Decal& d) {
+    constexpr double kTrackM = 1.55;
+    const bool pair = Hash01(d.seed, 5, 4) < 0.6;
+    const cv::Rect roi = DecalRoi(d, 0.3 + (pair ? kTrackM : 0.0));
+    if (roi.area() <= 0) return;
+    cv::Mat mask(roi.size(), CV_8UC1, cv::Scalar(0));
+    const double radius = 3.0 + Hash01(d.seed, 3, 4) * 8.0;
+    const Eigen::Vector2d ax(std::cos(d.yaw_rad), std::sin(d.yaw_rad));
+    const Eigen::Vector2d centre = d.center + Eigen::Vector2d(-ax.y(), ax.x()) * radius;
+    const int thickness = std::max(1, static_cast<int>(std::lround(Px(d.width_m))));
+    constexpr int kSteps = 32;
+    for (int wheel = 0; wheel < (pair ? 2 : 1); ++wheel) {
+      const double r = radius - wheel * kTrackM;
+      const float phase = Hash01(d.seed, 6, wheel) * 6.283f;
+      cv::Point last;
+      for (int i = 0; i <= kSteps; ++i) {
+        const double t = static_cast<double>(i) / kSteps;
+        const double a = (t - 0.5) * d.length_m / radius;
+        const Eigen::Vector2d dir(std::cos(d.yaw_rad - kPi / 2 + a),
+                                  std::sin(d.yaw_rad - kPi / 2 + a));
+        const cv::Point p = Fixed(c_.PixelOf(centre + dir * r) - Eigen::Vector2d(roi.x, roi.y));
+        if (i > 0) {
+          // Fades in and out (sine of the arc) and comes and goes along it.
+          const double envelope = std::pow(std::sin(kPi * (t - 0.5 / kSteps)), 0.8);
+          const double patchy = 0.6 + 0.4 * std::sin(phase + 9.0 * t + 3.0 * std::sin(5.0 * t));
+          const int level = static_cast<int>(255 * envelope * patchy);
+          cv::line(mask, last, p, cv::Scalar(level), thickness, cv::LINE_AA, kShift);
+        }
+        last = p;
+      }
+    }
+    cv::GaussianBlur(mask, mask, cv::Size(), std::max(0.8, Px(0.03)));
+    Darken(img_, roi, mask, 0.35f * static_cast<float>(d.strength));
   }
 
   // Decals of paint, below the slot lines.
@@ -706,8 +746,9 @@ class Painter {
     const Eigen::Vector2d away =
         -Eigen::Vector2d(std::cos(l.sun_azimuth_rad), std::sin(l.sun_azimuth_rad));
     const double reach = 1.0 / std::tan(std::max(0.2, l.sun_elevation_rad));
+    // corner: the radius of a box's rounded corners (0: sharp).
     const auto cast = [&](const Eigen::Vector2d& c, double yaw, double hx, double hy, double z1,
-                          bool round) {
+                          bool round, double corner = 0.0) {
       std::vector<Eigen::Vector2d> foot;
       if (round) {
         for (int i = 0; i < 8; ++i) {
@@ -716,8 +757,15 @@ class Painter {
         }
       } else {
         const Eigen::Vector2d ax(std::cos(yaw), std::sin(yaw)), ay(-ax.y(), ax.x());
+        const double r = std::clamp(corner, 0.0, std::min(hx, hy));
         for (int sx = -1; sx <= 1; sx += 2) {
-          for (int sy = -1; sy <= 1; sy += 2) foot.push_back(c + ax * (sx * hx) + ay * (sy * hy));
+          for (int sy = -1; sy <= 1; sy += 2) {
+            const Eigen::Vector2d inner = c + ax * (sx * (hx - r)) + ay * (sy * (hy - r));
+            for (int i = 0; i <= (r > 0 ? 3 : 0); ++i) {
+              const double a = i * kPi / 6;  // round the corner in three steps
+              foot.push_back(inner + ax * (sx * r * std::cos(a)) + ay * (sy * r * std::sin(a)));
+            }
+          }
         }
       }
       std::vector<cv::Point2f> pts;
@@ -736,7 +784,8 @@ class Painter {
       if (l.shadow_depth <= 0.0) return;
       for (const Solid& s : scene_.solids) {
         if (!s.casts_shadow) continue;
-        cast(s.center, s.yaw_rad, s.half_x, s.half_y, s.z1, s.shape != SolidShape::kBox);
+        cast(s.center, s.yaw_rad, s.half_x, s.half_y, s.z1, s.shape != SolidShape::kBox,
+             s.corner_radius_m);
       }
       cast(Eigen::Vector2d(1.35, 0), 0.0, 2.35, 0.92, 1.5, false);  // the car itself
       cv::RNG local(MixSeed(l.seed, 0x7ee));

@@ -11,9 +11,11 @@ namespace {
 
 // A bare floor (no paint, decals or verge) under even light, painted on a
 // 6 m x 6 m canvas at 2 cm a pixel.
-cv::Mat BareFloor(FloorMaterial material, double texture, std::uint64_t seed) {
+cv::Mat BareFloor(FloorMaterial material, double texture, std::uint64_t seed,
+                  const std::vector<Decal>& decals = {}) {
   Scene scene;
   scene.seed = seed;
+  scene.decals = decals;
   scene.floor.material = material;
   scene.floor.base = Colour(128, 128, 128);
   scene.floor.texture = texture;
@@ -62,6 +64,66 @@ TEST(FloorPainterTest, ScenesDrawTheirOwnTexture) {
   const cv::Mat a = BareFloor(FloorMaterial::kConcrete, 1.0, 1);
   const cv::Mat b = BareFloor(FloorMaterial::kConcrete, 1.0, 2);
   EXPECT_GT(cv::norm(a, b, cv::NORM_L1) / static_cast<double>(a.total()), 0.5);
+}
+
+// The mean grey level over a disc of radius_m around p (metres on the
+// 6 m canvas of BareFloor, centred on the origin).
+double MeanAround(const cv::Mat& grey, const Eigen::Vector2d& p, double radius_m) {
+  cv::Mat disc(grey.size(), CV_8UC1, cv::Scalar(0));
+  cv::circle(
+      disc,
+      cv::Point(static_cast<int>((p.x() + 3.0) / 0.02), static_cast<int>((3.0 - p.y()) / 0.02)),
+      static_cast<int>(radius_m / 0.02), cv::Scalar(255), -1);
+  return cv::mean(grey, disc)[0];
+}
+
+// A drain grate is grey metal with dark holes, not a black hole in the
+// floor: over its middle it keeps more than half the floor's brightness
+// (drawn black, grates were one of the rendered views' tells).
+TEST(FloorPainterTest, GratesAreGreyMetalNotBlack) {
+  Decal grate;
+  grate.kind = DecalKind::kGrate;
+  grate.center = Eigen::Vector2d(-2.0, -2.0);  // clear of the car's own shadow
+  grate.length_m = 0.8;
+  grate.width_m = 0.5;
+  for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
+    grate.seed = seed;
+    const cv::Mat floor = BareFloor(FloorMaterial::kConcrete, 1.0, seed, {grate});
+    const double inside = MeanAround(floor, grate.center, 0.15);
+    const double around = MeanAround(floor, Eigen::Vector2d(-0.8, -2.0), 0.3);
+    EXPECT_GT(inside, 0.5 * around) << "seed " << seed;
+    EXPECT_LT(inside, 0.95 * around) << "seed " << seed;
+  }
+}
+
+// A tyre mark fades in and out: at its ends it darkens the floor far less
+// than in its middle, so that it never ends in a crisp crescent.
+TEST(FloorPainterTest, TyreMarksFadeAtTheirEnds) {
+  Decal mark;
+  mark.kind = DecalKind::kTyreMark;
+  mark.center = Eigen::Vector2d(0.0, -2.5);  // clear of the car's own shadow
+  mark.length_m = 4.0;
+  mark.width_m = 0.2;
+  mark.strength = 1.0;
+  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+    mark.seed = seed;
+    const cv::Mat bare = BareFloor(FloorMaterial::kConcrete, 0.0, 1);
+    const cv::Mat marked = BareFloor(FloorMaterial::kConcrete, 0.0, 1, {mark});
+    // The arc runs through its centre along x, bending towards +y; its
+    // ends lie about 2 m either side, a little towards the bend.
+    const auto darkening = [&](const Eigen::Vector2d& p) {
+      double best = 0.0;
+      for (double dy = 0.0; dy <= 0.8; dy += 0.02) {
+        const Eigen::Vector2d q = p + Eigen::Vector2d(0.0, dy);
+        best = std::max(best, MeanAround(bare, q, 0.05) - MeanAround(marked, q, 0.05));
+      }
+      return best;
+    };
+    const double middle = darkening(Eigen::Vector2d(0.0, -2.6));
+    EXPECT_GT(middle, 10.0) << "seed " << seed;
+    EXPECT_LT(darkening(Eigen::Vector2d(1.95, -2.6)), 0.4 * middle) << "seed " << seed;
+    EXPECT_LT(darkening(Eigen::Vector2d(-1.95, -2.6)), 0.4 * middle) << "seed " << seed;
+  }
 }
 
 }  // namespace

@@ -203,6 +203,9 @@ void AddCar(Random& rng, const Eigen::Vector2d& center, double yaw, Scene* scene
   body.half_y = width / 2;
   body.z0 = 0.25;
   body.z1 = body_top;
+  // Seen from above a car's plan is rounded at its four corners, not a
+  // box's (a share of its width, so that no draw is added).
+  body.corner_radius_m = 0.2 * width;
   body.colour = colour;
   body.material = SolidMaterial::kPaint;
   scene->solids.push_back(body);
@@ -210,6 +213,7 @@ void AddCar(Random& rng, const Eigen::Vector2d& center, double yaw, Scene* scene
   cabin.center = center + ax * rng.Uniform(-0.35, 0.05) * length / 2;
   cabin.half_x = length * rng.Uniform(0.24, 0.32);
   cabin.half_y = width / 2 - 0.1;
+  cabin.corner_radius_m = 0.3;
   cabin.z0 = body_top;
   cabin.z1 = roof;
   cabin.material = SolidMaterial::kGlass;

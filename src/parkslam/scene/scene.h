@@ -128,13 +128,15 @@ struct Floor {
 enum class SolidShape : std::uint8_t { kBox, kCylinder, kCone };
 enum class SolidMaterial : std::uint8_t { kPaint, kGlass, kTyre, kMatt, kSkin };
 
-// A solid standing on the floor: an oriented box, a vertical cylinder or
-// a cone (radius half_x at z0, zero at z1).
+// A solid standing on the floor: an oriented box (its vertical edges
+// rounded when corner_radius_m > 0, as a car's plan is), a vertical
+// cylinder or a cone (radius half_x at z0, zero at z1).
 struct Solid {
   SolidShape shape = SolidShape::kBox;
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
   double yaw_rad = 0.0;
   double half_x = 0.5, half_y = 0.5;  // box half extents; cylinder and cone: half_x the radius
+  double corner_radius_m = 0.0;       // box: radius of its rounded vertical edges
   double z0 = 0.0, z1 = 1.0;
   Colour colour{128, 128, 128};
   SolidMaterial material = SolidMaterial::kMatt;

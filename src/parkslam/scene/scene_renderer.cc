@@ -171,11 +171,44 @@ bool IntersectRound(const Solid& s, const Eigen::Vector3d& o, const Eigen::Vecto
   return true;
 }
 
+// A ray against a box whose vertical edges are rounded with radius r: the
+// union of two boxes, one r shorter and one r narrower, and four vertical
+// cylinders of radius r at the inner corners. Each piece keeps a hit only
+// when it is nearer, so the union's nearest hit comes out of trying all.
+bool IntersectRoundedBox(const Solid& s, double cy, double sy, const Eigen::Vector3d& o,
+                         const Eigen::Vector3f& d, SolidHit* hit) {
+  // The whole box bounds the rounded one: most rays miss both.
+  SolidHit bound = *hit;
+  if (!IntersectBox(s, cy, sy, o, d, &bound)) return false;
+  const double r = std::min({s.corner_radius_m, s.half_x, s.half_y});
+  bool found = false;
+  Solid piece = s;
+  piece.corner_radius_m = 0.0;
+  piece.half_y = s.half_y - r;
+  found |= IntersectBox(piece, cy, sy, o, d, hit);
+  piece.half_x = s.half_x - r;
+  piece.half_y = s.half_y;
+  found |= IntersectBox(piece, cy, sy, o, d, hit);
+  piece.shape = SolidShape::kCylinder;
+  piece.half_x = r;
+  const Eigen::Vector2d ax(cy, sy), ay(-sy, cy);
+  for (int kx = -1; kx <= 1; kx += 2) {
+    for (int ky = -1; ky <= 1; ky += 2) {
+      piece.center = s.center + ax * (kx * (s.half_x - r)) + ay * (ky * (s.half_y - r));
+      found |= IntersectRound(piece, o, d, hit);
+    }
+  }
+  return found;
+}
+
 // Ray (origin o, unit direction d) against a solid; the nearest hit beyond
 // a millimetre, if any.
 bool Intersect(const Solid& s, double cy, double sy, const Eigen::Vector3d& o,
                const Eigen::Vector3f& d, SolidHit* hit) {
-  if (s.shape == SolidShape::kBox) return IntersectBox(s, cy, sy, o, d, hit);
+  if (s.shape == SolidShape::kBox) {
+    return s.corner_radius_m > 0 ? IntersectRoundedBox(s, cy, sy, o, d, hit)
+                                 : IntersectBox(s, cy, sy, o, d, hit);
+  }
   return IntersectRound(s, o, d, hit);
 }
 

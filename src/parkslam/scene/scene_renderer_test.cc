@@ -204,6 +204,34 @@ TEST(SceneRendererTest, SolidsHideTheFloorAndItsLabels) {
   EXPECT_EQ(r.solids.at<std::uint8_t>(static_cast<int>(px.y()), static_cast<int>(px.x())), 255);
 }
 
+TEST(SceneRendererTest, RoundedCornersShowTheFloorTheBoxsCornerHid) {
+  // A pillar 3 m left of the car; a floor point just inside its plan's
+  // near corner is hidden by the sharp box and seen past the rounded one,
+  // while a point just inside the middle of its near face is hidden by
+  // both.
+  Scene scene = SampleScene(5);
+  scene.solids.clear();
+  Solid pillar;
+  pillar.center = Eigen::Vector2d(1.35, 3.2);
+  pillar.half_x = pillar.half_y = 0.6;
+  pillar.z1 = 3.0;
+  scene.solids.push_back(pillar);
+  RenderRequest request;
+  request.solids = true;
+  const auto hidden = [&](const Scene& s, const Eigen::Vector2d& p) {
+    const RenderedScene r = Renderer().Render(s, nullptr, request);
+    const Eigen::Vector2d px = *Renderer().FusedPixelOf(s, p);
+    return r.solids.at<std::uint8_t>(static_cast<int>(std::lround(px.y())),
+                                     static_cast<int>(std::lround(px.x()))) == 255;
+  };
+  const Eigen::Vector2d corner(1.35 + 0.55, 3.2 - 0.55), face(1.35, 3.2 - 0.55);
+  EXPECT_TRUE(hidden(scene, corner));
+  EXPECT_TRUE(hidden(scene, face));
+  scene.solids.front().corner_radius_m = 0.5;
+  EXPECT_FALSE(hidden(scene, corner));
+  EXPECT_TRUE(hidden(scene, face));
+}
+
 TEST(SceneRendererTest, RejectsACameraMissingFromTheRig) {
   SceneRendererOptions options;
   options.fisheye_names = {"front", "rear", "left", "nowhere"};
