@@ -480,8 +480,22 @@ namespace {
 // fusion masks (below the cameras, so that they hide the floor next to the
 // car, as a real car's do), the body, and a cabin. A camera on a part's
 // surface sees that part behind it, not along it.
+//
+// Below the front camera the bumper's middle juts 12 cm ahead of the lens
+// and 12 cm below it (a lip, or the plate's mount), rounded in plan: the
+// floor it hides from that camera is a dome ahead of the footprint, about
+// 0.6 m deep and as wide as the car, as the car that recorded ps2.0 shows
+// in its views (its size was read off the real views).
+constexpr size_t kEgoLip = 3;         // EgoBody()'s part below the front camera
+constexpr float kEgoLipShade = 0.5f;  // under the bonnet: darker than the body's faces
+
 std::vector<Solid> EgoBody() {
-  std::vector<Solid> body(3);
+  std::vector<Solid> body(4);
+  body[kEgoLip].shape = SolidShape::kCylinder;
+  body[kEgoLip].center = Eigen::Vector2d(3.62, 0.0);
+  body[kEgoLip].half_x = 0.2;
+  body[kEgoLip].z0 = 0.25;
+  body[kEgoLip].z1 = 0.48;
   body[0].center = Eigen::Vector2d(1.35, 0.0);
   body[0].half_x = 2.35 + 0.04;
   body[0].half_y = 0.925 + 0.04;
@@ -623,11 +637,15 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
       SolidHit hit;
       hit.t = t.ground_t[i];
       bool on_body = false;
-      for (const Solid& part : body)
-        on_body |= Intersect(part, 1.0, 0.0, t.c_vehicle, t.rays[i], &hit);
+      float shade = 1.0f;
+      for (size_t k = 0; k < body.size(); ++k) {
+        if (!Intersect(body[k], 1.0, 0.0, t.c_vehicle, t.rays[i], &hit)) continue;
+        on_body = true;  // the nearest part so far
+        shade = k == kEgoLip ? kEgoLipShade : 1.0f;
+      }
       if (on_body) {
         kind = kEgo;
-        t.ego_shade.at<float>(v, u) = 0.55f + 0.45f * std::abs(hit.normal.dot(t.rays[i]));
+        t.ego_shade.at<float>(v, u) = shade * (0.55f + 0.45f * std::abs(hit.normal.dot(t.rays[i])));
       }
       t.kind.at<std::uint8_t>(v, u) = kind;
     }
@@ -981,7 +999,11 @@ void SceneRenderer::Impl::ShadeSolids(const CameraTable& t, const Scene& scene,
   for (size_t s = 0; s < scene.solids.size(); ++s) {
     TraceSolid(t, index, scene.solids[s], frames[s], s, &depth, &which);
   }
-  if (solid_mask != nullptr) *solid_mask = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(0));
+  if (solid_mask != nullptr) {
+    // The car's own body hides the floor as any solid does.
+    *solid_mask = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(0));
+    solid_mask->setTo(255, t.kind == kEgo);
+  }
   for (size_t i = 0; i < n; ++i) {
     if (which[i] < 0) continue;
     const Solid& solid = scene.solids[static_cast<size_t>(which[i])];
