@@ -12,13 +12,10 @@ Used to compare rendered views with real ones (docs/training_data.md,
   scripts/colour_detail.py ../shared/data/ps2.0-sample /tmp/views
 """
 
-import argparse
-import glob
-import os
-import sys
-
 import cv2
 import numpy as np
+
+import view_folders
 
 SIGMAS = (0.7, 1.5, 3.0)
 CHANNELS = ("L", "a", "b")
@@ -41,14 +38,9 @@ def detail(path):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("folders", nargs="+", help="folders of top views (*.jpg)")
-    parser.add_argument("--count", type=int, default=100, help="first N views of each folder")
-    args = parser.parse_args()
+    args = view_folders.parse_args(__doc__)
     for folder in args.folders:
-        paths = sorted(glob.glob(os.path.join(folder, "*.jpg")))[: args.count]
-        if not paths:
-            sys.exit(f"{folder}: no .jpg views")
+        paths = view_folders.views(folder, args.count)
         m = np.median(np.array([detail(p) for p in paths]), axis=0)
         parts = []
         for k, name in enumerate(CHANNELS):
@@ -58,4 +50,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    view_folders.run(main)

@@ -18,15 +18,14 @@ Used to compare rendered views with real ones (docs/training_data.md,
   scripts/line_profiles.py ../shared/data/ps2.0-sample /tmp/views
 """
 
-import argparse
-import glob
-import json
 import math
 import os
 import sys
 
 import cv2
 import numpy as np
+
+import view_folders
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "learned"))
 from ps2_labels import read_marks  # noqa: E402
@@ -93,28 +92,12 @@ def measure(path):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("folders", nargs="+",
-                        help="folders of 600 x 600 *.jpg top views with their *.json labels")
-    parser.add_argument("--count", type=int, default=400, help="views per folder (default 400)")
-    args = parser.parse_args()
-    if args.count < 1:
-        parser.error("--count must be at least 1")
+    args = view_folders.parse_args(__doc__, default_count=400, labels=True)
     for folder in args.folders:
-        files = [f for f in sorted(glob.glob(os.path.join(folder, "*.jpg")))
-                 if os.path.exists(os.path.splitext(f)[0] + ".json")][:args.count]
-        if not files:
-            print(f"line_profiles: {folder}: no *.jpg with its *.json", file=sys.stderr)
-            return 2
-        try:
-            figures = np.array([m for f in files for m in measure(f)])
-        except (ValueError, OSError, json.JSONDecodeError) as e:
-            print(f"line_profiles: {e}", file=sys.stderr)
-            return 2
+        files = view_folders.views(folder, args.count, labels=True)
+        figures = np.array([m for f in files for m in measure(f)])
         if len(figures) == 0:
-            print(f"line_profiles: {folder}: no line measured", file=sys.stderr)
-            return 2
+            view_folders.fail(f"{folder}: no line measured")
         quantiles = (10, 25, 50, 75, 90)
         print(f"{folder} ({len(files)} views, {len(figures)} lines measured)")
         print("  percentile        " + "  ".join(f"{q:5d}" for q in quantiles))
@@ -125,4 +108,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    view_folders.run(main)

@@ -18,14 +18,12 @@ Used to compare rendered views with real ones (docs/training_data.md,
   scripts/seam_steps.py ../shared/data/ps2.0-sample /tmp/views
 """
 
-import argparse
-import glob
 import math
-import os
-import sys
 
 import cv2
 import numpy as np
+
+import view_folders
 
 ANGLES_RAD = np.arange(0.15, 0.91, 0.025)
 SIDE_PX = 4
@@ -82,17 +80,12 @@ def seam_steps(path):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("folders", nargs="+", help="folders of top views (*.jpg)")
-    parser.add_argument("--count", type=int, default=100, help="first N views of each folder")
-    args = parser.parse_args()
+    args = view_folders.parse_args(__doc__)
     for folder in args.folders:
-        paths = sorted(glob.glob(os.path.join(folder, "*.jpg")))[: args.count]
-        if not paths:
-            sys.exit(f"{folder}: no .jpg views")
+        paths = view_folders.views(folder, args.count)
         steps = np.array([s for p in paths for s in seam_steps(p)])
         if len(steps) == 0:
-            sys.exit(f"{folder}: no view with a black footprint at its centre")
+            view_folders.fail(f"{folder}: no view with a black footprint at its centre")
         light, colour, angle = steps[:, 0], steps[:, 1], steps[:, 2]
         print(f"{folder}: {len(paths)} views, {len(steps)} seams; lightness step "
               f"p25/50/75/90 {np.percentile(light, 25):.1f} / {np.median(light):.1f} / "
@@ -102,4 +95,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    view_folders.run(main)

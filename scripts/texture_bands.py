@@ -12,13 +12,10 @@ Used to compare rendered views with real ones (docs/training_data.md,
   scripts/texture_bands.py ../shared/data/ps2.0-sample /tmp/views
 """
 
-import argparse
-import glob
-import os
-import sys
-
 import cv2
 import numpy as np
+
+import view_folders
 
 SIGMAS = (0.7, 1.5, 3.0, 6.0)
 RINGS = ((0, 60), (60, 120), (120, 300))
@@ -44,23 +41,10 @@ def bands(path):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("folders", nargs="+", help="folders of 600 x 600 *.jpg top views")
-    parser.add_argument("--count", type=int, default=100, help="images per folder (default 100)")
-    args = parser.parse_args()
-    if args.count < 1:
-        parser.error("--count must be at least 1")
+    args = view_folders.parse_args(__doc__)
     for folder in args.folders:
-        files = sorted(glob.glob(os.path.join(folder, "*.jpg")))[:args.count]
-        if not files:
-            print(f"texture_bands: {folder}: no *.jpg", file=sys.stderr)
-            return 2
-        try:
-            figure = np.median(np.array([bands(f) for f in files]), axis=0)
-        except ValueError as e:
-            print(f"texture_bands: {e}", file=sys.stderr)
-            return 2
+        files = view_folders.views(folder, args.count)
+        figure = np.median(np.array([bands(f) for f in files]), axis=0)
         print(f"{folder} ({len(files)} views)")
         print("  ring (px beyond the car)  " + "  ".join(f"s={s:<4}" for s in SIGMAS))
         for (lo, hi), row in zip(RINGS, figure):
@@ -69,4 +53,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    view_folders.run(main)
