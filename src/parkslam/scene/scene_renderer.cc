@@ -60,6 +60,7 @@ struct CameraTable {
   cv::Mat kind;              // CV_8U PixelKind
   cv::Mat vignette;          // CV_32F, squared off-axis angle over its maximum
   cv::Mat ego_shade;         // CV_32F, where kind is kEgo
+  cv::Mat ego;               // CV_8U, 255 where kind is kEgo: the floor the car's body hides
   cv::Mat needed;            // CV_8U, 255 where the top view samples (with a margin for blur)
   cv::Mat metered;           // CV_8U, 255 where the top view samples: what auto exposure meters
   cv::Range needed_rows = cv::Range::all();  // the rows that hold any of them
@@ -651,6 +652,7 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
     }
   }
   cv::convertMaps(map, cv::noArray(), t.map_xy, t.map_frac, CV_16SC2);
+  t.ego = t.kind == kEgo;
   IndexByAzimuth(pixels.valid, &t);
   return t;
 }
@@ -999,11 +1001,8 @@ void SceneRenderer::Impl::ShadeSolids(const CameraTable& t, const Scene& scene,
   for (size_t s = 0; s < scene.solids.size(); ++s) {
     TraceSolid(t, index, scene.solids[s], frames[s], s, &depth, &which);
   }
-  if (solid_mask != nullptr) {
-    // The car's own body hides the floor as any solid does.
-    *solid_mask = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(0));
-    solid_mask->setTo(255, t.kind == kEgo);
-  }
+  // The car's own body hides the floor as any solid does.
+  if (solid_mask != nullptr) *solid_mask = t.ego.clone();
   for (size_t i = 0; i < n; ++i) {
     if (which[i] < 0) continue;
     const Solid& solid = scene.solids[static_cast<size_t>(which[i])];

@@ -41,6 +41,14 @@ std::optional<Eigen::Vector2d> DotCentroid(const cv::Mat& dots, const Eigen::Vec
   return Eigen::Vector2d(sx / sum, sy / sum);
 }
 
+// Whether the fused solids mask of r marks the floor point p (vehicle
+// frame) hidden.
+bool HiddenAt(const RenderedScene& r, const Scene& scene, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d px = *Renderer().FusedPixelOf(scene, p);
+  return r.solids.at<std::uint8_t>(static_cast<int>(std::lround(px.y())),
+                                   static_cast<int>(std::lround(px.x()))) == 255;
+}
+
 // Renders scenes seed_begin .. seed_end - 1 with a dot on every marking
 // point and expects each label within 1 px of its fused dot; returns how
 // many labels it checked.
@@ -219,10 +227,7 @@ TEST(SceneRendererTest, RoundedCornersShowTheFloorTheBoxsCornerHid) {
   RenderRequest request;
   request.solids = true;
   const auto hidden = [&](const Scene& s, const Eigen::Vector2d& p) {
-    const RenderedScene r = Renderer().Render(s, nullptr, request);
-    const Eigen::Vector2d px = *Renderer().FusedPixelOf(s, p);
-    return r.solids.at<std::uint8_t>(static_cast<int>(std::lround(px.y())),
-                                     static_cast<int>(std::lround(px.x()))) == 255;
+    return HiddenAt(Renderer().Render(s, nullptr, request), s, p);
   };
   const Eigen::Vector2d corner(1.35 + 0.55, 3.2 - 0.55), face(1.35, 3.2 - 0.55);
   EXPECT_TRUE(hidden(scene, corner));
@@ -241,11 +246,7 @@ TEST(SceneRendererTest, TheBumpersLipHidesADomeAheadOfTheCar) {
   RenderRequest request;
   request.solids = true;
   const RenderedScene r = Renderer().Render(scene, nullptr, request);
-  const auto hidden = [&](const Eigen::Vector2d& p) {
-    const Eigen::Vector2d px = *Renderer().FusedPixelOf(scene, p);
-    return r.solids.at<std::uint8_t>(static_cast<int>(std::lround(px.y())),
-                                     static_cast<int>(std::lround(px.x()))) == 255;
-  };
+  const auto hidden = [&](const Eigen::Vector2d& p) { return HiddenAt(r, scene, p); };
   EXPECT_TRUE(hidden(Eigen::Vector2d(4.1, 0.0)));
   EXPECT_TRUE(hidden(Eigen::Vector2d(4.0, 0.5)));
   EXPECT_FALSE(hidden(Eigen::Vector2d(4.5, 0.0)));
