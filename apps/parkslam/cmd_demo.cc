@@ -198,10 +198,13 @@ SE2 LocalizeSecondDrive(const Options& o, const sim::ScenarioConfig& scenario,
       eval::EvaluateTrajectory(second.groundtruth_trajectory, localized, no_align);
   (*metrics)["localization"] = MetricsToJson(loc_m);
   (*metrics)["localization"]["frames_tracked"] = static_cast<int>(localized.size());
+  const localization::SlotCoverage coverage = localization::MeasureSlotCoverage(estimates, map);
+  (*metrics)["localization"]["landmarks"] = LandmarkUseToJson(run, coverage);
   std::printf(
       "localization of a second drive: %zu camera frames tracked, RMSE %.3f m, "
-      "%.2f deg (in the lot's frame)\n",
-      localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI);
+      "%.2f deg (in the lot's frame)\n%s\n",
+      localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI,
+      DescribeLandmarkUse(run, coverage).c_str());
   return T_world_map;
 }
 

@@ -29,7 +29,7 @@ struct Options {
 };
 
 void PrintRun(const localization::LocalizationRun& run, const harness::SensorStream& stream,
-              const localization::Localizer& localizer) {
+              const localization::Localizer& localizer, const SemanticMap& map) {
   const Trajectory& trajectory = run.tracked;
   std::vector<double> update_ms = run.update_ms;
   std::sort(update_ms.begin(), update_ms.end());
@@ -41,6 +41,9 @@ void PrintRun(const localization::LocalizationRun& run, const harness::SensorStr
       frames, tracking, 100.0 * tracking / std::max(frames, 1),
       duration_s > 0 ? (trajectory.size() - 1) / duration_s : 0.0, run.lost_events,
       run.relocalizations, update_ms[update_ms.size() / 2], update_ms.back());
+  std::printf(
+      "%s\n",
+      DescribeLandmarkUse(run, localization::MeasureSlotCoverage(run.estimates, map)).c_str());
   const std::string stream_faults = stream.DescribeFaults();
   if (!stream_faults.empty()) std::printf("%s\n", stream_faults.c_str());
   const std::string odometry_faults = DescribeOdometryFaults(localizer.odometry_stats());
@@ -106,7 +109,7 @@ void Run(const Options& o) {
     io::WriteNumericCsv(
         o.log, LocalizationLog(run.estimates, T_world_map, dataset.groundtruth_trajectory));
   }
-  PrintRun(run, stream, localizer);
+  PrintRun(run, stream, localizer, map);
   std::printf("%zu poses written to %s\n", trajectory.size(), o.out.c_str());
   if (o.kidnap_trials > 0) RunKidnapTrials(o, config, map, dataset);
 }

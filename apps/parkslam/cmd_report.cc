@@ -123,12 +123,15 @@ fs::path MapPathOf(const fs::path& dir, const ReportInputs& inputs, const Loaded
 nlohmann::json UnjudgedSlots(const SemanticMap& map) {
   nlohmann::json slots = nlohmann::json::array();
   for (const MapSlot& s : map.slots) {
-    slots.push_back({{"c", Corners(s, SE2())},
-                     {"id", s.id},
-                     {"temporary", s.temporary},
-                     {"verdict", "not_counted"},
-                     {"err_m", 0.0},
-                     {"id_right", true}});
+    slots.push_back(
+        {{"c", Corners(s, SE2())},
+         {"id", s.id},
+         {"temporary", s.temporary},
+         {"verdict", "not_counted"},
+         {"err_m", 0.0},
+         {"observed",
+          {s.corner_observed[0], s.corner_observed[1], s.corner_observed[2], s.corner_observed[3]}},
+         {"id_right", true}});
   }
   return slots;
 }
@@ -141,12 +144,16 @@ nlohmann::json JudgedMap(const SemanticMap& map, const SemanticMap& truth,
     truth_slots.push_back({{"c", Corners(s, SE2())}, {"id", s.id}});
   for (size_t i = 0; i < map.slots.size(); ++i) {
     const eval::MapSlotVerdict& v = m.map_slots[i];
+    const auto& observed = map.slots[i].corner_observed;
     slots.push_back({{"c", Corners(map.slots[i], m.T_truth_map)},
                      {"id", map.slots[i].id},
                      {"temporary", map.slots[i].temporary},
                      {"verdict", VerdictName(v.verdict)},
                      {"err_m", v.corner_rms_m},
-                     {"id_right", v.id_right}});
+                     {"corner_err_m", v.corner_error_m},
+                     {"observed", {observed[0], observed[1], observed[2], observed[3]}},
+                     {"id_right", v.id_right},
+                     {"id_worn_read", v.id_worn_read}});
   }
   nlohmann::json truth_tags = nlohmann::json::array(), tags = nlohmann::json::array();
   for (const MapTag& t : truth.tags)
@@ -194,7 +201,16 @@ void AddMapFigures(const eval::MapMetrics& m, Loaded* r) {
   AddFigure(r, p + "slots_spurious", "spurious slots", m.slots_spurious, "", 1, 0);
   AddFigure(r, p + "slots_duplicate", "duplicate slots", m.slots_duplicate, "", 1, 0);
   AddFigure(r, p + "slot_corner_rmse_m", "slot corner RMSE", m.slot_corner_rmse_m, "cm", 100, 1);
+  AddFigure(r, p + "observed_corners.rmse_m", "observed corner RMSE", m.observed_corners.rmse_m,
+            "cm", 100, 1);
+  AddFigure(r, p + "unobserved_corners.rmse_m", "unobserved (guessed) corner RMSE",
+            m.unobserved_corners.rmse_m, "cm", 100, 1);
+  AddFigure(r, p + "observed_corners.within_2sigma", "observed corners inside 2 sigma",
+            m.observed_corners.within_2sigma, "%", 100, 1);
+  AddFigure(r, p + "unobserved_corners.within_2sigma", "unobserved corners inside 2 sigma",
+            m.unobserved_corners.within_2sigma, "%", 100, 1);
   AddFigure(r, p + "id_accuracy", "IDs right", m.id_accuracy, "%", 100, 1);
+  AddFigure(r, p + "ids_worn_read", "IDs read right from worn paint", m.ids_worn_read, "", 1, 0);
   AddFigure(r, p + "tags_matched", "tags mapped", m.tags_matched,
             "of " + std::to_string(m.tags_true), 1, 0);
 }
@@ -224,6 +240,8 @@ void AddMap(const fs::path& dir, const ReportInputs& inputs, Loaded* r) {
 struct TrackedErrors {
   double sum_sq = 0.0, sum_yaw_sq = 0.0;
   int tracked = 0;
+  // Landmark observations over the log: made and used, by class.
+  int slots_seen = 0, slots_used = 0, tags_seen = 0, tags_used = 0;
 };
 
 // The log's series for the plots (rounded), from localization.csv.
@@ -273,6 +291,10 @@ nlohmann::json LocalizationSeries(const io::NumericTable& log, const fs::path& p
     l["state"].push_back(state);
     l["slots"].push_back(static_cast<int>(row[col("slots_used")]));
     l["tags"].push_back(static_cast<int>(row[col("tags_used")]));
+    errors->slots_seen += static_cast<int>(row[col("slots_seen")]);
+    errors->slots_used += static_cast<int>(row[col("slots_used")]);
+    errors->tags_seen += static_cast<int>(row[col("tags_seen")]);
+    errors->tags_used += static_cast<int>(row[col("tags_used")]);
     l["reloc"].push_back(row[col("relocalized")] != 0.0);
     if (std::isfinite(nees)) {
       l["nees"].push_back(std::round(nees * 1e4) / 1e4);
@@ -306,10 +328,10 @@ void AddSecondDrive(const io::NumericTable& log, Loaded* r) {
 void AddLocalization(const fs::path& dir, Loaded* r) {
   const fs::path path = dir / "localization.csv";
   if (!fs::exists(path)) return;
-  const io::NumericTable log =
-      io::ReadNumericCsv(path, {"t_s", "x_m", "y_m", "yaw_rad", "state", "slots_used", "tags_used",
-                                "relocalized", "cov_xx", "cov_xy", "cov_xyaw", "cov_yy", "cov_yyaw",
-                                "cov_yawyaw", "true_x_m", "true_y_m", "true_yaw_rad"});
+  const io::NumericTable log = io::ReadNumericCsv(
+      path, {"t_s", "x_m", "y_m", "yaw_rad", "state", "slots_seen", "slots_used", "tags_seen",
+             "tags_used", "relocalized", "cov_xx", "cov_xy", "cov_xyaw", "cov_yy", "cov_yyaw",
+             "cov_yawyaw", "true_x_m", "true_y_m", "true_yaw_rad"});
   TrackedErrors errors;
   r->data.scene["localization"] = LocalizationSeries(log, path, &errors);
   r->data.scene["nees_band"] = {kNees3Lower, kNees3Upper};
@@ -321,6 +343,13 @@ void AddLocalization(const fs::path& dir, Loaded* r) {
               "m", 1, 3);
     AddFigure(r, "localization.yaw_rmse_deg", "localization yaw RMSE",
               std::sqrt(errors.sum_yaw_sq / tracked) * 180 / M_PI, "deg", 1, 3);
+    // Each landmark class's use, so that a class lost between the front
+    // end and the localizer shows.
+    const std::string p = "localization.landmarks.";
+    AddFigure(r, p + "slots.observed", "slot observations", errors.slots_seen, "", 1, 0);
+    AddFigure(r, p + "slots.used", "slot observations used", errors.slots_used, "", 1, 0);
+    AddFigure(r, p + "tags.observed", "tag observations", errors.tags_seen, "", 1, 0);
+    AddFigure(r, p + "tags.used", "tag observations used", errors.tags_used, "", 1, 0);
   }
 }
 

@@ -159,9 +159,19 @@ std::vector<bool> PassedSlots(const io::Dataset& dataset, size_t truth_slots, in
   return passed;
 }
 
+nlohmann::json CornerErrorsToJson(const eval::CornerErrors& e) {
+  return {{"count", e.count},
+          {"rmse_m", e.rmse_m},
+          {"max_m", e.max_m},
+          {"within_2sigma", e.within_2sigma}};
+}
+
 nlohmann::json MapMetricsToJson(const eval::MapMetrics& m) {
   return {{"slot_corner_rmse_m", m.slot_corner_rmse_m},
           {"slot_corner_max_m", m.slot_corner_max_m},
+          {"observed_corners", CornerErrorsToJson(m.observed_corners)},
+          {"unobserved_corners", CornerErrorsToJson(m.unobserved_corners)},
+          {"ids_worn_read", m.ids_worn_read},
           {"slots_true", m.slots_true},
           {"slots_matched", m.slots_matched},
           {"slots_missed", m.slots_missed},
@@ -175,17 +185,22 @@ nlohmann::json MapMetricsToJson(const eval::MapMetrics& m) {
 }
 
 std::string DescribeMapMetrics(const eval::MapMetrics& m) {
-  char text[512];
-  std::snprintf(text, sizeof text,
-                "slots: %d of %d matched (%.1f %%), %d missed, %d spurious, %d duplicate\n"
-                "slot corner RMSE %.3f m (max %.3f m)\n"
-                "ID accuracy %.1f %%, temporary IDs %.1f %%\n"
-                "tags: %d of %d matched, RMSE %.3f m",
-                m.slots_matched, m.slots_true,
-                m.slots_true > 0 ? 100.0 * m.slots_matched / m.slots_true : 0.0, m.slots_missed,
-                m.slots_spurious, m.slots_duplicate, m.slot_corner_rmse_m, m.slot_corner_max_m,
-                100.0 * m.id_accuracy, 100.0 * m.temporary_id_share, m.tags_matched, m.tags_true,
-                m.tag_rmse_m);
+  char text[768];
+  std::snprintf(
+      text, sizeof text,
+      "slots: %d of %d matched (%.1f %%), %d missed, %d spurious, %d duplicate\n"
+      "slot corner RMSE %.3f m (max %.3f m): observed corners %.3f m (max %.3f m, "
+      "%.1f %% inside 2 sigma, %d), unobserved %.3f m (max %.3f m, %.1f %% inside 2 "
+      "sigma, %d)\n"
+      "ID accuracy %.1f %% (%d read from worn paint), temporary IDs %.1f %%\n"
+      "tags: %d of %d matched, RMSE %.3f m",
+      m.slots_matched, m.slots_true,
+      m.slots_true > 0 ? 100.0 * m.slots_matched / m.slots_true : 0.0, m.slots_missed,
+      m.slots_spurious, m.slots_duplicate, m.slot_corner_rmse_m, m.slot_corner_max_m,
+      m.observed_corners.rmse_m, m.observed_corners.max_m, 100.0 * m.observed_corners.within_2sigma,
+      m.observed_corners.count, m.unobserved_corners.rmse_m, m.unobserved_corners.max_m,
+      100.0 * m.unobserved_corners.within_2sigma, m.unobserved_corners.count, 100.0 * m.id_accuracy,
+      m.ids_worn_read, 100.0 * m.temporary_id_share, m.tags_matched, m.tags_true, m.tag_rmse_m);
   return text;
 }
 
@@ -208,17 +223,59 @@ std::string DescribeDataset(const io::Dataset& d) {
   return text;
 }
 
+namespace {
+
+std::string DescribeUse(const char* name, const char* no_landmark,
+                        const localization::LandmarkUse& u) {
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "%s: %d observed, %d associated, %d used, %d rejected (gate %d, %s %d), %d "
+                "while lost",
+                name, u.observed, u.associated, u.used, u.rejected(), u.rejected_gate, no_landmark,
+                u.rejected_no_map_landmark, u.while_lost);
+  return text;
+}
+
+nlohmann::json UseToJson(const localization::LandmarkUse& u) {
+  return {{"observed", u.observed},
+          {"associated", u.associated},
+          {"used", u.used},
+          {"rejected_gate", u.rejected_gate},
+          {"rejected_no_map_landmark", u.rejected_no_map_landmark},
+          {"while_lost", u.while_lost}};
+}
+
+}  // namespace
+
+std::string DescribeLandmarkUse(const localization::LocalizationRun& run,
+                                const localization::SlotCoverage& coverage) {
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "\nslots used in %d of the %d tracked frames with a map slot within 5 m (%.1f %%)",
+                coverage.frames_used, coverage.frames_near, 100.0 * coverage.share());
+  return "landmarks: " + DescribeUse("slots", "no map slot near", run.slots) + "\n           " +
+         DescribeUse("tags", "not in the map", run.tags) + text;
+}
+
+nlohmann::json LandmarkUseToJson(const localization::LocalizationRun& run,
+                                 const localization::SlotCoverage& coverage) {
+  return {{"slots", UseToJson(run.slots)},
+          {"tags", UseToJson(run.tags)},
+          {"frames_with_map_slot_near", coverage.frames_near},
+          {"frames_with_slots_used", coverage.frames_used},
+          {"slot_use_share", coverage.share()}};
+}
+
 io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEstimate>& estimates,
                                  const SE2& T_world_map, const Trajectory& truth) {
   io::NumericTable log;
-  log.columns = {"t_s",       "x_m",      "y_m",         "yaw_rad",  "state",    "slots_used",
-                 "tags_used", "rejected", "relocalized", "cov_xx",   "cov_xy",   "cov_xyaw",
-                 "cov_yy",    "cov_yyaw", "cov_yawyaw",  "true_x_m", "true_y_m", "true_yaw_rad"};
+  log.columns = {"t_s",         "x_m",        "y_m",       "yaw_rad",   "state",
+                 "slots_seen",  "slots_used", "tags_seen", "tags_used", "rejected",
+                 "relocalized", "cov_xx",     "cov_xy",    "cov_xyaw",  "cov_yy",
+                 "cov_yyaw",    "cov_yawyaw", "true_x_m",  "true_y_m",  "true_yaw_rad"};
   const Eigen::Matrix2d R = T_world_map.rotation();
   for (size_t k = 0; k < estimates.size(); ++k) {
     const localization::LocalizationEstimate& e = estimates[k];
-    // Slots and tags of one camera frame come as two estimates: the last counts.
-    if (k + 1 < estimates.size() && estimates[k + 1].t_ns == e.t_ns) continue;
     const std::optional<SE2> true_pose = PoseAt(truth, e.t_ns);
     if (!true_pose) continue;
     const SE2 T = T_world_map * e.T_map_vehicle;
@@ -226,11 +283,26 @@ io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEst
     Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
     J.topLeftCorner<2, 2>() = R;
     const Eigen::Matrix3d P = J * e.covariance * J.transpose();
-    log.rows.push_back(
-        {ToSeconds(e.t_ns), T.x(), T.y(), T.yaw(), static_cast<double>(static_cast<int>(e.state)),
-         static_cast<double>(e.slots_used), static_cast<double>(e.tags_used),
-         static_cast<double>(e.rejected), e.relocalized ? 1.0 : 0.0, P(0, 0), P(0, 1), P(0, 2),
-         P(1, 1), P(1, 2), P(2, 2), true_pose->x(), true_pose->y(), true_pose->yaw()});
+    log.rows.push_back({ToSeconds(e.t_ns),
+                        T.x(),
+                        T.y(),
+                        T.yaw(),
+                        static_cast<double>(static_cast<int>(e.state)),
+                        static_cast<double>(e.slots.observed),
+                        static_cast<double>(e.slots.used),
+                        static_cast<double>(e.tags.observed),
+                        static_cast<double>(e.tags.used),
+                        static_cast<double>(e.rejected()),
+                        e.relocalized ? 1.0 : 0.0,
+                        P(0, 0),
+                        P(0, 1),
+                        P(0, 2),
+                        P(1, 1),
+                        P(1, 2),
+                        P(2, 2),
+                        true_pose->x(),
+                        true_pose->y(),
+                        true_pose->yaw()});
   }
   return log;
 }

@@ -18,6 +18,7 @@
 #include "parkslam/harness/trace_following.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/numeric_csv.h"
+#include "parkslam/localization/localization_run.h"
 #include "parkslam/localization/localizer.h"
 #include "parkslam/mapping/mapper.h"
 #include "parkslam/perception/front_end.h"
@@ -67,10 +68,20 @@ std::string DescribeMapMetrics(const eval::MapMetrics& metrics);
 nlohmann::json TraceFollowingToJson(const harness::TraceFollowingResult& result,
                                     const harness::TraceFollowingOptions& options);
 
+// What became of each landmark class's observations in a localization run,
+// and how often slots served where a map slot was near: one line a class
+// ("slots: 9120 observed, 8800 used, 250 rejected (gate 200, no map slot
+// near 50), 70 while lost") and the slot coverage; as JSON for
+// metrics.json ("landmarks").
+std::string DescribeLandmarkUse(const localization::LocalizationRun& run,
+                                const localization::SlotCoverage& coverage);
+nlohmann::json LandmarkUseToJson(const localization::LocalizationRun& run,
+                                 const localization::SlotCoverage& coverage);
+
 // The localizer's estimate at each camera frame in the lot's frame
 // (T_world_map), beside the truth, as localization.csv holds it
-// (docs/report.md); of estimates with one time (a frame's slots, then its
-// tags) the last is kept; frames outside the truth's time span are left out.
+// (docs/report.md); one row a frame (RunLocalization merges a frame's
+// slots and tags); frames outside the truth's time span are left out.
 io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEstimate>& estimates,
                                  const SE2& T_world_map, const Trajectory& truth);
 

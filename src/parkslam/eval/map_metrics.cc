@@ -199,13 +199,40 @@ std::vector<Eigen::Vector2d> Midpoints(const SemanticMap& map, const SE2& T) {
   return midpoints;
 }
 
-// Right: the legible painted ID, read as such; or a temporary ID where the
-// truth has no legible ID.
+// Right: the legible painted ID, read as such; a temporary ID where the
+// truth has no legible ID; or the painted ID read right where the truth
+// calls the paint worn (a reader may still make out worn paint).
 bool IdIsRight(const MapSlot& map_slot, const MapSlot& truth_slot) {
+  const bool read_as_painted =
+      !truth_slot.id.empty() && !map_slot.temporary && map_slot.id == truth_slot.id;
+  if (read_as_painted) return true;
   const bool truth_legible = !truth_slot.id.empty() && truth_slot.id_legible;
-  if (truth_legible) return !map_slot.temporary && map_slot.id == truth_slot.id;
-  return map_slot.temporary;
+  return !truth_legible && map_slot.temporary;
 }
+
+// chi2_2 at the 1-D 2-sigma probability erf(2 / sqrt(2)) = 0.9545:
+// -2 ln(1 - 0.9545).
+constexpr double kChi2TwoSigma2d = 6.1801;
+
+struct CornerErrorSums {
+  int count = 0, within = 0;
+  double squared_sum = 0.0, max_m = 0.0;
+  void Add(double error_m, double sigma_m) {
+    ++count;
+    squared_sum += error_m * error_m;
+    max_m = std::max(max_m, error_m);
+    if (sigma_m > 0.0 && error_m * error_m < kChi2TwoSigma2d * sigma_m * sigma_m) ++within;
+  }
+  CornerErrors Result() const {
+    CornerErrors e;
+    e.count = count;
+    if (count == 0) return e;
+    e.rmse_m = std::sqrt(squared_sum / count);
+    e.max_m = max_m;
+    e.within_2sigma = static_cast<double>(within) / count;
+    return e;
+  }
+};
 
 void Validate(const SemanticMap& truth, const MapMetricsOptions& options) {
   if (!std::isfinite(options.match_radius_m) || options.match_radius_m <= 0.0) {
@@ -269,11 +296,11 @@ void AddTruthSlotMetrics(const SemanticMap& map, const SemanticMap& truth,
   int ids_right = 0;
   int temporary_ids = 0;
   double corner_squared_sum = 0.0;
+  CornerErrorSums observed, unobserved;
   for (std::size_t j = 0; j < truth.slots.size(); ++j) {
     const int i = matching.map_of_truth[j];
     if (!counts(j)) {
-      if (i >= 0)
-        metrics.map_slots[i] = {SlotVerdict::kNotCounted, static_cast<int>(j), 0.0, false};
+      if (i >= 0) metrics.map_slots[i] = {SlotVerdict::kNotCounted, static_cast<int>(j)};
       continue;
     }
     ++metrics.slots_true;
@@ -285,19 +312,29 @@ void AddTruthSlotMetrics(const SemanticMap& map, const SemanticMap& truth,
     ++metrics.slots_matched;
     const MapSlot& map_slot = map.slots[i];
     const MapSlot& truth_slot = truth.slots[j];
+    MapSlotVerdict verdict;
+    verdict.verdict = SlotVerdict::kMatched;
+    verdict.truth_slot = static_cast<int>(j);
     double slot_squared_sum = 0.0;
     for (int c = 0; c < kSlotCorners; ++c) {
       const double error_m = (T * map_slot.corners_map[c] - truth_slot.corners_map[c]).norm();
+      verdict.corner_error_m[c] = error_m;
       slot_squared_sum += error_m * error_m;
       metrics.slot_corner_max_m = std::max(metrics.slot_corner_max_m, error_m);
+      (map_slot.corner_observed[c] ? observed : unobserved)
+          .Add(error_m, map_slot.corner_sigma_m[c]);
     }
     corner_squared_sum += slot_squared_sum;
-    const bool id_right = IdIsRight(map_slot, truth_slot);
-    if (id_right) ++ids_right;
+    verdict.corner_rms_m = std::sqrt(slot_squared_sum / kSlotCorners);
+    verdict.id_right = IdIsRight(map_slot, truth_slot);
+    verdict.id_worn_read = verdict.id_right && !map_slot.temporary && !truth_slot.id_legible;
+    if (verdict.id_right) ++ids_right;
+    if (verdict.id_worn_read) ++metrics.ids_worn_read;
     if (map_slot.temporary) ++temporary_ids;
-    metrics.map_slots[i] = {SlotVerdict::kMatched, static_cast<int>(j),
-                            std::sqrt(slot_squared_sum / kSlotCorners), id_right};
+    metrics.map_slots[i] = verdict;
   }
+  metrics.observed_corners = observed.Result();
+  metrics.unobserved_corners = unobserved.Result();
   if (metrics.slots_matched > 0) {
     const double matched = metrics.slots_matched;
     metrics.slot_corner_rmse_m = std::sqrt(corner_squared_sum / (kSlotCorners * matched));
@@ -330,12 +367,12 @@ void AddUnmatchedMapSlots(const SemanticMap& map, const SemanticMap& truth,
     }
     if (nearest < 0) {
       ++metrics.slots_spurious;
-      metrics.map_slots[i] = {SlotVerdict::kSpurious, -1, 0.0, false};
+      metrics.map_slots[i] = {SlotVerdict::kSpurious, -1};
     } else if (counts(static_cast<std::size_t>(nearest))) {
       ++metrics.slots_duplicate;
-      metrics.map_slots[i] = {SlotVerdict::kDuplicate, nearest, 0.0, false};
+      metrics.map_slots[i] = {SlotVerdict::kDuplicate, nearest};
     } else {
-      metrics.map_slots[i] = {SlotVerdict::kNotCounted, nearest, 0.0, false};
+      metrics.map_slots[i] = {SlotVerdict::kNotCounted, nearest};
     }
   }
 }

@@ -5,6 +5,7 @@
 // how many slots were found, missed, invented or mapped twice, how far their
 // corners lie from the truth, and how many carry the right ID.
 
+#include <array>
 #include <vector>
 
 #include "parkslam/common/se2.h"
@@ -31,7 +32,21 @@ struct MapSlotVerdict {
   SlotVerdict verdict = SlotVerdict::kSpurious;
   int truth_slot = -1;        // matched (or, for a duplicate, nearest) truth slot
   double corner_rms_m = 0.0;  // over its 4 corners, matched slots only
-  bool id_right = false;      // IdIsRight, matched slots only
+  std::array<double, 4> corner_error_m = {0, 0, 0, 0};  // matched slots only
+  bool id_right = false;                                // IdIsRight, matched slots only
+  bool id_worn_read = false;  // right, and read where the truth calls the paint worn
+};
+
+// Corner errors of one kind of corner (observed or not) against the sigma
+// the map states for them. corner_sigma_m is a per-axis standard deviation,
+// so a corner lies "inside 2 sigma" when |error|^2 / sigma^2 is below the
+// 2-dof chi-square quantile of the 1-D 2-sigma probability (95.45 %:
+// |error| < 2.486 sigma); a calibrated map has about 95 % of them inside.
+struct CornerErrors {
+  int count = 0;
+  double rmse_m = 0.0;
+  double max_m = 0.0;
+  double within_2sigma = 0.0;  // share of count
 };
 
 struct MapMetrics {
@@ -44,10 +59,16 @@ struct MapMetrics {
   // Over the 4 corners of each matched slot (index by index), after the alignment.
   double slot_corner_rmse_m = 0.0;
   double slot_corner_max_m = 0.0;
+  // The same corners apart by the map's corner_observed: those a camera saw
+  // and those only guessed (a far corner placed by the depth prior).
+  CornerErrors observed_corners;
+  CornerErrors unobserved_corners;
   // Share of matched slots whose ID is right: the truth's painted ID when it
   // is legible (and the map's ID not temporary), a temporary ID when the
-  // truth has none or an illegible one.
+  // truth has none or an illegible one, or the painted ID read right where
+  // the truth calls the paint worn (also counted in ids_worn_read).
   double id_accuracy = 0.0;
+  int ids_worn_read = 0;
   // Share of matched slots that carry a temporary ID.
   double temporary_id_share = 0.0;
   // Tags matched by ID; position error after the alignment.

@@ -302,11 +302,54 @@ TEST(EvaluateMapTest, TemporaryIdsWhereTheTruthIdIsIllegibleAreRight) {
   EXPECT_NEAR(m.temporary_id_share, 3.0 / 28.0, 1e-12);
 }
 
-TEST(EvaluateMapTest, PaintedIdReadWhereTheTruthIdIsIllegibleIsWrong) {
+TEST(EvaluateMapTest, PaintedIdReadRightWhereTheTruthCallsThePaintWornIsRight) {
   SemanticMap truth = MakeLot();
   truth.slots[5].id_legible = false;
-  const MapMetrics m = EvaluateMap(MakeLot(), truth);
+  truth.slots[9].id_legible = false;
+  SemanticMap map = MakeLot();
+  map.slots[9].id = "77";  // misread worn paint is still wrong
+  const MapMetrics m = EvaluateMap(map, truth);
   EXPECT_NEAR(m.id_accuracy, 27.0 / 28.0, 1e-12);
+  EXPECT_EQ(m.ids_worn_read, 1);
+  EXPECT_TRUE(m.map_slots[5].id_right);
+  EXPECT_TRUE(m.map_slots[5].id_worn_read);
+  EXPECT_FALSE(m.map_slots[9].id_right);
+  EXPECT_FALSE(m.map_slots[4].id_worn_read);
+}
+
+TEST(EvaluateMapTest, ObservedAndGuessedCornersAreScoredApartAgainstTheirSigmas) {
+  const SemanticMap truth = MakeLot();
+  SemanticMap map = truth;
+  // Every slot's entrance corners seen (sigma 2 cm), the far ones guessed
+  // (sigma 10 cm). Slot 0's far corners lie 0.3 m too deep: outside their
+  // 2 sigma (0.249 m); slot 1's 0.2 m: inside. Slot 2's entrance corner 0
+  // is 6 cm off: outside its 2 sigma (0.0497 m).
+  for (MapSlot& slot : map.slots) {
+    slot.corner_observed = {true, true, false, false};
+    slot.corner_sigma_m = {0.02, 0.02, 0.1, 0.1};
+  }
+  const auto deepen = [](MapSlot* slot, double by_m) {
+    const Eigen::Vector2d inward = (slot->corners_map[3] - slot->corners_map[0]).normalized();
+    slot->corners_map[2] += by_m * inward;
+    slot->corners_map[3] += by_m * inward;
+  };
+  deepen(&map.slots[0], 0.3);
+  deepen(&map.slots[1], 0.2);
+  map.slots[2].corners_map[0] += Eigen::Vector2d(0.06, 0.0);
+  MapMetricsOptions options;
+  options.align = false;
+  const MapMetrics m = EvaluateMap(map, truth, options);
+  ASSERT_EQ(m.slots_matched, 28);
+  EXPECT_EQ(m.observed_corners.count, 56);
+  EXPECT_EQ(m.unobserved_corners.count, 56);
+  EXPECT_NEAR(m.observed_corners.rmse_m, std::sqrt(0.06 * 0.06 / 56), 1e-9);
+  EXPECT_NEAR(m.observed_corners.max_m, 0.06, 1e-9);
+  EXPECT_NEAR(m.observed_corners.within_2sigma, 55.0 / 56.0, 1e-12);
+  EXPECT_NEAR(m.unobserved_corners.rmse_m, std::sqrt((2 * 0.09 + 2 * 0.04) / 56), 1e-9);
+  EXPECT_NEAR(m.unobserved_corners.max_m, 0.3, 1e-9);
+  EXPECT_NEAR(m.unobserved_corners.within_2sigma, 54.0 / 56.0, 1e-12);
+  EXPECT_NEAR(m.map_slots[0].corner_error_m[2], 0.3, 1e-9);
+  EXPECT_NEAR(m.map_slots[2].corner_error_m[0], 0.06, 1e-9);
 }
 
 TEST(EvaluateMapTest, TemporaryIdWhereTheTruthIdIsLegibleIsWrong) {

@@ -67,8 +67,8 @@ class PoseSource {
     if (!estimate) return false;
     *pose = estimate->T_map_vehicle;
     *lost = estimate->state != localization::LocalizerState::kTracking;
-    if (used != nullptr) *used = estimate->slots_used + estimate->tags_used;
-    if (rejected != nullptr) *rejected = estimate->rejected;
+    if (used != nullptr) *used = estimate->used();
+    if (rejected != nullptr) *rejected = estimate->rejected();
     return true;
   }
 

@@ -43,6 +43,16 @@ const char* ToString(LocalizerState state) {
   return "uninitialized";
 }
 
+LandmarkUse& LandmarkUse::operator+=(const LandmarkUse& other) {
+  observed += other.observed;
+  associated += other.associated;
+  used += other.used;
+  rejected_no_map_landmark += other.rejected_no_map_landmark;
+  rejected_gate += other.rejected_gate;
+  while_lost += other.while_lost;
+  return *this;
+}
+
 bool LocalizerOptions::IsValid(std::string* error) const {
   FieldChecker c(error);
   c.Positive(corner_sigma_floor_m, "corner_sigma_floor_m");
@@ -132,7 +142,8 @@ bool Localizer::Update(const Eigen::Matrix<double, N, 1>& innovation,
   return true;
 }
 
-bool Localizer::UpdateSlot(const SlotObservation& obs) {
+bool Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
+  ++use->observed;
   // The two entrance corners (the corners a detector really sees).
   const double obs_sigma = std::max(obs.corner_sigma_m, options_.corner_sigma_floor_m);
   const SE2 pose = this->pose();
@@ -174,18 +185,32 @@ bool Localizer::UpdateSlot(const SlotObservation& obs) {
     if (std::find(candidates.begin(), candidates.end(), i) == candidates.end())
       candidates.push_back(i);
   }
+  if (candidates.empty()) {
+    ++use->rejected_no_map_landmark;
+    return false;
+  }
+  ++use->associated;
   for (int i : candidates) {
     Eigen::Matrix<double, 4, 3> H;
     Eigen::Matrix4d R;
     model_for(map_.slots[i], &H, &R);
-    if (Update<4>(innovation_for(map_.slots[i]), H, R)) return true;
+    if (Update<4>(innovation_for(map_.slots[i]), H, R)) {
+      ++use->used;
+      return true;
+    }
   }
+  ++use->rejected_gate;
   return false;
 }
 
-bool Localizer::UpdateTag(const TagObservation& obs) {
+bool Localizer::UpdateTag(const TagObservation& obs, LandmarkUse* use) {
+  ++use->observed;
   const auto it = tag_by_id_.find(obs.tag_id);
-  if (it == tag_by_id_.end()) return false;
+  if (it == tag_by_id_.end()) {
+    ++use->rejected_no_map_landmark;
+    return false;
+  }
+  ++use->associated;
   const MapTag& tag = map_.tags[it->second];
   const SE2 pose = this->pose();
   const Eigen::Matrix2d Rt = pose.rotation().transpose();
@@ -200,7 +225,9 @@ bool Localizer::UpdateTag(const TagObservation& obs) {
   R.topLeftCorner<2, 2>() =
       obs.covariance_vehicle + Eigen::Matrix2d::Identity() * Square(options_.tag_map_sigma_m);
   R(2, 2) = Square(obs.yaw_sigma_rad) + Square(options_.tag_map_yaw_sigma_rad);
-  return Update<3>(y, H, R);
+  const bool used = Update<3>(y, H, R);
+  ++(used ? use->used : use->rejected_gate);
+  return used;
 }
 
 Localizer::Support Localizer::CountInliers(const SE2& T_map_now) const {
@@ -327,15 +354,10 @@ std::optional<LocalizationEstimate> Localizer::Process(const SensorEvent& event)
   LocalizationEstimate estimate;
   estimate.t_ns = t_ns;
   if (state_ == LocalizerState::kTracking) {
-    for (const SlotObservation& obs : frame.slots) {
-      (UpdateSlot(obs) ? estimate.slots_used : estimate.rejected)++;
-    }
-    for (const TagObservation& obs : frame.tags) {
-      (UpdateTag(obs) ? estimate.tags_used : estimate.rejected)++;
-    }
-    const int accepted = estimate.slots_used + estimate.tags_used;
-    for (int i = 0; i < accepted; ++i) recent_outcomes_.push_back({t_ns, true});
-    for (int i = 0; i < estimate.rejected; ++i) recent_outcomes_.push_back({t_ns, false});
+    for (const SlotObservation& obs : frame.slots) UpdateSlot(obs, &estimate.slots);
+    for (const TagObservation& obs : frame.tags) UpdateTag(obs, &estimate.tags);
+    for (int i = 0; i < estimate.used(); ++i) recent_outcomes_.push_back({t_ns, true});
+    for (int i = 0; i < estimate.rejected(); ++i) recent_outcomes_.push_back({t_ns, false});
     while (!recent_outcomes_.empty() &&
            ToSeconds(t_ns - recent_outcomes_.front().first) > options_.lost_after_s) {
       recent_outcomes_.pop_front();
@@ -350,6 +372,8 @@ std::optional<LocalizationEstimate> Localizer::Process(const SensorEvent& event)
       recent_outcomes_.clear();
     }
   } else {
+    estimate.slots.observed = estimate.slots.while_lost = static_cast<int>(frame.slots.size());
+    estimate.tags.observed = estimate.tags.while_lost = static_cast<int>(frame.tags.size());
     estimate.relocalized = TryRelocalize(t_ns);
   }
   estimate.T_map_vehicle = pose();

@@ -81,15 +81,35 @@ struct LocalizerOptions {
 enum class LocalizerState { kUninitialized, kTracking, kLost };
 const char* ToString(LocalizerState state);
 
+// What became of one landmark class's observations (slots or tags): every
+// observation the front end made is counted once, in exactly one of
+// `used`, `rejected_no_map_landmark`, `rejected_gate` and `while_lost`, so
+// that a class silently lost between the front end and the localizer shows.
+struct LandmarkUse {
+  int observed = 0;    // observations made
+  int associated = 0;  // with at least one map candidate (by ID or near)
+  int used = 0;        // updated the pose
+  // Slots: no confident ID in the map and no map slot within nn_radius_m;
+  // tags: a tag ID the map does not have.
+  int rejected_no_map_landmark = 0;
+  int rejected_gate = 0;  // every candidate failed the chi-square gate
+  int while_lost = 0;     // seen while uninitialized or lost (relocalization only)
+
+  int rejected() const { return rejected_no_map_landmark + rejected_gate; }
+  LandmarkUse& operator+=(const LandmarkUse& other);
+};
+
 struct LocalizationEstimate {
   TimeNs t_ns = 0;
   SE2 T_map_vehicle;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
   LocalizerState state = LocalizerState::kUninitialized;
-  int slots_used = 0;
-  int tags_used = 0;
-  int rejected = 0;  // observations that failed association or the gate
+  LandmarkUse slots;
+  LandmarkUse tags;
   bool relocalized = false;
+
+  int used() const { return slots.used + tags.used; }
+  int rejected() const { return slots.rejected() + tags.rejected(); }
 };
 
 class Localizer {
@@ -131,8 +151,9 @@ class Localizer {
   template <int N>
   bool Update(const Eigen::Matrix<double, N, 1>& innovation, const Eigen::Matrix<double, N, 3>& H,
               const Eigen::Matrix<double, N, N>& R);
-  bool UpdateSlot(const SlotObservation& observation);
-  bool UpdateTag(const TagObservation& observation);
+  // Each adds the observation's outcome to `use`; true when it was used.
+  bool UpdateSlot(const SlotObservation& observation, LandmarkUse* use);
+  bool UpdateTag(const TagObservation& observation, LandmarkUse* use);
   bool TryRelocalize(TimeNs t_ns);
   // Observations of the buffered frames that land on the map under the
   // hypothesis T_map_now: their count, the landmarks they hit, and the

@@ -61,6 +61,15 @@ TEST(LocalizationRunTest, GlobalStartTracksTheWholeDrive) {
   EXPECT_GE(run.relocalizations, 1);
   EXPECT_EQ(run.lost_events, 0);
   EXPECT_EQ(run.update_ms.size(), run.estimates.size());
+  EXPECT_EQ(static_cast<int>(run.estimates.size()), run.frames);
+  // Both landmark classes are used, and every observation is accounted for
+  // once.
+  EXPECT_GT(run.slots.used, 0.5 * run.slots.observed);
+  EXPECT_GT(run.tags.used, 0.5 * run.tags.observed);
+  for (const LandmarkUse& use : {run.slots, run.tags}) {
+    EXPECT_EQ(use.observed, use.used + use.rejected() + use.while_lost);
+    EXPECT_EQ(use.associated, use.used + use.rejected_gate);
+  }
   ASSERT_GT(run.tracked.size(), 0.9 * run.frames);
   EXPECT_LE(static_cast<int>(run.tracked.size()), run.frames);
   double sum2 = 0.0;
@@ -161,14 +170,34 @@ TEST(LocalizerTest, WrongIdObservationDoesNotMoveThePose) {
   for (TimeNs t = 0; t <= 10; ++t) localizer.Process(ImuSample{t * 10'000'000, 0.0, 0.0});
   const auto e = localizer.Process(SlotObservationFrame{100'000'000, {obs}});
   ASSERT_TRUE(e.has_value());
-  EXPECT_EQ(e->slots_used, 1);  // fell back to the slot it really is
+  EXPECT_EQ(e->slots.used, 1);  // fell back to the slot it really is
+  EXPECT_EQ(e->slots.observed, 1);
+  EXPECT_EQ(e->slots.associated, 1);
   EXPECT_LT((e->T_map_vehicle.translation() - pose.translation()).norm(), 0.02);
-  // A slot where the map has none is rejected and leaves the pose alone.
+  // A slot half-way between two map slots (1 m from the next) is rejected
+  // by the gate and leaves the pose alone.
   SlotObservation ghost = obs;
   for (auto& c : ghost.corners_vehicle) c += Eigen::Vector2d(0.0, -3.5);
   const auto g = localizer.Process(SlotObservationFrame{200'000'000, {ghost}});
-  EXPECT_EQ(g->rejected, 1);
+  EXPECT_EQ(g->rejected(), 1);
+  EXPECT_EQ(g->slots.rejected_gate, 1);
   EXPECT_LT((g->T_map_vehicle.translation() - pose.translation()).norm(), 0.02);
+  // One where the map has no slot near is rejected as such.
+  SlotObservation far = obs;
+  far.id.digits.clear();  // unread, so nothing names a map slot
+  for (auto& c : far.corners_vehicle) c += Eigen::Vector2d(-40.0, -40.0);
+  const auto n = localizer.Process(SlotObservationFrame{250'000'000, {far}});
+  EXPECT_EQ(n->slots.rejected_no_map_landmark, 1);
+  EXPECT_EQ(n->slots.associated, 0);
+  // A slot 0.6 m off its map place is near enough to associate, but the
+  // gate refuses it.
+  SlotObservation shifted = obs;
+  for (auto& c : shifted.corners_vehicle) c += Eigen::Vector2d(0.6, 0.0);
+  const auto s = localizer.Process(SlotObservationFrame{300'000'000, {shifted}});
+  EXPECT_EQ(s->slots.associated, 1);
+  EXPECT_EQ(s->slots.rejected_gate, 1);
+  EXPECT_EQ(s->slots.used, 0);
+  EXPECT_LT((s->T_map_vehicle.translation() - pose.translation()).norm(), 0.02);
 }
 
 TEST(LocalizerTest, InvalidOptionsThrow) {

@@ -170,7 +170,9 @@ void AppendPlotPlaces(const nlohmann::json& scene, std::string* out) {
     h += "<h2>Map</h2>\n<p>Slots filled by their corner error (green 0 cm, red 10 cm or more), "
          "outlined grey where the truth has one; <span style=\"color:#d62728\">red dashed: missed; "
          "&#x2717;: wrong ID</span>; <span style=\"color:#e07b00\">orange: temporary ID</span>; "
-         "pink: spurious; purple: duplicate. Black squares: true tags; cyan: mapped tags. Drag to "
+         "pink: spurious; purple: duplicate. Corners: dots where a camera saw them (coloured by "
+         "their error), hollow rings where they were only guessed. Black squares: true tags; cyan: "
+         "mapped tags. Drag to "
          "pan, wheel to zoom, click near the drive to pick a time. <button id=\"map-reset\">reset "
          "view</button></p>\n<div id=\"map-legend\"></div>\n<div id=\"map\"></div>\n";
   }

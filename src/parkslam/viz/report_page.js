@@ -77,7 +77,20 @@
                                   stroke: stroke, 'stroke-width': unit, class: 'slot-' + s.verdict}, root);
       el('title', {}, poly).textContent = 'slot ' + s.id + ' (' + s.verdict +
           (s.verdict === 'matched' ? ', corner error ' + (100 * s.err_m).toFixed(1) + ' cm' +
-           (s.id_right ? '' : ', wrong ID') : '') + ')';
+           (s.id_right ? (s.id_worn_read ? ', ID read from worn paint' : '') : ', wrong ID') : '') + ')';
+      // Corners a camera saw as dots coloured by their error; corners only
+      // guessed (placed by the depth prior) as hollow rings.
+      s.c.forEach((c, k) => {
+        const seen = !s.observed || s.observed[k];
+        const err = s.corner_err_m ? s.corner_err_m[k] : null;
+        const dot = el('circle', {cx: c[0], cy: -c[1], r: 0.18,
+                                  fill: seen ? (err === null ? '#555' : errColour(err)) : '#fff',
+                                  stroke: seen ? 'none' : '#777', 'stroke-width': unit,
+                                  class: seen ? 'corner-observed' : 'corner-guessed'}, root);
+        el('title', {}, dot).textContent = 'slot ' + s.id + ' corner ' + k +
+            (seen ? ' (observed' : ' (guessed, never observed') +
+            (err === null ? ')' : ', error ' + (100 * err).toFixed(1) + ' cm)');
+      });
       const cx = (s.c[0][0] + s.c[1][0] + s.c[2][0] + s.c[3][0]) / 4;
       const cy = (s.c[0][1] + s.c[1][1] + s.c[2][1] + s.c[3][1]) / 4;
       const label = el('text', {x: cx, y: -cy, 'font-size': 0.8, 'text-anchor': 'middle',
