@@ -21,7 +21,7 @@ void AddOdometryCommand(CLI::App& app) {
       "odometry",
       "Kalman dead reckoning (wheel speed, steering, IMU) over a dataset; writes a TUM "
       "trajectory. Without --init it starts at the origin with the yaw of the first AHRS "
-      "heading.");
+      "heading (yaw 0 with a gyro-only IMU).");
   cmd->add_option("DIR", options->dataset, "Dataset folder")->required();
   cmd->add_option("--out", options->out, "TUM trajectory to write")->required();
   cmd->add_option("--rate-hz", options->rate_hz, "Output pose rate")

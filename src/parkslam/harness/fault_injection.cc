@@ -190,15 +190,18 @@ bool FaultInjectingSource::Apply(SensorEvent* event) {
           if (t_ns >= next_spike_ns_[i]) {
             const double sign = std::bernoulli_distribution(0.5)(rng_) ? 1.0 : -1.0;
             imu->yaw_rate_radps += sign * fault.magnitude;
-            imu->heading_rad = NormalizeAngle(imu->heading_rad - sign * 0.25 * fault.magnitude);
+            if (imu->heading_rad) {
+              imu->heading_rad = NormalizeAngle(*imu->heading_rad - sign * 0.25 * fault.magnitude);
+            }
             next_spike_ns_[i] += kSpikeInterval_ns;
             ++injected_.imu_spikes;
           }
         }
         break;
       case FaultKind::kHeadingJump:
-        if (auto* imu = std::get_if<ImuSample>(event); imu != nullptr && active) {
-          imu->heading_rad = NormalizeAngle(imu->heading_rad + fault.magnitude);
+        if (auto* imu = std::get_if<ImuSample>(event);
+            imu != nullptr && imu->heading_rad && active) {
+          imu->heading_rad = NormalizeAngle(*imu->heading_rad + fault.magnitude);
           ++injected_.heading_samples_shifted;
         }
         break;

@@ -178,7 +178,7 @@ TEST(FaultInjectionTest, ImuSpikesHeadingJumpAndJitterAreSeededAndBounded) {
     EXPECT_EQ(EventTime(a[k]), EventTime(b[k]));
     if (const auto* imu = std::get_if<ImuSample>(&a[k])) {
       spikes += std::abs(std::abs(imu->yaw_rate_radps - 0.1) - 2.0) < 1e-9;
-      shifted += std::abs(imu->heading_rad - 1.0) < 1e-9;
+      shifted += std::abs(*imu->heading_rad - 1.0) < 1e-9;
     }
     jittered += EventTime(a[k]) != EventTime(c[k]);
   }

@@ -43,6 +43,8 @@ constexpr char kLabelsFile[] = "groundtruth/slot_labels.jsonl";
 constexpr std::string_view kWheelSpeedHeader = "t_ns,speed_mps";
 constexpr std::string_view kSteeringHeader = "t_ns,steering_wheel_rad";
 constexpr std::string_view kImuHeader = "t_ns,yaw_rate_radps,heading_rad";
+// heading_rad (value column 1) is empty for a gyro-only IMU.
+constexpr unsigned kImuHeadingOptional = 1u << 1;
 
 // What dataset.yaml announces besides the scenario.
 struct Counts {
@@ -104,9 +106,17 @@ std::array<std::string_view, kValues + 1> ColumnNames(std::string_view header) {
   return names;
 }
 
+// A column that may be left empty (an IMU without a compass): NaN in the
+// values stands for an empty field, both ways.
+using OptionalColumns = unsigned;
+constexpr OptionalColumns kNoOptionalColumns = 0;
+constexpr bool IsOptionalColumn(OptionalColumns optional, std::size_t c) {
+  return (optional >> c) & 1u;
+}
+
 template <std::size_t kValues, typename Sample, typename GetValues>
 void WriteCsv(const fs::path& file, std::string_view header, const std::vector<Sample>& samples,
-              GetValues get_values) {
+              GetValues get_values, OptionalColumns optional = kNoOptionalColumns) {
   const auto names = ColumnNames<kValues>(header);
   const std::string source = file.string();
   std::string out;
@@ -121,10 +131,11 @@ void WriteCsv(const fs::path& file, std::string_view header, const std::vector<S
     const std::array<double, kValues> values = get_values(samples[i]);
     text::AppendInteger(&out, t_ns);
     for (std::size_t c = 0; c < kValues; ++c) {
+      out.push_back(',');
+      if (std::isnan(values[c]) && IsOptionalColumn(optional, c)) continue;
       if (!std::isfinite(values[c])) {
         ThrowIoError(source, 0, names[c + 1], "not a finite number" + Where(i, t_ns));
       }
-      out.push_back(',');
       text::AppendDouble(&out, values[c]);
     }
     out.push_back('\n');
@@ -142,7 +153,8 @@ struct Magnitude {
 
 template <std::size_t kValues, typename Sample, typename MakeSample>
 std::vector<Sample> ReadCsv(const fs::path& file, std::string_view header,
-                            const std::array<Magnitude, kValues>& limits, MakeSample make_sample) {
+                            const std::array<Magnitude, kValues>& limits, MakeSample make_sample,
+                            OptionalColumns optional = kNoOptionalColumns) {
   const auto names = ColumnNames<kValues>(header);
   const std::string source = file.string();
   const std::string content = ReadTextFile(file);
@@ -177,6 +189,10 @@ std::vector<Sample> ReadCsv(const fs::path& file, std::string_view header,
                        " ms after the previous sample (at most 10 s; split the recording there)");
     }
     for (std::size_t c = 0; c < kValues; ++c) {
+      if (fields[c + 1].empty() && IsOptionalColumn(optional, c)) {
+        values[c] = std::numeric_limits<double>::quiet_NaN();
+        continue;
+      }
       values[c] = text::ParseFiniteDouble(fields[c + 1], source, n, names[c + 1]);
       if (std::abs(values[c]) > limits[c].max_abs) {
         ThrowIoError(source, n, names[c + 1],
@@ -754,9 +770,13 @@ void WriteDataset(const fs::path& dir, const Dataset& dataset) {
               [](const WheelSpeed& s) { return std::array<double, 1>{s.speed_mps}; });
   WriteCsv<1>(dir / kSteeringFile, kSteeringHeader, log.steering_angles,
               [](const SteeringAngle& s) { return std::array<double, 1>{s.steering_wheel_rad}; });
-  WriteCsv<2>(dir / kImuFile, kImuHeader, log.imu_samples, [](const ImuSample& s) {
-    return std::array<double, 2>{s.yaw_rate_radps, s.heading_rad};
-  });
+  WriteCsv<2>(
+      dir / kImuFile, kImuHeader, log.imu_samples,
+      [](const ImuSample& s) {
+        return std::array<double, 2>{
+            s.yaw_rate_radps, s.heading_rad.value_or(std::numeric_limits<double>::quiet_NaN())};
+      },
+      kImuHeadingOptional);
   WriteJsonl(
       dir / kSlotsFile, "slots", log.slot_frames,
       [](const SlotObservationFrame& f) -> const auto& { return f.slots; }, AppendSlot);
@@ -813,11 +833,12 @@ std::vector<SteeringAngle> ReadSteeringAngles(const fs::path& dir) {
 }
 
 std::vector<ImuSample> ReadImuSamples(const fs::path& dir) {
-  return ReadCsv<2, ImuSample>(dir / kImuFile, kImuHeader,
-                               {{{kMaxYawRate_radps, "rad/s"}, {kMaxAngle_rad, "rad"}}},
-                               [](TimeNs t, const std::array<double, 2>& v) {
-                                 return ImuSample{t, v[0], v[1]};
-                               });
+  return ReadCsv<2, ImuSample>(
+      dir / kImuFile, kImuHeader, {{{kMaxYawRate_radps, "rad/s"}, {kMaxAngle_rad, "rad"}}},
+      [](TimeNs t, const std::array<double, 2>& v) {
+        return ImuSample{t, v[0], std::isnan(v[1]) ? std::nullopt : std::optional<double>(v[1])};
+      },
+      kImuHeadingOptional);
 }
 
 std::vector<SlotObservationFrame> ReadSlotFrames(const fs::path& dir) {

@@ -346,6 +346,22 @@ TEST(DatasetTest, WrongCsvFieldCountIsReported) {
               HasSubstr("imu.csv:2: expected 3 fields, got 2"));
 }
 
+TEST(DatasetTest, AGyroOnlyImuLeavesTheHeadingEmpty) {
+  const TempDir dir;
+  Dataset dataset = SampleDataset();
+  dataset.log.imu_samples[1].heading_rad.reset();
+  WriteDataset(dir / "d", dataset);
+  EXPECT_EQ(ReadTextFile(dir / "d/sensors/imu.csv"),
+            "t_ns,yaw_rate_radps,heading_rad\n0,0.01,-3.14159\n"
+            "10000000,0.30000000000000004,\n");
+  const Dataset read = ReadDataset(dir / "d");
+  EXPECT_EQ(read.log.imu_samples[0].heading_rad, -3.14159);
+  EXPECT_FALSE(read.log.imu_samples[1].heading_rad.has_value());
+  // Only the heading may be empty.
+  EditFile(dir / "d/sensors/imu.csv", "0,0.01,-3.14159", "0,,-3.14159");
+  EXPECT_THAT(ErrorOf([&] { ReadDataset(dir / "d"); }), HasSubstr("imu.csv:2: yaw_rate_radps"));
+}
+
 TEST(DatasetTest, TruncatedJsonLineIsReported) {
   const TempDir dir;
   WriteDataset(dir / "d", SampleDataset());

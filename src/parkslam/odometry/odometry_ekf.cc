@@ -34,8 +34,10 @@ bool OdometryEkfOptions::IsValid(std::string* error) const {
       {"initial_yaw_rate_sigma_radps", initial_yaw_rate_sigma_radps},
       {"gyro_bias_sigma_radps", gyro_bias_sigma_radps},
       {"heading_bias_sigma_rad", heading_bias_sigma_rad},
-      {"wheel_scale_sigma", wheel_scale_sigma}};
+      {"wheel_scale_sigma", wheel_scale_sigma},
+      {"heading_disturbance_sigma_rad", heading_disturbance_sigma_rad}};
   for (const auto& [name, sigma] : sigmas) c.NonNegative(sigma, name);
+  c.Positive(heading_disturbance_length_m, "heading_disturbance_length_m");
   c.Positive(innovation_gate_chi2, "innovation_gate_chi2");
   c.NonNegative(gate_after_s, "gate_after_s");
   c.NonNegative(fault_reset_after_s, "fault_reset_after_s");
@@ -64,23 +66,30 @@ void OdometryEkf::Initialize(TimeNs t_ns, const SE2& T_map_vehicle, double yaw_s
   x_[kYaw] = T_map_vehicle.yaw();
   const OdometryEkfOptions& o = options_;
   StateVector sigma = StateVector::Zero();
-  sigma.head<8>() << o.initial_position_sigma_m, o.initial_position_sigma_m, yaw_sigma_rad,
+  sigma.head<kCloneX>() << o.initial_position_sigma_m, o.initial_position_sigma_m, yaw_sigma_rad,
       o.initial_speed_sigma_mps, o.initial_yaw_rate_sigma_radps, o.gyro_bias_sigma_radps,
-      o.heading_bias_sigma_rad, o.wheel_scale_sigma;
+      o.heading_bias_sigma_rad, o.wheel_scale_sigma, o.heading_disturbance_sigma_rad;
   P_.setZero();
-  P_.topLeftCorner<8, 8>() = sigma.head<8>().cwiseAbs2().asDiagonal();
+  P_.topLeftCorner<kCloneX, kCloneX>() = sigma.head<kCloneX>().cwiseAbs2().asDiagonal();
   initialized_ = true;
   ClonePose();
 }
 
 void OdometryEkf::InitializeFromHeading(TimeNs t_ns, const Eigen::Vector2d& p_map,
-                                        double heading_rad) {
+                                        std::optional<double> heading_rad) {
   const OdometryEkfOptions& o = options_;
-  Initialize(t_ns, SE2(p_map, heading_rad),
-             std::hypot(o.heading_bias_sigma_rad, o.heading_sigma_rad));
-  // yaw = heading - b_h - noise: the yaw error is minus the bias error plus
-  // the heading noise, so the two are correlated.
+  if (!heading_rad) {
+    Initialize(t_ns, SE2(p_map, 0.0), 0.0);
+    return;
+  }
+  Initialize(t_ns, SE2(p_map, *heading_rad),
+             std::sqrt(Square(o.heading_bias_sigma_rad) + Square(o.heading_disturbance_sigma_rad) +
+                       Square(o.heading_sigma_rad)));
+  // yaw = heading - b_h - d - noise: the yaw error is minus the bias and
+  // disturbance errors plus the heading noise, so they are correlated.
   P_(kYaw, kHeadingBias) = P_(kHeadingBias, kYaw) = -Square(o.heading_bias_sigma_rad);
+  P_(kYaw, kHeadingDisturbance) = P_(kHeadingDisturbance, kYaw) =
+      -Square(o.heading_disturbance_sigma_rad);
   ClonePose();
 }
 
@@ -110,6 +119,7 @@ OdometryEkf::RelativeMotion OdometryEkf::MotionSinceClone() const {
   RelativeMotion motion;
   motion.T_clone_now = SE2(x_[kCloneX], x_[kCloneY], x_[kCloneYaw]).inverse() * pose();
   motion.covariance = J * P_sub * J.transpose();
+  motion.covariance = 0.5 * (motion.covariance + motion.covariance.transpose()).eval();
   return motion;
 }
 
@@ -130,11 +140,18 @@ void OdometryEkf::Predict(double dt_s) {
 
   const OdometryEkfOptions& o = options_;
   StateMatrix Q = StateMatrix::Zero();
+  // The compass's disturbance: Gauss-Markov in the distance driven.
+  const double phi = std::exp(-std::abs(v) * dt_s / o.heading_disturbance_length_m);
+  F(kHeadingDisturbance, kHeadingDisturbance) = phi;
+  x_[kHeadingDisturbance] *= phi;
+  Q(kHeadingDisturbance, kHeadingDisturbance) =
+      (1.0 - phi * phi) * Square(o.heading_disturbance_sigma_rad);
   Q(kSpeed, kSpeed) = Square(o.accel_sigma_mps2_per_sqrt_hz) * dt_s;
   Q(kYawRate, kYawRate) = Square(o.yaw_accel_sigma_radps2_per_sqrt_hz) * dt_s;
   Q(kGyroBias, kGyroBias) = Square(o.gyro_bias_walk_radps_per_sqrt_s) * dt_s;
   Q(kHeadingBias, kHeadingBias) = Square(o.heading_bias_walk_rad_per_sqrt_s) * dt_s;
   P_ = F * P_ * F.transpose() + Q;
+  P_ = 0.5 * (P_ + P_.transpose());
 }
 
 void OdometryEkf::PredictTo(TimeNs t_ns) {
@@ -227,11 +244,14 @@ void OdometryEkf::UpdateImu(const ImuSample& m) {
   NoteSample(OdometryEkfStats::kGyro);
   GatedUpdate(OdometryEkfStats::kGyro, m.yaw_rate_radps - (x_[kYawRate] + x_[kGyroBias]), h,
               Square(options_.gyro_sigma_radps), kGyroBias, options_.gyro_bias_sigma_radps);
+  if (!m.heading_rad) return;  // a gyro-only IMU: the yaw rate alone
   h.setZero();
   h[kYaw] = 1.0;
   h[kHeadingBias] = 1.0;
+  h[kHeadingDisturbance] = 1.0;
   // A heading jump is the AHRS's offset changing: the heading bias takes it.
-  GatedUpdate(OdometryEkfStats::kHeading, AngleDiff(m.heading_rad, x_[kYaw] + x_[kHeadingBias]), h,
+  GatedUpdate(OdometryEkfStats::kHeading,
+              AngleDiff(*m.heading_rad, x_[kYaw] + x_[kHeadingBias] + x_[kHeadingDisturbance]), h,
               Square(options_.heading_sigma_rad), kHeadingBias, options_.heading_bias_sigma_rad);
 }
 

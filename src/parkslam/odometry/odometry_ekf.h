@@ -5,9 +5,9 @@
 // (paper III-C: "a Kalman-based extrapolation with the steering wheel, car
 // speed and the compass readings from a cheap IMU").
 //
-// State x (11): [x_m, y_m, yaw_rad, v_mps, omega_radps, gyro_bias_radps,
-//                heading_bias_rad, wheel_scale_error, clone_x_m, clone_y_m,
-//                clone_yaw_rad]
+// State x (12): [x_m, y_m, yaw_rad, v_mps, omega_radps, gyro_bias_radps,
+//                heading_bias_rad, wheel_scale_error, heading_disturbance_rad,
+//                clone_x_m, clone_y_m, clone_yaw_rad]
 // The last three are a stochastic clone of the pose at the last keyframe
 // (Roumeliotis and Burdick, "Stochastic cloning", ICRA 2002): they stay fixed
 // in prediction but keep their cross-covariance with the moving pose, so the
@@ -19,7 +19,19 @@
 //   wheel speed      z = (1 + s) v                         (R = sigma_w^2)
 //   steering angle   0 = omega - v tan(z_sw / ratio) / L   (bicycle model)
 //   gyroscope        z = omega + b_g                       (R = sigma_g^2)
-//   AHRS heading     z = yaw + b_h                         (R = sigma_h^2)
+//   AHRS heading     z = yaw + b_h + d                     (R = sigma_h^2)
+//   (no heading: a gyro-only IMU, the yaw from the gyro alone)
+//
+// Indoors the compass is bent near steel by several degrees, by an amount
+// that depends on the place (sim/compass_field.h). The disturbance d is a
+// first-order Gauss-Markov process in the distance driven s, with
+// correlation length L and stationary spread sigma_d:
+//   d(s + ds) = phi d(s) + w,  phi = exp(-ds / L),  var(w) = (1 - phi^2) sigma_d^2.
+// So over a few metres the yaw follows the gyro, and the compass bounds its
+// drift only over tens of metres; standing still, nothing changes. The
+// AHRS's own bias b_h stays a random walk, so a lasting offset is still
+// learnt. A compass that disagrees with the gyro beyond that is gated
+// (below).
 //
 // Faults (docs/robustness.md): each scalar update is gated on its
 // normalized innovation squared, y^2 / (h P h^T + r) > innovation_gate_chi2
@@ -32,6 +44,7 @@
 // of rejecting it for ever.
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 
 #include "parkslam/common/se2.h"
@@ -57,6 +70,10 @@ struct OdometryEkfOptions {
   double yaw_accel_sigma_radps2_per_sqrt_hz = 0.1;
   double gyro_bias_walk_radps_per_sqrt_s = 0.00005;
   double heading_bias_walk_rad_per_sqrt_s = 0.0005;
+  // The compass's disturbance near steel (above); sigma 0 models a compass
+  // that nothing disturbs (the bias walk alone).
+  double heading_disturbance_sigma_rad = 0.08;
+  double heading_disturbance_length_m = 3.0;
   // Prior standard deviations at initialization.
   double initial_position_sigma_m = 1e-3;
   double initial_speed_sigma_mps = 0.5;
@@ -93,7 +110,7 @@ struct OdometryEkfStats {
 
 class OdometryEkf {
  public:
-  static constexpr int kStateSize = 11;
+  static constexpr int kStateSize = 12;
   using StateVector = Eigen::Matrix<double, kStateSize, 1>;
   using StateMatrix = Eigen::Matrix<double, kStateSize, kStateSize>;
   enum Index {
@@ -105,6 +122,7 @@ class OdometryEkf {
     kGyroBias,
     kHeadingBias,
     kWheelScale,
+    kHeadingDisturbance,
     kCloneX,
     kCloneY,
     kCloneYaw
@@ -123,8 +141,11 @@ class OdometryEkf {
   // uncertainty of its yaw.
   void Initialize(TimeNs t_ns, const SE2& T_map_vehicle, double yaw_sigma_rad);
   // Starts the filter at t_ns at a known position with the yaw read from the
-  // AHRS heading, whose error is the heading bias plus its noise.
-  void InitializeFromHeading(TimeNs t_ns, const Eigen::Vector2d& p_map, double heading_rad);
+  // AHRS heading, whose error is the heading bias plus its noise. Without a
+  // heading (a gyro-only IMU) the start's yaw is 0 and exact: the map frame
+  // is then the car's frame at the start.
+  void InitializeFromHeading(TimeNs t_ns, const Eigen::Vector2d& p_map,
+                             std::optional<double> heading_rad);
   bool initialized() const { return initialized_; }
 
   // Predicts to the event's time and applies it. Slot and tag frames are

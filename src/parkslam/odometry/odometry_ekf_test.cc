@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <optional>
 
 #include "parkslam/common/angles.h"
 
@@ -25,6 +26,46 @@ void Drive(OdometryEkf& ekf, const OdometryEkfOptions& o, double v, double delta
     ekf.Process(SteeringAngle{t, delta * o.vehicle.steering_ratio});
     ekf.Process(ImuSample{t, omega + gyro_bias, NormalizeAngle(yaw)});
   }
+}
+
+TEST(OdometryEkfTest, WithoutACompassTheYawFollowsTheGyroFromZero) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.InitializeFromHeading(0, {1.0, 2.0}, std::nullopt);
+  EXPECT_EQ(ekf.pose().yaw(), 0.0);
+  EXPECT_EQ(ekf.covariance()(OdometryEkf::kYaw, OdometryEkf::kYaw), 0.0);
+  // Half a circle on gyro, wheel speed and steering alone.
+  const double v = 2.0, delta = 0.2;
+  const double omega = v * std::tan(delta) / o.vehicle.wheelbase_m;
+  for (TimeNs t = 10 * kMs; t <= FromSeconds(kPi / omega); t += 10 * kMs) {
+    ekf.Process(WheelSpeed{t, v});
+    ekf.Process(SteeringAngle{t, delta * o.vehicle.steering_ratio});
+    ekf.Process(ImuSample{t, omega, std::nullopt});
+  }
+  EXPECT_NEAR(std::abs(ekf.pose().yaw()), kPi, 0.02);
+  EXPECT_EQ(ekf.stats().rejected[OdometryEkfStats::kHeading], 0);
+}
+
+// A compass bent by 0.1 rad for 2 m of driving (a pillar beside the lane)
+// moves the yaw by little: over metres the gyro carries the yaw, and the
+// disturbance state, a Gauss-Markov process in distance, takes the bend.
+TEST(OdometryEkfTest, ACompassBentForAFewMetresBarelyMovesTheYaw) {
+  OdometryEkfOptions o;
+  OdometryEkf ekf(o);
+  ekf.Initialize(0, SE2(0, 0, 0), 0.001);
+  const double v = 2.0;
+  for (TimeNs t = 10 * kMs; t <= FromSeconds(20.0); t += 10 * kMs) {
+    const double bend_rad = (t > FromSeconds(10.0) && t <= FromSeconds(11.0)) ? 0.1 : 0.0;
+    ekf.Process(WheelSpeed{t, v});
+    ekf.Process(SteeringAngle{t, 0.0});
+    ekf.Process(ImuSample{t, 0.0, bend_rad});
+    if (t == FromSeconds(11.0)) {
+      EXPECT_LT(std::abs(ekf.pose().yaw()), 0.02);
+      EXPECT_GT(ekf.state()[OdometryEkf::kHeadingDisturbance], 0.05);
+    }
+  }
+  EXPECT_LT(std::abs(ekf.pose().yaw()), 0.01);
+  EXPECT_LT(std::abs(ekf.pose().y()), 0.3);
 }
 
 TEST(OdometryEkfTest, StraightDriveIntegratesDistance) {
@@ -64,8 +105,13 @@ TEST(OdometryEkfTest, HeadingInitialisationCorrelatesYawAndBias) {
   const auto& P = ekf.covariance();
   EXPECT_NEAR(P(OdometryEkf::kYaw, OdometryEkf::kHeadingBias),
               -o.heading_bias_sigma_rad * o.heading_bias_sigma_rad, 1e-15);
+  EXPECT_NEAR(P(OdometryEkf::kYaw, OdometryEkf::kHeadingDisturbance),
+              -o.heading_disturbance_sigma_rad * o.heading_disturbance_sigma_rad, 1e-15);
   EXPECT_NEAR(std::sqrt(P(OdometryEkf::kYaw, OdometryEkf::kYaw)),
-              std::hypot(o.heading_bias_sigma_rad, o.heading_sigma_rad), 1e-12);
+              std::sqrt(o.heading_bias_sigma_rad * o.heading_bias_sigma_rad +
+                        o.heading_disturbance_sigma_rad * o.heading_disturbance_sigma_rad +
+                        o.heading_sigma_rad * o.heading_sigma_rad),
+              1e-12);
   EXPECT_EQ(ekf.pose().x(), 1.0);
 }
 

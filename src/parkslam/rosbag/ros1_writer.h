@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -100,11 +101,15 @@ inline RawMessage SpeedStamped(std::int64_t stamp_ns, double speed) {
           w.bytes};
 }
 
-inline RawMessage Imu(std::int64_t stamp_ns, double yaw_rad, double yaw_rate) {
+// Without a heading (a gyro-only IMU) the orientation is the identity and
+// orientation_covariance[0] is -1, sensor_msgs/Imu's "no orientation".
+inline RawMessage Imu(std::int64_t stamp_ns, std::optional<double> yaw_rad, double yaw_rate) {
   Writer w;
   w.Header(stamp_ns);
-  for (double v : {0.0, 0.0, std::sin(yaw_rad / 2), std::cos(yaw_rad / 2)}) w.Put(v);
-  for (int i = 0; i < 9; ++i) w.Put(0.0);
+  const double yaw = yaw_rad.value_or(0.0);
+  for (double v : {0.0, 0.0, std::sin(yaw / 2), std::cos(yaw / 2)}) w.Put(v);
+  w.Put(yaw_rad ? 0.0 : -1.0);
+  for (int i = 1; i < 9; ++i) w.Put(0.0);
   for (double v : {0.0, 0.0, yaw_rate}) w.Put(v);
   for (int i = 0; i < 9; ++i) w.Put(0.0);
   for (double v : {0.0, 0.0, 9.81}) w.Put(v);

@@ -232,15 +232,21 @@ class MessageReader {
   }
 
   void ReadImu(const Channel& c, const rosbag::MessageInstance& m) {
-    const auto f = io::ros1::DecodeFields(c.spec, bytes_.data(), bytes_.size(),
-                                          {"header.stamp", "orientation.x", "orientation.y",
-                                           "orientation.z", "orientation.w", "angular_velocity.z"});
+    const auto f = io::ros1::DecodeFields(
+        c.spec, bytes_.data(), bytes_.size(),
+        {"header.stamp", "orientation.x", "orientation.y", "orientation.z", "orientation.w",
+         "orientation_covariance[0]", "angular_velocity.z"});
     const double x = f.at("orientation.x").number, y = f.at("orientation.y").number,
                  z = f.at("orientation.z").number, w = f.at("orientation.w").number;
     const std::int64_t stamp = StampOf(f, m);
-    contents_.log.imu_samples.push_back(
-        {stamp, f.at("angular_velocity.z").number,
-         std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))});
+    // sensor_msgs/Imu: orientation_covariance[0] = -1 means no orientation
+    // (a gyro-only IMU).
+    const auto covariance = f.find("orientation_covariance[0]");
+    const bool has_heading = covariance == f.end() || covariance->second.number != -1.0;
+    ImuSample sample{stamp, f.at("angular_velocity.z").number, std::nullopt};
+    if (has_heading)
+      sample.heading_rad = std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+    contents_.log.imu_samples.push_back(sample);
     contents_.first_ns = std::min(contents_.first_ns, stamp);
   }
 

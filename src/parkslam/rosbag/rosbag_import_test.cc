@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,15 +31,18 @@ using ::testing::HasSubstr;
 constexpr std::int64_t kStart_ns = 1'700'000'000'000'000'000;
 
 // Three seconds of a drive: speed 50 Hz (nested field), steering 50 Hz,
-// IMU 100 Hz, five cameras at 5 Hz, the tag camera raw, the others JPEG,
-// the left one 4 ms late.
+// IMU 100 Hz (with no orientation in its last second, as a gyro-only IMU
+// sends), five cameras at 5 Hz, the tag camera raw, the others JPEG, the
+// left one 4 ms late.
 void WriteBag(const std::filesystem::path& path) {
   rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
   const camera::CameraRig rig = camera::DefaultRig();
   for (std::int64_t k = 0; k < 300; ++k) {
     const std::int64_t t = kStart_ns + k * 10'000'000;
     const ros::Time received = ros::Time().fromNSec(static_cast<std::uint64_t>(t + 2'000'000));
-    bag.write("/imu/data", received, Imu(t, 0.1 + 0.001 * k, 0.05));
+    const std::optional<double> heading_rad =
+        k < 200 ? std::optional<double>(0.1 + 0.001 * k) : std::nullopt;
+    bag.write("/imu/data", received, Imu(t, heading_rad, 0.05));
     if (k % 2 == 0) {
       bag.write("/vehicle/twist", received, SpeedStamped(t, 1.5));
       bag.write("/vehicle/steering", received, Float64(0.2));
@@ -115,7 +119,8 @@ TEST_F(RosbagImportTest, ABagBecomesADatasetThatReadsAndChecksClean) {
   EXPECT_EQ(d.log.wheel_speeds[1].t_ns, 20'000'000);
   EXPECT_DOUBLE_EQ(d.log.wheel_speeds[5].speed_mps, 1.5);
   EXPECT_DOUBLE_EQ(d.log.steering_angles[5].steering_wheel_rad, 0.4);  // scale 2
-  EXPECT_NEAR(d.log.imu_samples[10].heading_rad, 0.11, 1e-9);
+  EXPECT_NEAR(d.log.imu_samples[10].heading_rad.value_or(0.0), 0.11, 1e-9);
+  EXPECT_FALSE(d.log.imu_samples[250].heading_rad.has_value());
   EXPECT_DOUBLE_EQ(d.log.imu_samples[10].yaw_rate_radps, 0.05);
   const io::DatasetCheck check = io::CheckDataset(dir_ / "ds", 1.0);
   EXPECT_TRUE(check.ok()) << (check.errors.empty() ? "" : check.errors.front());

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -32,11 +33,13 @@ struct SteeringAngle {
 
 // A cheap IMU: gyroscope yaw rate and the AHRS heading (paper III-C, "the
 // heading direction collected by IMU"), both in the map frame convention
-// (counter-clockwise positive). Both carry biases that drift.
+// (counter-clockwise positive). Both carry biases that drift, and indoors
+// the heading is disturbed near steel. Many cars have no compass at all: a
+// gyro-only IMU gives no heading.
 struct ImuSample {
   TimeNs t_ns = 0;
   double yaw_rate_radps = 0.0;
-  double heading_rad = 0.0;
+  std::optional<double> heading_rad;  // absent: no compass
 };
 
 // One hypothesis for one painted digit.

@@ -85,7 +85,7 @@ LiveSimulator::LiveSimulator(const ScenarioConfig& scenario, std::uint64_t seed,
       dynamics_(options.dynamics),
       step_s_(1.0 / options.step_hz),
       world_(BuildWorld(scenario.world)),
-      odometry_(scenario.sensors.odometry, scenario.vehicle, seed),
+      odometry_(MakeOdometrySensorModel(scenario.sensors, scenario.vehicle, world_, seed)),
       slot_rng_(Random::Derive(seed, kSlotFrameStreamTag)),
       tag_rng_(Random::Derive(seed, kTagFrameStreamTag)) {
   const OdometrySensorConfig& odometry = scenario_.sensors.odometry;

@@ -40,7 +40,7 @@ std::vector<double> Flatten(const SensorEvent& event) {
   if (const auto* w = std::get_if<WheelSpeed>(&event)) v.push_back(w->speed_mps);
   if (const auto* s = std::get_if<SteeringAngle>(&event)) v.push_back(s->steering_wheel_rad);
   if (const auto* m = std::get_if<ImuSample>(&event)) {
-    v.insert(v.end(), {m->yaw_rate_radps, m->heading_rad});
+    v.insert(v.end(), {m->yaw_rate_radps, m->heading_rad.value_or(-100.0)});
   }
   if (const auto* f = std::get_if<SlotObservationFrame>(&event)) {
     for (const SlotObservation& o : f->slots) {
@@ -241,7 +241,8 @@ TEST(LiveSimulatorTest, ReplayedDriveHasTheBatchOdometryNoise) {
   }
   for (size_t k = 0; k < imu.size(); ++k) {
     EXPECT_NEAR(imu[k].yaw_rate_radps, batch.log.imu_samples[k].yaw_rate_radps, 1e-9);
-    EXPECT_NEAR(AngleDiff(imu[k].heading_rad, batch.log.imu_samples[k].heading_rad), 0.0, 1e-9);
+    ASSERT_TRUE(imu[k].heading_rad && batch.log.imu_samples[k].heading_rad);
+    EXPECT_NEAR(AngleDiff(*imu[k].heading_rad, *batch.log.imu_samples[k].heading_rad), 0.0, 1e-9);
   }
 }
 

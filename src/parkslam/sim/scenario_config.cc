@@ -205,9 +205,21 @@ void CheckTagSensor(const TagSensorConfig& t, FieldChecker& c) {
                 " rad at max_range_m (yaw_sigma_rad + yaw_sigma_per_m * max_range_m)");
 }
 
+void CheckCompass(const CompassConfig& s, FieldChecker& c) {
+  c.Require(s.model == "disturbed" || s.model == "clean" || s.model == "none",
+            "sensors.compass.model", "must be disturbed, clean or none, got '" + s.model + "'");
+  c.InRange(s.steel_sigma_deg, 0.0, 90.0, "sensors.compass.steel_sigma_deg", "deg");
+  c.Between(s.steel_range_m, 0.1, 50.0, "sensors.compass.steel_range_m", "m");
+  c.Rate(s.parked_car_share, "sensors.compass.parked_car_share");
+  c.InRange(s.background_sigma_deg, 0.0, 90.0, "sensors.compass.background_sigma_deg", "deg");
+  c.Between(s.background_wavelength_m, 1.0, 10000.0, "sensors.compass.background_wavelength_m",
+            "m");
+}
+
 void CheckSensors(const SensorConfig& s, FieldChecker& c) {
   std::string odometry_error;
   c.Require(s.odometry.IsValid(&odometry_error), odometry_error);
+  CheckCompass(s.compass, c);
   CheckSlotSensor(s.slots, c);
   CheckIdSensor(s.ids, c);
   CheckTagSensor(s.tags, c);

@@ -249,8 +249,38 @@ struct TagSensorConfig {
   }
 };
 
+// The IMU's compass as it behaves indoors. A magnetometer near steel
+// (pillars, parked cars) reads a field bent by several degrees; the bend
+// varies with the car's place, not with time. model:
+//   disturbed  the AHRS heading of odometry (bias, noise) plus a disturbance
+//              field: each pillar and each parked car adds a_k
+//              exp(-r^2 / (2 steel_range_m^2)), a_k ~ N(0, steel_sigma_deg);
+//              a smooth background (rebar, cables) of three plane waves of
+//              background_wavelength_m adds background_sigma_deg in all.
+//   clean      the AHRS heading with its bias and noise only.
+//   none       no compass: a gyro-only IMU (imu.csv's heading_rad empty).
+struct CompassConfig {
+  std::string model = "disturbed";  // disturbed | clean | none
+  double steel_sigma_deg = 8.0;
+  double steel_range_m = 3.0;
+  double parked_car_share = 0.5;  // slots holding a (steel) car
+  double background_sigma_deg = 2.0;
+  double background_wavelength_m = 25.0;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("model", model);
+    v("steel_sigma_deg", steel_sigma_deg);
+    v("steel_range_m", steel_range_m);
+    v("parked_car_share", parked_car_share);
+    v("background_sigma_deg", background_sigma_deg);
+    v("background_wavelength_m", background_wavelength_m);
+  }
+};
+
 struct SensorConfig {
   OdometrySensorConfig odometry;
+  CompassConfig compass;
   SlotSensorConfig slots;
   IdSensorConfig ids;
   TagSensorConfig tags;
@@ -258,6 +288,7 @@ struct SensorConfig {
   template <typename V>
   void VisitFields(V& v) {
     v("odometry", odometry);
+    v("compass", compass);
     v("slots", slots);
     v("ids", ids);
     v("tags", tags);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "parkslam/common/angles.h"
 
@@ -169,12 +170,15 @@ SlotIdReading SimulateIdReading(const std::string& painted_id, const IdSensorCon
 }
 
 OdometrySensorModel::OdometrySensorModel(const OdometrySensorConfig& config,
-                                         const VehicleParameters& vehicle, std::uint64_t seed)
+                                         const VehicleParameters& vehicle, std::uint64_t seed,
+                                         CompassField compass, bool has_compass)
     : config_(config),
       vehicle_(vehicle),
       wheel_rng_(Random::Derive(seed, kWheelStreamTag)),
       steering_rng_(Random::Derive(seed, kSteeringStreamTag)),
-      imu_rng_(Random::Derive(seed, kImuStreamTag)) {
+      imu_rng_(Random::Derive(seed, kImuStreamTag)),
+      compass_(std::move(compass)),
+      has_compass_(has_compass) {
   wheel_speed_scale_ = 1.0 + wheel_rng_.Gaussian(config_.wheel_speed_scale_sigma);
   gyro_bias_radps_ = imu_rng_.Gaussian(config_.gyro_bias_sigma_radps);
   heading_bias_rad_ = imu_rng_.Gaussian(config_.heading_bias_sigma_rad);
@@ -192,22 +196,37 @@ SteeringAngle OdometrySensorModel::MeasureSteering(const VehicleState& true_stat
 
 ImuSample OdometrySensorModel::MeasureImu(const VehicleState& true_state, TimeNs t_ns,
                                           double dt_s) {
-  // Braced initialisation draws the gyro noise before the heading noise.
-  const ImuSample sample{
-      t_ns,
-      true_state.yaw_rate_radps + gyro_bias_radps_ + imu_rng_.Gaussian(config_.gyro_sigma_radps),
-      NormalizeAngle(true_state.T_map_vehicle.yaw() + heading_bias_rad_ +
-                     imu_rng_.Gaussian(config_.heading_sigma_rad))};
+  // The gyro noise is drawn before the heading noise, and the heading noise
+  // is drawn with or without a compass, so that the streams stay aligned.
+  ImuSample sample;
+  sample.t_ns = t_ns;
+  sample.yaw_rate_radps =
+      true_state.yaw_rate_radps + gyro_bias_radps_ + imu_rng_.Gaussian(config_.gyro_sigma_radps);
+  const double heading_noise_rad = imu_rng_.Gaussian(config_.heading_sigma_rad);
+  if (has_compass_) {
+    sample.heading_rad =
+        NormalizeAngle(true_state.T_map_vehicle.yaw() + heading_bias_rad_ + heading_noise_rad +
+                       compass_.DisturbanceAt(true_state.T_map_vehicle.translation()));
+  }
   const double sqrt_dt = std::sqrt(dt_s);
   gyro_bias_radps_ += imu_rng_.Gaussian(config_.gyro_bias_walk_radps_per_sqrt_s * sqrt_dt);
   heading_bias_rad_ += imu_rng_.Gaussian(config_.heading_bias_walk_rad_per_sqrt_s * sqrt_dt);
   return sample;
 }
 
+OdometrySensorModel MakeOdometrySensorModel(const SensorConfig& sensors,
+                                            const VehicleParameters& vehicle, const World& world,
+                                            std::uint64_t seed) {
+  return OdometrySensorModel(sensors.odometry, vehicle, seed,
+                             CompassField(world, sensors.compass, seed),
+                             sensors.compass.model != "none");
+}
+
 void SimulateOdometrySensors(const std::vector<VehicleState>& states,
                              const OdometrySensorConfig& config, const VehicleParameters& vehicle,
-                             std::uint64_t seed, SensorLog* log) {
-  OdometrySensorModel model(config, vehicle, seed);
+                             std::uint64_t seed, SensorLog* log, const CompassField& compass,
+                             bool has_compass) {
+  OdometrySensorModel model(config, vehicle, seed, compass, has_compass);
   for (TimeNs t : SampleTimes(states, config.wheel_rate_hz)) {
     log->wheel_speeds.push_back(model.MeasureWheel(StateAt(states, t), t));
   }

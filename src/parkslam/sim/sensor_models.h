@@ -7,6 +7,7 @@
 
 #include "parkslam/common/random.h"
 #include "parkslam/sensor/sensor_data.h"
+#include "parkslam/sim/compass_field.h"
 #include "parkslam/sim/scenario_config.h"
 #include "parkslam/sim/simulator.h"
 #include "parkslam/sim/world.h"
@@ -40,12 +41,14 @@ inline constexpr std::uint64_t kTagFrameStreamTag = 0x202;
 //   wheel    = (1 + e_scale) v + n_v,         e_scale ~ N(0, wheel_speed_scale_sigma)
 //   steering = steering_ratio delta + n_s
 //   gyro     = yaw_rate + b_g + n_g,          b_g(0) ~ N(0, gyro_bias_sigma_radps)
-//   heading  = yaw + b_h + n_h,               b_h(0) ~ N(0, heading_bias_sigma_rad)
-// with b_g and b_h random walks advanced by MeasureImu.
+//   heading  = yaw + b_h + n_h + d(p),        b_h(0) ~ N(0, heading_bias_sigma_rad)
+// with b_g and b_h random walks advanced by MeasureImu, and d(p) the
+// compass's disturbance where the car is (CompassField). Without a compass
+// (CompassConfig::model "none") the samples carry no heading.
 class OdometrySensorModel {
  public:
   OdometrySensorModel(const OdometrySensorConfig& config, const VehicleParameters& vehicle,
-                      std::uint64_t seed);
+                      std::uint64_t seed, CompassField compass = {}, bool has_compass = true);
 
   WheelSpeed MeasureWheel(const VehicleState& true_state, TimeNs t_ns);
   SteeringAngle MeasureSteering(const VehicleState& true_state, TimeNs t_ns);
@@ -60,13 +63,22 @@ class OdometrySensorModel {
   double wheel_speed_scale_ = 1.0;
   double gyro_bias_radps_ = 0.0;
   double heading_bias_rad_ = 0.0;
+  CompassField compass_;
+  bool has_compass_ = true;
 };
 
 // Wheel speed, steering angle and IMU samples along the true drive, each
 // sensor at its rate from the first state on, measured at the nearest state.
 void SimulateOdometrySensors(const std::vector<VehicleState>& states,
                              const OdometrySensorConfig& config, const VehicleParameters& vehicle,
-                             std::uint64_t seed, SensorLog* log);
+                             std::uint64_t seed, SensorLog* log, const CompassField& compass = {},
+                             bool has_compass = true);
+
+// The odometry sensors of a scenario in its world: the compass as its
+// sensors.compass says (disturbed, clean or none).
+OdometrySensorModel MakeOdometrySensorModel(const SensorConfig& sensors,
+                                            const VehicleParameters& vehicle, const World& world,
+                                            std::uint64_t seed);
 
 // Slot detections from the top view at the true pose `state`, with the
 // world slot index of each (-1 for a false detection) in *labels.

@@ -2,9 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "parkslam/common/angles.h"
+#include "parkslam/sim/compass_field.h"
+#include "parkslam/sim/simulator.h"
 
 namespace parkslam::sim {
 namespace {
@@ -257,6 +262,79 @@ TEST(OdometrySensorTest, GyroBiasAndNoiseAsConfigured) {
   }
   EXPECT_NEAR(std::sqrt(bias2 / seeds), config.gyro_bias_sigma_radps, 0.0006);
   EXPECT_NEAR(std::sqrt(noise2 / noise_n), config.gyro_sigma_radps, 0.0001);
+}
+
+// The default drive's true states, once for the compass tests.
+const Simulation& DefaultDrive() {
+  static const Simulation sim = [] {
+    ScenarioConfig scenario = DefaultScenario();
+    scenario.sensors.compass.model = "clean";
+    return Simulate(scenario, 1);
+  }();
+  return sim;
+}
+
+TEST(CompassFieldTest, SteelBendsTheHeadingBySeveralDegreesSlowlyAlongTheDrive) {
+  const Simulation& sim = DefaultDrive();
+  const CompassField field(sim.world, CompassConfig{}, 1);
+  EXPECT_GT(field.steel_sources(), 60);  // the pillars and about half the slots
+  double sum2 = 0.0, max_abs = 0.0, max_step = 0.0;
+  int n = 0;
+  Eigen::Vector2d last = sim.states.front().T_map_vehicle.translation();
+  double last_d = field.DisturbanceAt(last);
+  for (const VehicleState& state : sim.states) {
+    const Eigen::Vector2d p = state.T_map_vehicle.translation();
+    const double d = field.DisturbanceAt(p);
+    sum2 += d * d;
+    max_abs = std::max(max_abs, std::abs(d));
+    ++n;
+    const double moved_m = (p - last).norm();
+    if (moved_m >= 0.1) {
+      // Per 10 cm driven: a bend that grows over metres, not a jitter.
+      max_step = std::max(max_step, std::abs(d - last_d) / moved_m * 0.1);
+      last = p;
+      last_d = d;
+    }
+  }
+  const double rms_deg = std::sqrt(sum2 / n) * 180.0 / M_PI;
+  EXPECT_GT(rms_deg, 2.0);
+  EXPECT_LT(rms_deg, 8.0);
+  EXPECT_GT(max_abs * 180.0 / M_PI, 6.0);
+  EXPECT_LT(max_step * 180.0 / M_PI, 1.0);
+  // The clean and gyro-only models bend nothing.
+  CompassConfig clean;
+  clean.model = "clean";
+  EXPECT_EQ(CompassField(sim.world, clean, 1).DisturbanceAt({10.0, 10.0}), 0.0);
+  EXPECT_EQ(CompassField().DisturbanceAt({10.0, 10.0}), 0.0);
+}
+
+TEST(CompassFieldTest, ModelsChangeOnlyTheHeading) {
+  const Simulation& sim = DefaultDrive();
+  std::vector<VehicleState> states(sim.states.begin(), sim.states.begin() + 3000);
+  SensorConfig sensors;
+  SensorLog disturbed, clean, none;
+  const auto simulate = [&](const std::string& model, SensorLog* log) {
+    sensors.compass.model = model;
+    const CompassField field(sim.world, sensors.compass, 7);
+    SimulateOdometrySensors(states, sensors.odometry, VehicleParameters{}, 7, log, field,
+                            model != "none");
+  };
+  simulate("disturbed", &disturbed);
+  simulate("clean", &clean);
+  simulate("none", &none);
+  ASSERT_EQ(disturbed.imu_samples.size(), clean.imu_samples.size());
+  ASSERT_EQ(none.imu_samples.size(), clean.imu_samples.size());
+  double largest_bend = 0.0;
+  for (size_t k = 0; k < clean.imu_samples.size(); ++k) {
+    EXPECT_EQ(disturbed.imu_samples[k].yaw_rate_radps, clean.imu_samples[k].yaw_rate_radps);
+    EXPECT_EQ(none.imu_samples[k].yaw_rate_radps, clean.imu_samples[k].yaw_rate_radps);
+    EXPECT_FALSE(none.imu_samples[k].heading_rad.has_value());
+    ASSERT_TRUE(disturbed.imu_samples[k].heading_rad && clean.imu_samples[k].heading_rad);
+    largest_bend = std::max(largest_bend, std::abs(AngleDiff(*disturbed.imu_samples[k].heading_rad,
+                                                             *clean.imu_samples[k].heading_rad)));
+  }
+  EXPECT_GT(largest_bend, 0.01);
+  EXPECT_EQ(disturbed.wheel_speeds.size(), none.wheel_speeds.size());
 }
 
 VehicleState StateWith(double speed_mps, double road_wheel_angle_rad) {
