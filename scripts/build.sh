@@ -5,5 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 werror=OFF
 [ "${CI:-}" = "true" ] && werror=ON
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPARKSLAM_WERROR="$werror" >/dev/null
+source scripts/compiler_cache.sh
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DPARKSLAM_WERROR="$werror" "${CACHE_ARGS[@]}" >/dev/null
 cmake --build build -j"$(nproc)" "$@"

@@ -41,8 +41,9 @@ case "$seconds$parallel" in
 esac
 
 scripts/install_deps.sh --with-fuzzer
+source scripts/compiler_cache.sh
 CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPARKSLAM_FUZZ=ON \
-  -DPARKSLAM_BUILD_TESTS=OFF -DPARKSLAM_BUILD_BENCHMARKS=OFF >/dev/null
+  -DPARKSLAM_BUILD_TESTS=OFF -DPARKSLAM_BUILD_BENCHMARKS=OFF "${CACHE_ARGS[@]}" >/dev/null
 cmake --build build-fuzz -j"$(nproc)" --target fuzz_all
 
 all=(fuzz_sensor_csv fuzz_observations_jsonl fuzz_dataset_yaml fuzz_groundtruth fuzz_map_json

@@ -6,11 +6,12 @@
 # installs Clang and its libFuzzer runtime (scripts/fuzz.sh); --with-format
 # installs clang-format (the format_check test, scripts/check_format.sh).
 # librosbag-storage-dev (ROS 1 bags, for import-rosbag) brings Boost and a
-# few ROS libraries with it.
+# few ROS libraries with it; ccache makes rebuilds and CI's fresh clones
+# fast (scripts/compiler_cache.sh).
 set -euo pipefail
 
 packages=(
-  build-essential cmake
+  build-essential cmake ccache
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libceres-dev libopencv-dev libopencv-contrib-dev libapriltag-dev
   fonts-dejavu-core fonts-dejavu-extra fonts-liberation fonts-freefont-ttf fonts-urw-base35

@@ -5,9 +5,10 @@
 # scripts/test.sh. Extra arguments go to ctest (e.g. -R io_test).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/compiler_cache.sh
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DPARKSLAM_SANITIZE=ON \
-  -DPARKSLAM_BUILD_BENCHMARKS=OFF >/dev/null
+  -DPARKSLAM_BUILD_BENCHMARKS=OFF "${CACHE_ARGS[@]}" >/dev/null
 cmake --build build-asan -j"$(nproc)"
 # Leaks of libraries' own one-time allocations (fontconfig, OpenCV's
 # thread pools) are not ours: leak checking is off, the rest is on.
