@@ -40,9 +40,11 @@ void WriteBag(const std::filesystem::path& path) {
   for (std::int64_t k = 0; k < 300; ++k) {
     const std::int64_t t = kStart_ns + k * 10'000'000;
     const ros::Time received = ros::Time().fromNSec(static_cast<std::uint64_t>(t + 2'000'000));
-    const std::optional<double> heading_rad =
-        k < 200 ? std::optional<double>(0.1 + 0.001 * k) : std::nullopt;
-    bag.write("/imu/data", received, Imu(t, heading_rad, 0.05));
+    if (k < 200) {
+      bag.write("/imu/data", received, Imu(t, 0.1 + 0.001 * k, 0.05));
+    } else {
+      bag.write("/imu/data", received, Imu(t, std::nullopt, 0.05));
+    }
     if (k % 2 == 0) {
       bag.write("/vehicle/twist", received, SpeedStamped(t, 1.5));
       bag.write("/vehicle/steering", received, Float64(0.2));
