@@ -224,9 +224,13 @@ OdometrySensorModel MakeOdometrySensorModel(const SensorConfig& sensors,
 
 void SimulateOdometrySensors(const std::vector<VehicleState>& states,
                              const OdometrySensorConfig& config, const VehicleParameters& vehicle,
-                             std::uint64_t seed, SensorLog* log, const CompassField& compass,
-                             bool has_compass) {
-  OdometrySensorModel model(config, vehicle, seed, compass, has_compass);
+                             std::uint64_t seed, SensorLog* log) {
+  SimulateOdometrySensors(states, OdometrySensorModel(config, vehicle, seed), log);
+}
+
+void SimulateOdometrySensors(const std::vector<VehicleState>& states, OdometrySensorModel model,
+                             SensorLog* log) {
+  const OdometrySensorConfig& config = model.config();
   for (TimeNs t : SampleTimes(states, config.wheel_rate_hz)) {
     log->wheel_speeds.push_back(model.MeasureWheel(StateAt(states, t), t));
   }

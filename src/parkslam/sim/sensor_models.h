@@ -56,6 +56,8 @@ class OdometrySensorModel {
   // dt_s, the time to the next IMU sample.
   ImuSample MeasureImu(const VehicleState& true_state, TimeNs t_ns, double dt_s);
 
+  const OdometrySensorConfig& config() const { return config_; }
+
  private:
   OdometrySensorConfig config_;
   VehicleParameters vehicle_;
@@ -69,10 +71,12 @@ class OdometrySensorModel {
 
 // Wheel speed, steering angle and IMU samples along the true drive, each
 // sensor at its rate from the first state on, measured at the nearest state.
+// The first takes a compass that nothing disturbs.
 void SimulateOdometrySensors(const std::vector<VehicleState>& states,
                              const OdometrySensorConfig& config, const VehicleParameters& vehicle,
-                             std::uint64_t seed, SensorLog* log, const CompassField& compass = {},
-                             bool has_compass = true);
+                             std::uint64_t seed, SensorLog* log);
+void SimulateOdometrySensors(const std::vector<VehicleState>& states, OdometrySensorModel model,
+                             SensorLog* log);
 
 // The odometry sensors of a scenario in its world: the compass as its
 // sensors.compass says (disturbed, clean or none).

@@ -315,9 +315,8 @@ TEST(CompassFieldTest, ModelsChangeOnlyTheHeading) {
   SensorLog disturbed, clean, none;
   const auto simulate = [&](const std::string& model, SensorLog* log) {
     sensors.compass.model = model;
-    const CompassField field(sim.world, sensors.compass, 7);
-    SimulateOdometrySensors(states, sensors.odometry, VehicleParameters{}, 7, log, field,
-                            model != "none");
+    SimulateOdometrySensors(
+        states, MakeOdometrySensorModel(sensors, VehicleParameters{}, sim.world, 7), log);
   };
   simulate("disturbed", &disturbed);
   simulate("clean", &clean);

@@ -20,9 +20,9 @@ Simulation Simulate(const ScenarioConfig& config, std::uint64_t seed) {
   Simulation sim;
   sim.world = BuildWorld(config.world);
   sim.states = DriveRoute(config.route, config.vehicle, seed);
-  SimulateOdometrySensors(sim.states, config.sensors.odometry, config.vehicle, seed, &sim.log,
-                          CompassField(sim.world, config.sensors.compass, seed),
-                          config.sensors.compass.model != "none");
+  SimulateOdometrySensors(sim.states,
+                          MakeOdometrySensorModel(config.sensors, config.vehicle, sim.world, seed),
+                          &sim.log);
 
   const Trajectory truth = GroundTruthTrajectory(sim);
   const TimeNs start = truth.front().t_ns, end = truth.back().t_ns;
