@@ -142,7 +142,7 @@ bool Localizer::Update(const Eigen::Matrix<double, N, 1>& innovation,
   return true;
 }
 
-bool Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
+void Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
   ++use->observed;
   // The two entrance corners (the corners a detector really sees).
   const double obs_sigma = std::max(obs.corner_sigma_m, options_.corner_sigma_floor_m);
@@ -187,7 +187,7 @@ bool Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
   }
   if (candidates.empty()) {
     ++use->rejected_no_map_landmark;
-    return false;
+    return;
   }
   ++use->associated;
   for (int i : candidates) {
@@ -196,19 +196,18 @@ bool Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
     model_for(map_.slots[i], &H, &R);
     if (Update<4>(innovation_for(map_.slots[i]), H, R)) {
       ++use->used;
-      return true;
+      return;
     }
   }
   ++use->rejected_gate;
-  return false;
 }
 
-bool Localizer::UpdateTag(const TagObservation& obs, LandmarkUse* use) {
+void Localizer::UpdateTag(const TagObservation& obs, LandmarkUse* use) {
   ++use->observed;
   const auto it = tag_by_id_.find(obs.tag_id);
   if (it == tag_by_id_.end()) {
     ++use->rejected_no_map_landmark;
-    return false;
+    return;
   }
   ++use->associated;
   const MapTag& tag = map_.tags[it->second];
@@ -225,9 +224,7 @@ bool Localizer::UpdateTag(const TagObservation& obs, LandmarkUse* use) {
   R.topLeftCorner<2, 2>() =
       obs.covariance_vehicle + Eigen::Matrix2d::Identity() * Square(options_.tag_map_sigma_m);
   R(2, 2) = Square(obs.yaw_sigma_rad) + Square(options_.tag_map_yaw_sigma_rad);
-  const bool used = Update<3>(y, H, R);
-  ++(used ? use->used : use->rejected_gate);
-  return used;
+  ++(Update<3>(y, H, R) ? use->used : use->rejected_gate);
 }
 
 Localizer::Support Localizer::CountInliers(const SE2& T_map_now) const {

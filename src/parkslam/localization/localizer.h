@@ -151,9 +151,10 @@ class Localizer {
   template <int N>
   bool Update(const Eigen::Matrix<double, N, 1>& innovation, const Eigen::Matrix<double, N, 3>& H,
               const Eigen::Matrix<double, N, N>& R);
-  // Each adds the observation's outcome to `use`; true when it was used.
-  bool UpdateSlot(const SlotObservation& observation, LandmarkUse* use);
-  bool UpdateTag(const TagObservation& observation, LandmarkUse* use);
+  // Each updates the pose with the observation where it can and adds the
+  // outcome to `use`.
+  void UpdateSlot(const SlotObservation& observation, LandmarkUse* use);
+  void UpdateTag(const TagObservation& observation, LandmarkUse* use);
   bool TryRelocalize(TimeNs t_ns);
   // Observations of the buffered frames that land on the map under the
   // hypothesis T_map_now: their count, the landmarks they hit, and the
