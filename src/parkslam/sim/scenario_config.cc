@@ -53,6 +53,14 @@ void CheckWorld(const WorldConfig& w, FieldChecker& c) {
     c.Require(r.id_digits >= 1 && r.id_digits <= 4, p + "id_digits", "must be in [1, 4]");
     c.Point(r.origin_m, p + "origin_m");
   }
+  const SlotVariationConfig& v = w.slot_variation;
+  c.InRange(v.depth_min_m, kMinSlotSide_m, kMaxSlotSide_m, "world.slot_variation.depth_min_m", "m");
+  c.InRange(v.depth_max_m, v.depth_min_m, kMaxSlotSide_m, "world.slot_variation.depth_max_m",
+            "m (at least depth_min_m)");
+  c.InRange(v.width_min_m, kMinSlotSide_m, kMaxSlotSide_m, "world.slot_variation.width_min_m", "m");
+  c.InRange(v.width_max_m, v.width_min_m, kMaxSlotSide_m, "world.slot_variation.width_max_m",
+            "m (at least width_min_m)");
+  c.InRange(v.angle_error_max_deg, 0.0, 10.0, "world.slot_variation.angle_error_max_deg", "deg");
   // Painted IDs must be unique across rows: the map keys slots by them.
   std::set<std::string> painted;
   for (size_t i = 0; i < w.rows.size() && c.ok(); ++i) {

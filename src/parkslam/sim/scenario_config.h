@@ -62,6 +62,31 @@ struct SlotRowConfig {
   }
 };
 
+// Slots that differ from row to row, as in a real garage: with `enabled`,
+// every generated row that is not parallel draws its own slot depth and
+// width (uniform in the ranges) and an error of its separating lines' angle
+// (uniform in +-angle_error_max_deg), from the world's seed, so that the
+// lot stays the same from drive to drive. Off: each row keeps its depth_m,
+// width_m and angle_deg. The ranges are those of real garages' plans.
+struct SlotVariationConfig {
+  bool enabled = false;
+  double depth_min_m = 4.8;
+  double depth_max_m = 6.2;
+  double width_min_m = 2.2;
+  double width_max_m = 2.8;
+  double angle_error_max_deg = 2.0;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("enabled", enabled);
+    v("depth_min_m", depth_min_m);
+    v("depth_max_m", depth_max_m);
+    v("width_min_m", width_min_m);
+    v("width_max_m", width_max_m);
+    v("angle_error_max_deg", angle_error_max_deg);
+  }
+};
+
 struct WorldConfig {
   std::string name = "default";
   // Decides which painted IDs are missing or worn: the lot stays the same
@@ -76,6 +101,7 @@ struct WorldConfig {
   double corridor_width_m = 3.0;
   double corridor_center_y_m = 9.1;
   std::vector<SlotRowConfig> rows;
+  SlotVariationConfig slot_variation;
   double pillar_size_m = 0.6;
   // AprilTags (tag36h11) on walls and pillar faces inside tag_regions, at most
   // tag_count of them, spread evenly over the candidate places.
@@ -102,6 +128,7 @@ struct WorldConfig {
     v("corridor_width_m", corridor_width_m);
     v("corridor_center_y_m", corridor_center_y_m);
     v("rows", rows);
+    v("slot_variation", slot_variation);
     v("pillar_size_m", pillar_size_m);
     v("tag_count", tag_count);
     v("tag_size_m", tag_size_m);

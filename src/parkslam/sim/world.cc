@@ -13,6 +13,7 @@ namespace parkslam::sim {
 namespace {
 
 constexpr std::uint64_t kIdStreamTag = 0x1d5;
+constexpr std::uint64_t kSlotVariationStreamTag = 0x5107;
 
 Eigen::Vector2d LeftNormal(const Eigen::Vector2d& d) { return Eigen::Vector2d(-d.y(), d.x()); }
 
@@ -22,6 +23,23 @@ std::string PaintedId(int number, int digits) {
     id.insert(0, static_cast<size_t>(digits) - id.size(), '0');
   }
   return id;
+}
+
+// The row as built: with the variation on, a depth, a width and an angle
+// error of its own (drawn for every row, so that one row's kind does not
+// shift the next row's draws); parallel rows keep their shape.
+SlotRowConfig VariedRow(const SlotRowConfig& row, const SlotVariationConfig& variation,
+                        Random& rng) {
+  const double depth_m = rng.Uniform(variation.depth_min_m, variation.depth_max_m);
+  const double width_m = rng.Uniform(variation.width_min_m, variation.width_max_m);
+  const double angle_error_deg =
+      rng.Uniform(-variation.angle_error_max_deg, variation.angle_error_max_deg);
+  if (!variation.enabled || *SlotKindFromString(row.kind) == SlotKind::kParallel) return row;
+  SlotRowConfig varied = row;
+  varied.depth_m = depth_m;
+  varied.width_m = width_m;
+  varied.angle_deg = row.angle_deg + angle_error_deg;
+  return varied;
 }
 
 // Slots of one row and the pillars in the gaps between its groups.
@@ -211,7 +229,11 @@ World BuildWorld(const WorldConfig& config, std::uint64_t seed) {
   world.name = config.name;
   world.hall = config.hall;
   Random rng = Random::Derive(seed, kIdStreamTag);
-  for (const SlotRowConfig& row : config.rows) AddRow(row, config, rng, &world);
+  // A stream of its own, so that varied rows keep the IDs' draws unchanged.
+  Random variation_rng = Random::Derive(seed, kSlotVariationStreamTag);
+  for (const SlotRowConfig& row : config.rows) {
+    AddRow(VariedRow(row, config.slot_variation, variation_rng), config, rng, &world);
+  }
   AddWalls(config, &world);
   AddTags(config, &world);
   world.floor_area_m2 =

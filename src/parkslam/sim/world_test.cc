@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
+
+#include "parkslam/common/angles.h"
 
 namespace parkslam::sim {
 namespace {
@@ -51,6 +54,50 @@ TEST(DefaultWorldTest, SlotsAreCounterClockwiseWithEntranceFirst) {
       EXPECT_NEAR(side, 5.3, 1e-9);
     }
   }
+}
+
+// Rows of the default lot with the variation on: each non-parallel row has
+// one depth, one width and one angle of its own, inside the ranges; rows
+// differ; the painted IDs are those of the lot without variation.
+TEST(DefaultWorldTest, VariedRowsDrawTheirOwnDepthWidthAndAngle) {
+  WorldConfig config = DefaultScenario().world;
+  const World plain = BuildWorld(config, 1);
+  config.slot_variation.enabled = true;
+  const World varied = BuildWorld(config, 1);
+  ASSERT_EQ(varied.slots.size(), plain.slots.size());
+  const SlotVariationConfig& v = config.slot_variation;
+  std::set<long> depths_mm;
+  size_t first = 0;
+  for (const SlotRowConfig& row : config.rows) {
+    const WorldSlot& s0 = varied.slots[first];
+    const Eigen::Vector2d entrance0 = s0.corners_map[1] - s0.corners_map[0];
+    const Eigen::Vector2d side0 = s0.corners_map[3] - s0.corners_map[0];
+    for (int k = 0; k < row.count; ++k) {
+      const WorldSlot& s = varied.slots[first + static_cast<size_t>(k)];
+      EXPECT_EQ(s.painted_id, plain.slots[first + static_cast<size_t>(k)].painted_id);
+      const Eigen::Vector2d side = s.corners_map[3] - s.corners_map[0];
+      const Eigen::Vector2d entrance = s.corners_map[1] - s.corners_map[0];
+      EXPECT_NEAR(side.norm(), side0.norm(), 1e-9) << s.painted_id;
+      EXPECT_NEAR(entrance.norm(), entrance0.norm(), 1e-9) << s.painted_id;
+      if (s.kind == SlotKind::kParallel) {
+        EXPECT_NEAR(side.norm(), 2.5, 1e-9);
+        continue;
+      }
+      EXPECT_GE(side.norm(), v.depth_min_m);
+      EXPECT_LE(side.norm(), v.depth_max_m);
+      const double angle_deg =
+          std::acos(std::abs(entrance.normalized().dot(side.normalized()))) * 180.0 / kPi;
+      EXPECT_NEAR(angle_deg, 90.0 - std::abs(90.0 - row.angle_deg), v.angle_error_max_deg + 1e-9)
+          << s.painted_id;
+      // The width is measured across the separating lines.
+      const double width_m = entrance.norm() * std::sin(angle_deg * kPi / 180.0);
+      EXPECT_GE(width_m, v.width_min_m - 1e-9);
+      EXPECT_LE(width_m, v.width_max_m + 1e-9);
+    }
+    if (s0.kind != SlotKind::kParallel) depths_mm.insert(std::lround(side0.norm() * 1000));
+    first += static_cast<size_t>(row.count);
+  }
+  EXPECT_GE(depths_mm.size(), 5u) << "rows should not share one depth";
 }
 
 TEST(DefaultWorldTest, EastPartHasNoTag) {
