@@ -9,6 +9,7 @@
 #include "parkslam/common/angles.h"
 #include "parkslam/common/field_checker.h"
 #include "parkslam/mapping/association.h"
+#include "parkslam/mapping/back_line.h"
 #include "parkslam/mapping/map_graph.h"
 #include "parkslam/mapping/slot_management.h"
 
@@ -32,6 +33,10 @@ bool MapperOptions::IsValid(std::string* error) const {
   c.Positive(guessed_corner_sigma_m, "guessed_corner_sigma_m");
   c.Positive(shape_angle_sigma_rad, "shape_angle_sigma_rad");
   c.Positive(shape_length_sigma_m, "shape_length_sigma_m");
+  c.Positive(corner_evidence_sigma_m, "corner_evidence_sigma_m");
+  c.NonNegative(corner_sigma_floor_m, "corner_sigma_floor_m");
+  c.Positive(row_depth_sigma_m, "row_depth_sigma_m");
+  c.Positive(depth_prior_sigma_m, "depth_prior_sigma_m");
   c.Between(right_angle_tolerance_rad, 0.0, kPi / 2, "right_angle_tolerance_rad", "rad");
   c.Rate(id_hypothesis_min, "id_hypothesis_min");
   c.Rate(id_confidence_min, "id_confidence_min");
@@ -393,15 +398,21 @@ SemanticMap Mapper::Map() const {
     for (int j = 0; j < kSlotCorners; ++j) {
       s.corners_map[j] = slot.Corner(j);
       s.corner_observed[j] = slot.corner_observations[j] > 0;
-      // Approximate: the detector's typical sigma over the evidence; guessed
-      // corners rest on the shape constraint.
+      // Seen: the detector's sigma over the evidence, above the floor that
+      // evidence does not lower. Far corners not seen: ShareBackLines below.
+      const double n = std::max(1, slot.corner_observations[j]);
       s.corner_sigma_m[j] = s.corner_observed[j]
-                                ? 0.05 / std::sqrt(static_cast<double>(slot.corner_observations[j]))
-                                : options_.shape_length_sigma_m;
+                                ? std::hypot(options_.corner_evidence_sigma_m / std::sqrt(n),
+                                             options_.corner_sigma_floor_m)
+                                : options_.depth_prior_sigma_m;
     }
     s.observation_count = slot.observations;
     map.slots.push_back(s);
   }
+  BackLineOptions back_line;
+  back_line.row_depth_sigma_m = options_.row_depth_sigma_m;
+  back_line.depth_prior_sigma_m = options_.depth_prior_sigma_m;
+  ShareBackLines(back_line, &map.slots);
   // Each tag implies an obstacle: the face of the wall or pillar it hangs on,
   // drawn as a segment one metre wide behind it.
   for (const TagLandmark& tag : state_.tags) {

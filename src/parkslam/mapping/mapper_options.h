@@ -107,6 +107,19 @@ struct MapperOptions {
   // default 1e4 in about half the time.
   double initial_trust_region_radius = 1e8;
 
+  // The corner sigmas the map states (docs/mapping.md, "How sure a
+  // corner is"). A corner seen n times: sqrt(corner_evidence_sigma_m^2 / n
+  // + corner_sigma_floor_m^2), the floor being what no number of
+  // observations averages away (the trajectory's and the front end's
+  // systematic errors). Far corners never seen come from the row
+  // (back_line.h): from a neighbour's depth with row_depth_sigma_m, or the
+  // standard depth's guess with depth_prior_sigma_m, the spread of real
+  // slots' depths.
+  double corner_evidence_sigma_m = 0.05;
+  double corner_sigma_floor_m = 0.017;
+  double row_depth_sigma_m = 0.05;
+  double depth_prior_sigma_m = 0.4;
+
   double tag_size_m = kDefaultTagSize_m;
 
   bool IsValid(std::string* error) const;
@@ -149,6 +162,10 @@ struct MapperOptions {
     v("final_iterations", final_iterations);
     v("final_rounds", final_rounds);
     v("initial_trust_region_radius", initial_trust_region_radius);
+    v("corner_evidence_sigma_m", corner_evidence_sigma_m);
+    v("corner_sigma_floor_m", corner_sigma_floor_m);
+    v("row_depth_sigma_m", row_depth_sigma_m);
+    v("depth_prior_sigma_m", depth_prior_sigma_m);
     v("tag_size_m", tag_size_m);
   }
 };
