@@ -200,11 +200,14 @@ SE2 LocalizeSecondDrive(const Options& o, const sim::ScenarioConfig& scenario,
   (*metrics)["localization"]["frames_tracked"] = static_cast<int>(localized.size());
   const localization::SlotCoverage coverage = localization::MeasureSlotCoverage(estimates, map);
   (*metrics)["localization"]["landmarks"] = LandmarkUseToJson(run, coverage);
+  const eval::NeesSummary nees =
+      LocalizationNees(estimates, T_world_map, second.groundtruth_trajectory);
+  (*metrics)["localization"]["nees"] = NeesToJson(nees);
   std::printf(
       "localization of a second drive: %zu camera frames tracked, RMSE %.3f m, "
-      "%.2f deg (in the lot's frame)\n%s\n",
+      "%.2f deg (in the lot's frame)\n%s\n%s\n",
       localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI,
-      DescribeLandmarkUse(run, coverage).c_str());
+      DescribeLandmarkUse(run, coverage).c_str(), DescribeNees(nees).c_str());
   return T_world_map;
 }
 

@@ -242,6 +242,10 @@ struct TrackedErrors {
   int tracked = 0;
   // Landmark observations over the log: made and used, by class.
   int slots_seen = 0, slots_used = 0, tags_seen = 0, tags_used = 0;
+  // NEES of the tracked frames: their sum, count and how many lie inside
+  // the per-frame 95 % band.
+  double nees_sum = 0.0;
+  int nees_frames = 0, nees_inside = 0;
 };
 
 // The log's series for the plots (rounded), from localization.csv.
@@ -277,6 +281,11 @@ nlohmann::json LocalizationSeries(const io::NumericTable& log, const fs::path& p
       ++tracked;
       sum_sq += err_m * err_m;
       sum_yaw_sq += e.z() * e.z();
+      if (std::isfinite(nees)) {
+        ++errors->nees_frames;
+        errors->nees_sum += nees;
+        errors->nees_inside += nees >= kNees3Lower && nees <= kNees3Upper;
+      }
     }
     const auto r3 = [](double v) { return std::round(v * 1e4) / 1e4; };
     l["t"].push_back(row[col("t_s")]);
@@ -350,6 +359,13 @@ void AddLocalization(const fs::path& dir, Loaded* r) {
     AddFigure(r, p + "slots.used", "slot observations used", errors.slots_used, "", 1, 0);
     AddFigure(r, p + "tags.observed", "tag observations", errors.tags_seen, "", 1, 0);
     AddFigure(r, p + "tags.used", "tag observations used", errors.tags_used, "", 1, 0);
+  }
+  if (errors.nees_frames > 0) {
+    AddFigure(r, "localization.nees.mean", "localization NEES, mean (ideal 3)",
+              errors.nees_sum / errors.nees_frames, "", 1, 2);
+    AddFigure(r, "localization.nees.share_inside_frame_band",
+              "localization NEES inside the per-frame 95 % band",
+              static_cast<double>(errors.nees_inside) / errors.nees_frames, "%", 100, 1);
   }
 }
 

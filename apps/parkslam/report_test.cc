@@ -83,7 +83,7 @@ TEST_F(ReportTest, EveryFigureAgreesWithMetricsJson) {
   // Map (12: 7, observed and unobserved corners' RMSE and 2-sigma shares,
   // IDs read from worn paint), localization (7: 3, and slot and tag
   // observations made and used), EKF (2), follow (1).
-  EXPECT_EQ(figures, 22);
+  EXPECT_EQ(figures, 24);
   EXPECT_EQ(html.find("num disagree"), std::string::npos);
   // The numbers of metrics.json are on the page too, with the command that made them.
   EXPECT_THAT(html,

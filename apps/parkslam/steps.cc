@@ -307,4 +307,41 @@ io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEst
   return log;
 }
 
+eval::NeesSummary LocalizationNees(const std::vector<localization::LocalizationEstimate>& estimates,
+                                   const SE2& T_world_map, const Trajectory& truth) {
+  std::vector<double> nees;
+  Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+  J.topLeftCorner<2, 2>() = T_world_map.rotation();
+  for (const localization::LocalizationEstimate& e : estimates) {
+    if (e.state != localization::LocalizerState::kTracking) continue;
+    const std::optional<SE2> true_pose = PoseAt(truth, e.t_ns);
+    if (!true_pose) continue;
+    const SE2 T = T_world_map * e.T_map_vehicle;
+    const Eigen::Vector3d error(T.x() - true_pose->x(), T.y() - true_pose->y(),
+                                AngleDiff(T.yaw(), true_pose->yaw()));
+    nees.push_back(eval::Nees(error, J * e.covariance * J.transpose()));
+  }
+  return eval::SummarizeNees(std::move(nees), 3);
+}
+
+nlohmann::json NeesToJson(const eval::NeesSummary& n) {
+  return {{"frames", n.frames},
+          {"mean", n.mean},
+          {"median", n.median},
+          {"mean_band", {n.mean_band.lower, n.mean_band.upper}},
+          {"frame_band", {n.frame_band.lower, n.frame_band.upper}},
+          {"share_inside_frame_band", n.share_inside_frame_band}};
+}
+
+std::string DescribeNees(const eval::NeesSummary& n) {
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "consistency: NEES mean %.2f (ideal 3; 95 %% band of the mean over %d frames "
+                "[%.2f, %.2f]), median %.2f; %.1f %% of frames inside the per-frame band "
+                "[%.2f, %.2f]",
+                n.mean, n.frames, n.mean_band.lower, n.mean_band.upper, n.median,
+                100.0 * n.share_inside_frame_band, n.frame_band.lower, n.frame_band.upper);
+  return text;
+}
+
 }  // namespace parkslam::app

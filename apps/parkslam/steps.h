@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "parkslam/eval/consistency.h"
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/eval/trajectory_metrics.h"
 #include "parkslam/harness/dead_reckoning.h"
@@ -84,6 +85,14 @@ nlohmann::json LandmarkUseToJson(const localization::LocalizationRun& run,
 // slots and tags); frames outside the truth's time span are left out.
 io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEstimate>& estimates,
                                  const SE2& T_world_map, const Trajectory& truth);
+
+// The NEES (x, y, yaw) of the tracked estimates against the truth, in the
+// lot's frame (T_world_map), as eval::SummarizeNees sums it up; the
+// localizer's consistency (docs/localization.md, "Consistency").
+eval::NeesSummary LocalizationNees(const std::vector<localization::LocalizationEstimate>& estimates,
+                                   const SE2& T_world_map, const Trajectory& truth);
+nlohmann::json NeesToJson(const eval::NeesSummary& nees);
+std::string DescribeNees(const eval::NeesSummary& nees);
 
 // Colours of autonomous runs, run i taking kRunColours[i % size] (follow's
 // SVG, the report's map and lateral plot).

@@ -1,6 +1,8 @@
 #include "parkslam/eval/consistency.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
+#include <cstddef>
 #include <stdexcept>
 
 #include "parkslam/common/chi_square.h"
@@ -20,6 +22,26 @@ NeesBand AverageNeesBand(int dof, int runs, double confidence) {
   const double n = static_cast<double>(runs);
   return {ChiSquareQuantile(0.5 * (1.0 - confidence), total_dof) / n,
           ChiSquareQuantile(0.5 * (1.0 + confidence), total_dof) / n};
+}
+
+NeesSummary SummarizeNees(std::vector<double> nees, int dof, double confidence) {
+  NeesSummary summary;
+  summary.frame_band = AverageNeesBand(dof, 1, confidence);
+  if (nees.empty()) return summary;
+  summary.frames = static_cast<int>(nees.size());
+  summary.mean_band = AverageNeesBand(dof, summary.frames, confidence);
+  double sum = 0.0;
+  int inside = 0;
+  for (const double v : nees) {
+    sum += v;
+    inside += v >= summary.frame_band.lower && v <= summary.frame_band.upper;
+  }
+  summary.mean = sum / summary.frames;
+  summary.share_inside_frame_band = static_cast<double>(inside) / summary.frames;
+  const size_t mid = nees.size() / 2;
+  std::nth_element(nees.begin(), nees.begin() + static_cast<std::ptrdiff_t>(mid), nees.end());
+  summary.median = nees[mid];
+  return summary;
 }
 
 }  // namespace parkslam::eval

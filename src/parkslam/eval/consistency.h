@@ -5,6 +5,7 @@
 // Applications to Tracking and Navigation", 2001, section 5.4.2).
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "parkslam/common/chi_square.h"
 
@@ -26,6 +27,23 @@ struct NeesBand {
 //   [chi2((1 - c) / 2, dof * runs), chi2((1 + c) / 2, dof * runs)] / runs.
 // Throws std::invalid_argument unless dof >= 1, runs >= 1, 0 < confidence < 1.
 NeesBand AverageNeesBand(int dof, int runs, double confidence = 0.95);
+
+// The NEES of one filter along one drive, frame by frame: its mean against
+// the band of an average over that many frames (AverageNeesBand, strict:
+// successive frames are not independent), its median, and the share of
+// frames inside the single frame's band.
+struct NeesSummary {
+  int frames = 0;
+  double mean = 0.0;
+  double median = 0.0;
+  NeesBand mean_band;
+  NeesBand frame_band;
+  double share_inside_frame_band = 0.0;
+};
+
+// Throws std::invalid_argument under the conditions of AverageNeesBand; no
+// frames give a summary of zeros.
+NeesSummary SummarizeNees(std::vector<double> nees, int dof, double confidence = 0.95);
 
 }  // namespace parkslam::eval
 

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <stdexcept>
+#include <vector>
 
 namespace parkslam::eval {
 namespace {
@@ -59,6 +61,31 @@ TEST(AverageNeesBandTest, RejectsInvalidArguments) {
   EXPECT_THROW(AverageNeesBand(0, 1), std::invalid_argument);
   EXPECT_THROW(AverageNeesBand(3, 0), std::invalid_argument);
   EXPECT_THROW(AverageNeesBand(3, 1, 1.0), std::invalid_argument);
+}
+
+// A consistent filter's NEES of 3 dof is chi-square(3): drawn as the sum of
+// three squared standard normals, its summary sits in both bands; the same
+// errors against a covariance four times too small do not.
+TEST(SummarizeNeesTest, ConsistentAndOverconfidentFilters) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  std::vector<double> consistent, overconfident;
+  for (int k = 0; k < 4000; ++k) {
+    double v = 0.0;
+    for (int d = 0; d < 3; ++d) v += std::pow(normal(rng), 2);
+    consistent.push_back(v);
+    overconfident.push_back(4.0 * v);
+  }
+  const NeesSummary good = SummarizeNees(consistent, 3);
+  EXPECT_EQ(good.frames, 4000);
+  EXPECT_GT(good.mean, good.mean_band.lower);
+  EXPECT_LT(good.mean, good.mean_band.upper);
+  EXPECT_NEAR(good.median, 2.366, 0.15);  // chi-square(3) median
+  EXPECT_NEAR(good.share_inside_frame_band, 0.95, 0.015);
+  const NeesSummary bad = SummarizeNees(overconfident, 3);
+  EXPECT_GT(bad.mean, bad.mean_band.upper);
+  EXPECT_LT(bad.share_inside_frame_band, 0.8);
+  EXPECT_EQ(SummarizeNees({}, 3).frames, 0);
 }
 
 }  // namespace

@@ -56,6 +56,7 @@ LandmarkUse& LandmarkUse::operator+=(const LandmarkUse& other) {
 bool LocalizerOptions::IsValid(std::string* error) const {
   FieldChecker c(error);
   c.Positive(corner_sigma_floor_m, "corner_sigma_floor_m");
+  c.NonNegative(map_yaw_sigma_rad, "map_yaw_sigma_rad");
   c.Positive(guessed_corner_sigma_m, "guessed_corner_sigma_m");
   c.NonNegative(map_corner_sigma_floor_m, "map_corner_sigma_floor_m");
   c.NonNegative(tag_map_sigma_m, "tag_map_sigma_m");
@@ -104,6 +105,7 @@ void Localizer::SetPose(const SE2& T_map_vehicle, const Eigen::Matrix3d& covaria
   P_ = covariance;
   state_ = LocalizerState::kTracking;
   recent_outcomes_.clear();
+  map_position_var_ = 0.0;
 }
 
 SE2 Localizer::PredictedPose() const {
@@ -195,6 +197,12 @@ void Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
     Eigen::Matrix4d R;
     model_for(map_.slots[i], &H, &R);
     if (Update<4>(innovation_for(map_.slots[i]), H, R)) {
+      const MapSlot& slot = map_.slots[i];
+      for (int j = 0; j < 2; ++j) {
+        frame_map_var_sum_ +=
+            Square(std::max(slot.corner_sigma_m[j], options_.map_corner_sigma_floor_m)) / 2;
+      }
+      ++frame_map_var_count_;
       ++use->used;
       return;
     }
@@ -224,7 +232,13 @@ void Localizer::UpdateTag(const TagObservation& obs, LandmarkUse* use) {
   R.topLeftCorner<2, 2>() =
       obs.covariance_vehicle + Eigen::Matrix2d::Identity() * Square(options_.tag_map_sigma_m);
   R(2, 2) = Square(obs.yaw_sigma_rad) + Square(options_.tag_map_yaw_sigma_rad);
-  ++(Update<3>(y, H, R) ? use->used : use->rejected_gate);
+  if (Update<3>(y, H, R)) {
+    frame_map_var_sum_ += Square(options_.tag_map_sigma_m);
+    ++frame_map_var_count_;
+    ++use->used;
+  } else {
+    ++use->rejected_gate;
+  }
 }
 
 Localizer::Support Localizer::CountInliers(const SE2& T_map_now) const {
@@ -351,8 +365,11 @@ std::optional<LocalizationEstimate> Localizer::Process(const SensorEvent& event)
   LocalizationEstimate estimate;
   estimate.t_ns = t_ns;
   if (state_ == LocalizerState::kTracking) {
+    frame_map_var_sum_ = 0.0;
+    frame_map_var_count_ = 0;
     for (const SlotObservation& obs : frame.slots) UpdateSlot(obs, &estimate.slots);
     for (const TagObservation& obs : frame.tags) UpdateTag(obs, &estimate.tags);
+    if (frame_map_var_count_ > 0) map_position_var_ = frame_map_var_sum_ / frame_map_var_count_;
     for (int i = 0; i < estimate.used(); ++i) recent_outcomes_.push_back({t_ns, true});
     for (int i = 0; i < estimate.rejected(); ++i) recent_outcomes_.push_back({t_ns, false});
     while (!recent_outcomes_.empty() &&
@@ -375,6 +392,10 @@ std::optional<LocalizationEstimate> Localizer::Process(const SensorEvent& event)
   }
   estimate.T_map_vehicle = pose();
   estimate.covariance = P_;
+  if (map_position_var_ > 0.0) {
+    estimate.covariance.diagonal() +=
+        Eigen::Vector3d(map_position_var_, map_position_var_, Square(options_.map_yaw_sigma_rad));
+  }
   estimate.state = state_;
   return estimate;
 }

@@ -27,9 +27,18 @@ struct LocalizerOptions {
   // Measurement noise floors (the detector reports its own sigma).
   double corner_sigma_floor_m = 0.03;
   double guessed_corner_sigma_m = 0.5;  // far corners only guessed: unused below this
-  double map_corner_sigma_floor_m = 0.02;
+  double map_corner_sigma_floor_m = 0.01;
   double tag_map_sigma_m = 0.03;
   double tag_map_yaw_sigma_rad = 0.02;
+  // The map's own error, which no number of sightings averages away (every
+  // sighting of a landmark sees the same map error): the filter estimates
+  // the pose against the map's landmarks, and the covariance it reports adds
+  // the map's stated uncertainty where it last anchored the pose, the
+  // variance of the landmarks last used (slot entrance corners: the map's
+  // corner_sigma_m, at least map_corner_sigma_floor_m; tags:
+  // tag_map_sigma_m) on x and y and map_yaw_sigma_rad on yaw
+  // (docs/localization.md, "Consistency").
+  double map_yaw_sigma_rad = 0.00085;
   // Association: a reading of at least this confidence names its slot; other
   // observations go to the nearest map slot within nn_radius_m. Every update
   // must pass the chi-square gate at gate_probability.
@@ -62,6 +71,7 @@ struct LocalizerOptions {
     v("map_corner_sigma_floor_m", map_corner_sigma_floor_m);
     v("tag_map_sigma_m", tag_map_sigma_m);
     v("tag_map_yaw_sigma_rad", tag_map_yaw_sigma_rad);
+    v("map_yaw_sigma_rad", map_yaw_sigma_rad);
     v("id_min_confidence", id_min_confidence);
     v("nn_radius_m", nn_radius_m);
     v("gate_probability", gate_probability);
@@ -102,6 +112,8 @@ struct LandmarkUse {
 struct LocalizationEstimate {
   TimeNs t_ns = 0;
   SE2 T_map_vehicle;
+  // Of the pose in the lot: the filter's covariance against the map's
+  // landmarks plus the map's own error where it last anchored the pose.
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
   LocalizerState state = LocalizerState::kUninitialized;
   LandmarkUse slots;
@@ -136,6 +148,8 @@ class Localizer {
   // The pose now: the last estimate moved on by the odometry since that
   // frame (for a controller running faster than the cameras).
   SE2 PredictedPose() const;
+  // The filter's covariance, against the map's landmarks (without the
+  // map's own error that LocalizationEstimate::covariance adds).
   const Eigen::Matrix3d& covariance() const { return P_; }
 
  private:
@@ -177,6 +191,11 @@ class Localizer {
   // Association outcomes of the last lost_after_s: time and accepted.
   std::deque<std::pair<TimeNs, bool>> recent_outcomes_;
   TimeNs last_frame_ns_ = 0;
+  // The map's position variance where the pose was last anchored (0: not
+  // yet), and this frame's sum and count of it over the landmarks used.
+  double map_position_var_ = 0.0;
+  double frame_map_var_sum_ = 0.0;
+  int frame_map_var_count_ = 0;
   std::deque<BufferedFrame> buffer_;
   double gate_chi2_[5] = {0, 0, 0, 0, 0};  // by measurement dimension
 };
