@@ -20,6 +20,17 @@ function(parkslam_add_library name)
   parkslam_set_warnings(${name})
 endfunction()
 
+# A definition that names a folder of the checkout (PARKSLAM_CONFIG_DIR
+# "/path/to/clone/config") changes the compiler command of every source it
+# reaches, so each of them misses the compiler cache in a clone elsewhere
+# (CI's fresh clone). Such definitions go to the few sources that read them,
+# compiled outside the unity files, so that the rest of the target still hits.
+function(parkslam_source_definitions)
+  cmake_parse_arguments(ARG "" "" "FILES;DEFINITIONS" ${ARGN})
+  set_source_files_properties(${ARG_FILES} PROPERTIES COMPILE_DEFINITIONS "${ARG_DEFINITIONS}"
+                                                      SKIP_UNITY_BUILD_INCLUSION ON)
+endfunction()
+
 # A GoogleTest executable registered with CTest.
 function(parkslam_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})

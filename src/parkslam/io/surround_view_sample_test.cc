@@ -18,13 +18,13 @@
 namespace parkslam::io {
 namespace {
 
-std::filesystem::path SampleDir() {
+std::filesystem::path SurroundSampleDir() {
   const char* root = std::getenv("PARKSLAM_SHARED_DATA");
   return std::filesystem::path(root != nullptr ? root : "../shared/data") / "surround-view-sample";
 }
 
 cv::Mat FusedSample() {
-  const std::filesystem::path dir = SampleDir();
+  const std::filesystem::path dir = SurroundSampleDir();
   const camera::HomographyTopView view(LoadHomographyRig(dir));
   std::array<cv::Mat, 4> images;
   const char* names[] = {"front", "back", "left", "right"};
@@ -35,9 +35,9 @@ cv::Mat FusedSample() {
   return grey;
 }
 
-#define SKIP_WITHOUT_SAMPLE()                                                            \
-  if (!std::filesystem::exists(SampleDir() / "front.yaml")) {                            \
-    GTEST_SKIP() << "real data not found at " << SampleDir() << " (shared/data absent)"; \
+#define SKIP_WITHOUT_SAMPLE()                                                                    \
+  if (!std::filesystem::exists(SurroundSampleDir() / "front.yaml")) {                            \
+    GTEST_SKIP() << "real data not found at " << SurroundSampleDir() << " (shared/data absent)"; \
   }
 
 // Mean spacing of the inner corners of a chessboard patch.
@@ -133,7 +133,7 @@ TEST(SurroundViewSampleTest, MissingCalibrationNamesTheFile) {
 
 TEST(SurroundViewSampleTest, WrongImageSizeNamesTheCamera) {
   SKIP_WITHOUT_SAMPLE();
-  const camera::HomographyTopView view(LoadHomographyRig(SampleDir()));
+  const camera::HomographyTopView view(LoadHomographyRig(SurroundSampleDir()));
   std::array<cv::Mat, 4> images;
   for (auto& image : images) image = cv::Mat(640, 960, CV_8UC3, cv::Scalar::all(0));
   images[2] = cv::Mat(100, 100, CV_8UC3, cv::Scalar::all(0));
