@@ -177,17 +177,25 @@ SlotMatching MatchSlots(const std::vector<Eigen::Vector2d>& map_midpoints_truth,
 }
 
 // The rigid transform that best lays the corners of the matched map slots on
-// those of their truth slots (corners index by index).
+// those of their truth slots (corners index by index). Only the corners the
+// map saw: a guessed back line off by the spread of real depths, the same
+// way along a whole row, would pull the alignment and so every other error
+// (all corners where the map saw none).
 SE2 AlignOnMatchedCorners(const SemanticMap& map, const SemanticMap& truth,
                           const SlotMatching& matching) {
-  std::vector<Eigen::Vector2d> source, target;
+  std::vector<Eigen::Vector2d> source, target, guessed_source, guessed_target;
   for (std::size_t i = 0; i < map.slots.size(); ++i) {
     const int j = matching.truth_of_map[i];
     if (j < 0) continue;
     for (int c = 0; c < kSlotCorners; ++c) {
-      source.push_back(map.slots[i].corners_map[c]);
-      target.push_back(truth.slots[j].corners_map[c]);
+      const bool seen = map.slots[i].corner_observed[c];
+      (seen ? source : guessed_source).push_back(map.slots[i].corners_map[c]);
+      (seen ? target : guessed_target).push_back(truth.slots[j].corners_map[c]);
     }
+  }
+  if (source.size() < 2) {
+    source.insert(source.end(), guessed_source.begin(), guessed_source.end());
+    target.insert(target.end(), guessed_target.begin(), guessed_target.end());
   }
   return AlignPointSets(source, target);
 }
