@@ -198,16 +198,25 @@ SE2 LocalizeSecondDrive(const Options& o, const sim::ScenarioConfig& scenario,
       eval::EvaluateTrajectory(second.groundtruth_trajectory, localized, no_align);
   (*metrics)["localization"] = MetricsToJson(loc_m);
   (*metrics)["localization"]["frames_tracked"] = static_cast<int>(localized.size());
+  (*metrics)["localization"]["frames"] = run.frames;
+  const TrackedFromSlots from_slots =
+      TrackedFromFirstSlot(estimates, truth_map, second.groundtruth_trajectory);
+  (*metrics)["localization"]["from_first_slot"] = {{"frames", from_slots.frames},
+                                                   {"tracked", from_slots.tracked}};
   const localization::SlotCoverage coverage = localization::MeasureSlotCoverage(estimates, map);
   (*metrics)["localization"]["landmarks"] = LandmarkUseToJson(run, coverage);
   const eval::NeesSummary nees =
       LocalizationNees(estimates, T_world_map, second.groundtruth_trajectory);
   (*metrics)["localization"]["nees"] = NeesToJson(nees);
   std::printf(
-      "localization of a second drive: %zu camera frames tracked, RMSE %.3f m, "
-      "%.2f deg (in the lot's frame)\n%s\n%s\n",
-      localized.size(), loc_m.ate_rmse_m, loc_m.yaw_rmse_rad * 180.0 / M_PI,
-      DescribeLandmarkUse(run, coverage).c_str(), DescribeNees(nees).c_str());
+      "localization of a second drive: %zu of %d camera frames tracked (%.1f %%; %.1f %% from "
+      "the first with a slot within 5 m on), RMSE %.3f m, %.2f deg (in the lot's frame)\n%s\n"
+      "%s\n",
+      localized.size(), run.frames,
+      100.0 * static_cast<double>(localized.size()) / std::max(run.frames, 1),
+      100.0 * from_slots.tracked / std::max(from_slots.frames, 1), loc_m.ate_rmse_m,
+      loc_m.yaw_rmse_rad * 180.0 / M_PI, DescribeLandmarkUse(run, coverage).c_str(),
+      DescribeNees(nees).c_str());
   return T_world_map;
 }
 

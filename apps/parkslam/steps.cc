@@ -307,6 +307,24 @@ io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEst
   return log;
 }
 
+TrackedFromSlots TrackedFromFirstSlot(
+    const std::vector<localization::LocalizationEstimate>& estimates, const SemanticMap& truth_map,
+    const Trajectory& truth, double radius_m) {
+  TrackedFromSlots result;
+  bool started = false;
+  for (const localization::LocalizationEstimate& e : estimates) {
+    const std::optional<SE2> true_pose = PoseAt(truth, e.t_ns);
+    if (!true_pose) continue;
+    for (size_t i = 0; i < truth_map.slots.size() && !started; ++i) {
+      started = (truth_map.slots[i].corners_map[0] - true_pose->translation()).norm() < radius_m;
+    }
+    if (!started) continue;
+    ++result.frames;
+    result.tracked += e.state == localization::LocalizerState::kTracking;
+  }
+  return result;
+}
+
 eval::NeesSummary LocalizationNees(const std::vector<localization::LocalizationEstimate>& estimates,
                                    const SE2& T_world_map, const Trajectory& truth) {
   std::vector<double> nees;

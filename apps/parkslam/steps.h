@@ -94,6 +94,18 @@ eval::NeesSummary LocalizationNees(const std::vector<localization::LocalizationE
 nlohmann::json NeesToJson(const eval::NeesSummary& nees);
 std::string DescribeNees(const eval::NeesSummary& nees);
 
+// The camera frames from the first one with a slot's entrance corner within
+// radius_m of the car (by the truth) on, and how many of them the localizer
+// tracked: a global start cannot fix the pose where no landmark is (an
+// entrance corridor without tags), so this is the share it should keep.
+struct TrackedFromSlots {
+  int frames = 0;
+  int tracked = 0;
+};
+TrackedFromSlots TrackedFromFirstSlot(
+    const std::vector<localization::LocalizationEstimate>& estimates, const SemanticMap& truth_map,
+    const Trajectory& truth, double radius_m = 5.0);
+
 // Colours of autonomous runs, run i taking kRunColours[i % size] (follow's
 // SVG, the report's map and lateral plot).
 inline constexpr std::array<const char*, 10> kRunColours = {

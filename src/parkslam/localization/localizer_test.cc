@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <cmath>
 
 #include "parkslam/common/angles.h"
@@ -77,6 +78,58 @@ TEST(LocalizationRunTest, GlobalStartTracksTheWholeDrive) {
     sum2 += (PoseAt(f.truth, p.t_ns)->translation() - p.T_map_vehicle.translation()).squaredNorm();
   }
   EXPECT_LT(std::sqrt(sum2 / static_cast<double>(run.tracked.size())), 0.05);
+}
+
+// A lot without tags (the default lot with its tags removed): slots and
+// dead reckoning alone localize the drive from a global start, tracked in
+// nearly every frame once the car reaches the slots (the corridor has none),
+// within 5 cm, and the covariance covers the error in most frames.
+TEST(LocalizationRunTest, WithoutTagsSlotsAloneTrackTheDrive) {
+  static const Fixture f = [] {
+    Fixture x;
+    x.scenario.world.tag_count = 0;
+    x.simulation = sim::Simulate(x.scenario, 7);
+    x.truth = sim::GroundTruthTrajectory(x.simulation);
+    x.map = sim::ToSemanticMap(x.simulation.world);
+    return x;
+  }();
+  ASSERT_TRUE(f.map.tags.empty());
+  Localizer localizer = MakeLocalizer(f);
+  SensorLogSource source(f.simulation.log);
+  const LocalizationRun run = RunLocalization(source, &localizer);
+  EXPECT_EQ(run.tags.observed, 0);
+  EXPECT_EQ(run.lost_events, 0);
+  EXPECT_GT(run.slots.used, 0.9 * (run.slots.observed - run.slots.while_lost));
+  // Frames from the first with a slot's entrance within 5 m of the car on
+  // (the corridor has none; the detector's rare false slots there name no
+  // map slot).
+  TimeNs first_slot_ns = -1;
+  for (const LocalizationEstimate& e : run.estimates) {
+    const Eigen::Vector2d p = PoseAt(f.truth, e.t_ns)->translation();
+    for (const MapSlot& slot : f.map.slots) {
+      if ((slot.corners_map[0] - p).norm() < 5.0) first_slot_ns = e.t_ns;
+    }
+    if (first_slot_ns >= 0) break;
+  }
+  ASSERT_GE(first_slot_ns, 0);
+  int frames_after = 0, tracked_after = 0, inside_band = 0;
+  double sum2 = 0.0;
+  for (const LocalizationEstimate& e : run.estimates) {
+    if (e.t_ns < first_slot_ns) continue;
+    ++frames_after;
+    if (e.state != LocalizerState::kTracking) continue;
+    ++tracked_after;
+    const SE2 truth = *PoseAt(f.truth, e.t_ns);
+    const Eigen::Vector3d error(e.T_map_vehicle.x() - truth.x(), e.T_map_vehicle.y() - truth.y(),
+                                AngleDiff(e.T_map_vehicle.yaw(), truth.yaw()));
+    sum2 += error.head<2>().squaredNorm();
+    const double nees = error.dot(e.covariance.ldlt().solve(error));
+    inside_band += nees >= 0.2158 && nees <= 9.3484;  // chi-square(3), 95 %
+  }
+  EXPECT_GE(tracked_after, 0.98 * frames_after);
+  ASSERT_GT(tracked_after, 1000);
+  EXPECT_LT(std::sqrt(sum2 / tracked_after), 0.05);
+  EXPECT_GE(inside_band, 0.8 * tracked_after);
 }
 
 TEST(LocalizerTest, ConvergesFromPerturbedInitialPose) {
