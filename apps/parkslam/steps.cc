@@ -266,6 +266,23 @@ nlohmann::json LandmarkUseToJson(const localization::LocalizationRun& run,
           {"slot_use_share", coverage.share()}};
 }
 
+namespace {
+
+// An estimate in the lot's frame: the pose T_world_map * T_map_vehicle and
+// its covariance turned by the same rotation (R P R^T on x, y).
+struct LotEstimate {
+  SE2 T_world_vehicle;
+  Eigen::Matrix3d covariance;
+};
+
+LotEstimate InLot(const localization::LocalizationEstimate& e, const SE2& T_world_map) {
+  Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
+  J.topLeftCorner<2, 2>() = T_world_map.rotation();
+  return {T_world_map * e.T_map_vehicle, J * e.covariance * J.transpose()};
+}
+
+}  // namespace
+
 io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEstimate>& estimates,
                                  const SE2& T_world_map, const Trajectory& truth) {
   io::NumericTable log;
@@ -273,16 +290,10 @@ io::NumericTable LocalizationLog(const std::vector<localization::LocalizationEst
                  "slots_seen",  "slots_used", "tags_seen", "tags_used", "rejected",
                  "relocalized", "cov_xx",     "cov_xy",    "cov_xyaw",  "cov_yy",
                  "cov_yyaw",    "cov_yawyaw", "true_x_m",  "true_y_m",  "true_yaw_rad"};
-  const Eigen::Matrix2d R = T_world_map.rotation();
-  for (size_t k = 0; k < estimates.size(); ++k) {
-    const localization::LocalizationEstimate& e = estimates[k];
+  for (const localization::LocalizationEstimate& e : estimates) {
     const std::optional<SE2> true_pose = PoseAt(truth, e.t_ns);
     if (!true_pose) continue;
-    const SE2 T = T_world_map * e.T_map_vehicle;
-    // The covariance turned into the lot's frame: R P R^T on x, y.
-    Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
-    J.topLeftCorner<2, 2>() = R;
-    const Eigen::Matrix3d P = J * e.covariance * J.transpose();
+    const auto [T, P] = InLot(e, T_world_map);
     log.rows.push_back({ToSeconds(e.t_ns),
                         T.x(),
                         T.y(),
@@ -328,16 +339,14 @@ TrackedFromSlots TrackedFromFirstSlot(
 eval::NeesSummary LocalizationNees(const std::vector<localization::LocalizationEstimate>& estimates,
                                    const SE2& T_world_map, const Trajectory& truth) {
   std::vector<double> nees;
-  Eigen::Matrix3d J = Eigen::Matrix3d::Identity();
-  J.topLeftCorner<2, 2>() = T_world_map.rotation();
   for (const localization::LocalizationEstimate& e : estimates) {
     if (e.state != localization::LocalizerState::kTracking) continue;
     const std::optional<SE2> true_pose = PoseAt(truth, e.t_ns);
     if (!true_pose) continue;
-    const SE2 T = T_world_map * e.T_map_vehicle;
+    const auto [T, P] = InLot(e, T_world_map);
     const Eigen::Vector3d error(T.x() - true_pose->x(), T.y() - true_pose->y(),
                                 AngleDiff(T.yaw(), true_pose->yaw()));
-    nees.push_back(eval::Nees(error, J * e.covariance * J.transpose()));
+    nees.push_back(eval::Nees(error, P));
   }
   return eval::SummarizeNees(std::move(nees), 3);
 }

@@ -144,7 +144,7 @@ bool Localizer::Update(const Eigen::Matrix<double, N, 1>& innovation,
   return true;
 }
 
-void Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
+std::optional<double> Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
   ++use->observed;
   // The two entrance corners (the corners a detector really sees).
   const double obs_sigma = std::max(obs.corner_sigma_m, options_.corner_sigma_floor_m);
@@ -157,6 +157,9 @@ void Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
     h << T_vehicle_map * slot.corners_map[0], T_vehicle_map * slot.corners_map[1];
     return Eigen::Vector4d(z - h);
   };
+  auto map_variance = [&](const MapSlot& slot, int j) {
+    return Square(std::max(slot.corner_sigma_m[j], options_.map_corner_sigma_floor_m));
+  };
   auto model_for = [&](const MapSlot& slot, Eigen::Matrix<double, 4, 3>* H, Eigen::Matrix4d* R) {
     H->setZero();
     R->setZero();
@@ -165,9 +168,8 @@ void Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
       H->block<2, 2>(2 * j, 0) = -Rt;
       H->block<2, 1>(2 * j, 2) =
           DRotTransposeDYaw(pose.yaw(), slot.corners_map[j] - pose.translation());
-      const double map_sigma = std::max(slot.corner_sigma_m[j], options_.map_corner_sigma_floor_m);
       R->block<2, 2>(2 * j, 2 * j) =
-          Eigen::Matrix2d::Identity() * (Square(obs_sigma) + Square(map_sigma));
+          Eigen::Matrix2d::Identity() * (Square(obs_sigma) + map_variance(slot, j));
     }
   };
 
@@ -189,7 +191,7 @@ void Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
   }
   if (candidates.empty()) {
     ++use->rejected_no_map_landmark;
-    return;
+    return std::nullopt;
   }
   ++use->associated;
   for (int i : candidates) {
@@ -197,25 +199,20 @@ void Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
     Eigen::Matrix4d R;
     model_for(map_.slots[i], &H, &R);
     if (Update<4>(innovation_for(map_.slots[i]), H, R)) {
-      const MapSlot& slot = map_.slots[i];
-      for (int j = 0; j < 2; ++j) {
-        frame_map_var_sum_ +=
-            Square(std::max(slot.corner_sigma_m[j], options_.map_corner_sigma_floor_m)) / 2;
-      }
-      ++frame_map_var_count_;
       ++use->used;
-      return;
+      return (map_variance(map_.slots[i], 0) + map_variance(map_.slots[i], 1)) / 2;
     }
   }
   ++use->rejected_gate;
+  return std::nullopt;
 }
 
-void Localizer::UpdateTag(const TagObservation& obs, LandmarkUse* use) {
+std::optional<double> Localizer::UpdateTag(const TagObservation& obs, LandmarkUse* use) {
   ++use->observed;
   const auto it = tag_by_id_.find(obs.tag_id);
   if (it == tag_by_id_.end()) {
     ++use->rejected_no_map_landmark;
-    return;
+    return std::nullopt;
   }
   ++use->associated;
   const MapTag& tag = map_.tags[it->second];
@@ -232,13 +229,12 @@ void Localizer::UpdateTag(const TagObservation& obs, LandmarkUse* use) {
   R.topLeftCorner<2, 2>() =
       obs.covariance_vehicle + Eigen::Matrix2d::Identity() * Square(options_.tag_map_sigma_m);
   R(2, 2) = Square(obs.yaw_sigma_rad) + Square(options_.tag_map_yaw_sigma_rad);
-  if (Update<3>(y, H, R)) {
-    frame_map_var_sum_ += Square(options_.tag_map_sigma_m);
-    ++frame_map_var_count_;
-    ++use->used;
-  } else {
+  if (!Update<3>(y, H, R)) {
     ++use->rejected_gate;
+    return std::nullopt;
   }
+  ++use->used;
+  return Square(options_.tag_map_sigma_m);
 }
 
 Localizer::Support Localizer::CountInliers(const SE2& T_map_now) const {
@@ -365,11 +361,16 @@ std::optional<LocalizationEstimate> Localizer::Process(const SensorEvent& event)
   LocalizationEstimate estimate;
   estimate.t_ns = t_ns;
   if (state_ == LocalizerState::kTracking) {
-    frame_map_var_sum_ = 0.0;
-    frame_map_var_count_ = 0;
-    for (const SlotObservation& obs : frame.slots) UpdateSlot(obs, &estimate.slots);
-    for (const TagObservation& obs : frame.tags) UpdateTag(obs, &estimate.tags);
-    if (frame_map_var_count_ > 0) map_position_var_ = frame_map_var_sum_ / frame_map_var_count_;
+    double map_var_sum = 0.0;
+    int map_var_count = 0;
+    auto anchored = [&](std::optional<double> map_var) {
+      if (!map_var) return;
+      map_var_sum += *map_var;
+      ++map_var_count;
+    };
+    for (const SlotObservation& obs : frame.slots) anchored(UpdateSlot(obs, &estimate.slots));
+    for (const TagObservation& obs : frame.tags) anchored(UpdateTag(obs, &estimate.tags));
+    if (map_var_count > 0) map_position_var_ = map_var_sum / map_var_count;
     for (int i = 0; i < estimate.used(); ++i) recent_outcomes_.push_back({t_ns, true});
     for (int i = 0; i < estimate.rejected(); ++i) recent_outcomes_.push_back({t_ns, false});
     while (!recent_outcomes_.empty() &&

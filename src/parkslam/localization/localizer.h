@@ -166,9 +166,10 @@ class Localizer {
   bool Update(const Eigen::Matrix<double, N, 1>& innovation, const Eigen::Matrix<double, N, 3>& H,
               const Eigen::Matrix<double, N, N>& R);
   // Each updates the pose with the observation where it can and adds the
-  // outcome to `use`.
-  void UpdateSlot(const SlotObservation& observation, LandmarkUse* use);
-  void UpdateTag(const TagObservation& observation, LandmarkUse* use);
+  // outcome to `use`; returns the map's position variance at the landmark
+  // that updated the pose, nothing when none did.
+  std::optional<double> UpdateSlot(const SlotObservation& observation, LandmarkUse* use);
+  std::optional<double> UpdateTag(const TagObservation& observation, LandmarkUse* use);
   bool TryRelocalize(TimeNs t_ns);
   // Observations of the buffered frames that land on the map under the
   // hypothesis T_map_now: their count, the landmarks they hit, and the
@@ -192,10 +193,8 @@ class Localizer {
   std::deque<std::pair<TimeNs, bool>> recent_outcomes_;
   TimeNs last_frame_ns_ = 0;
   // The map's position variance where the pose was last anchored (0: not
-  // yet), and this frame's sum and count of it over the landmarks used.
+  // yet): its mean over the landmarks of the last frame that used any.
   double map_position_var_ = 0.0;
-  double frame_map_var_sum_ = 0.0;
-  int frame_map_var_count_ = 0;
   std::deque<BufferedFrame> buffer_;
   double gate_chi2_[5] = {0, 0, 0, 0, 0};  // by measurement dimension
 };

@@ -44,49 +44,46 @@ BackLineStats ShareBackLines(const BackLineOptions& options, std::vector<MapSlot
   BackLineStats stats;
 
   // The row: each slot's nearest right-hand neighbour, taken once.
-  std::vector<int> right(static_cast<size_t>(n), -1), left(static_cast<size_t>(n), -1);
+  std::vector<int> right(n, -1), left(n, -1);
   for (int i = 0; i < n; ++i) {
     double best = std::numeric_limits<double>::infinity();
     for (int j = 0; j < n; ++j) {
-      if (j == i || left[static_cast<size_t>(j)] >= 0) continue;
-      const double d =
-          NeighbourDistance(s[static_cast<size_t>(i)], s[static_cast<size_t>(j)], options);
+      if (j == i || left[j] >= 0) continue;
+      const double d = NeighbourDistance(s[i], s[j], options);
       if (d < best) {
         best = d;
-        right[static_cast<size_t>(i)] = j;
+        right[i] = j;
       }
     }
-    if (right[static_cast<size_t>(i)] >= 0)
-      left[static_cast<size_t>(right[static_cast<size_t>(i)])] = i;
+    if (right[i] >= 0) left[right[i]] = i;
   }
 
   // Step 1: a far corner seen by the neighbour across the shared line. The
   // sources are the corners seen before this step, so nothing is copied
   // twice along a row.
-  std::vector<std::array<bool, kSlotCorners>> seen(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i)
-    seen[static_cast<size_t>(i)] = s[static_cast<size_t>(i)].corner_observed;
+  std::vector<std::array<bool, kSlotCorners>> seen(n);
+  for (int i = 0; i < n; ++i) seen[i] = s[i].corner_observed;
   for (int i = 0; i < n; ++i) {
-    MapSlot& slot = s[static_cast<size_t>(i)];
+    MapSlot& slot = s[i];
     auto take = [&](int corner, int neighbour, int their_corner) {
       if (slot.corner_observed[corner] || neighbour < 0) return;
-      const MapSlot& other = s[static_cast<size_t>(neighbour)];
-      if (!seen[static_cast<size_t>(neighbour)][their_corner]) return;
+      const MapSlot& other = s[neighbour];
+      if (!seen[neighbour][their_corner]) return;
       slot.corners_map[corner] = other.corners_map[their_corner];
       slot.corner_sigma_m[corner] = other.corner_sigma_m[their_corner];
       slot.corner_observed[corner] = true;
       ++stats.shared_corners;
     };
-    take(kFarRight, right[static_cast<size_t>(i)], kFarLeft);
-    take(kFarLeft, left[static_cast<size_t>(i)], kFarRight);
+    take(kFarRight, right[i], kFarLeft);
+    take(kFarLeft, left[i], kFarRight);
   }
 
   // Step 2: the slot's own depth and side direction from the far corner it
   // saw; kept, in the entrance frame, for step 3.
-  std::vector<bool> has_side(static_cast<size_t>(n), false);
-  std::vector<Eigen::Vector2d> side_local(static_cast<size_t>(n), Eigen::Vector2d::Zero());
+  std::vector<bool> has_side(n, false);
+  std::vector<Eigen::Vector2d> side_local(n, Eigen::Vector2d::Zero());
   for (int i = 0; i < n; ++i) {
-    MapSlot& slot = s[static_cast<size_t>(i)];
+    MapSlot& slot = s[i];
     const bool far_left = slot.corner_observed[kFarLeft];
     const bool far_right = slot.corner_observed[kFarRight];
     if (!far_left && !far_right) continue;
@@ -103,28 +100,28 @@ BackLineStats ShareBackLines(const BackLineOptions& options, std::vector<MapSlot
           std::hypot(slot.corner_sigma_m[seen_corner], options.within_slot_sigma_m);
       ++stats.from_own_side;
     }
-    has_side[static_cast<size_t>(i)] = true;
-    side_local[static_cast<size_t>(i)] = EntranceRotation(slot).transpose() * side;
+    has_side[i] = true;
+    side_local[i] = EntranceRotation(slot).transpose() * side;
   }
 
   // Steps 3 and 4: slots that saw no far corner.
   for (int i = 0; i < n; ++i) {
-    MapSlot& slot = s[static_cast<size_t>(i)];
-    if (has_side[static_cast<size_t>(i)]) continue;
+    MapSlot& slot = s[i];
+    if (has_side[i]) continue;
     // The nearest slot of the row that saw its back line, walking both ways
     // (a row is a chain; the step count bounds a cycle).
     int source = -1;
-    int l = left[static_cast<size_t>(i)], r = right[static_cast<size_t>(i)];
+    int l = left[i], r = right[i];
     for (int step = 0; step < n && source < 0 && (l >= 0 || r >= 0); ++step) {
-      if (l >= 0 && has_side[static_cast<size_t>(l)])
+      if (l >= 0 && has_side[l])
         source = l;
-      else if (r >= 0 && has_side[static_cast<size_t>(r)])
+      else if (r >= 0 && has_side[r])
         source = r;
-      if (l >= 0) l = left[static_cast<size_t>(l)];
-      if (r >= 0) r = right[static_cast<size_t>(r)];
+      if (l >= 0) l = left[l];
+      if (r >= 0) r = right[r];
     }
     if (source >= 0) {
-      const Eigen::Vector2d side = EntranceRotation(slot) * side_local[static_cast<size_t>(source)];
+      const Eigen::Vector2d side = EntranceRotation(slot) * side_local[source];
       slot.corners_map[kFarLeft] = slot.corners_map[0] + side;
       slot.corners_map[kFarRight] = slot.corners_map[1] + side;
       slot.corner_sigma_m[kFarLeft] = slot.corner_sigma_m[kFarRight] = options.row_depth_sigma_m;
