@@ -24,6 +24,31 @@ NeesBand AverageNeesBand(int dof, int runs, double confidence) {
           ChiSquareQuantile(0.5 * (1.0 + confidence), total_dof) / n};
 }
 
+double IntegratedAutocorrelationTime(const std::vector<double>& series) {
+  const size_t n = series.size();
+  if (n < 2) return 1.0;
+  double mean = 0.0;
+  for (const double v : series) mean += v;
+  mean /= static_cast<double>(n);
+  const auto autocovariance = [&](size_t lag) {
+    double sum = 0.0;
+    for (size_t i = 0; i + lag < n; ++i) sum += (series[i] - mean) * (series[i + lag] - mean);
+    return sum / static_cast<double>(n);
+  };
+  const double variance = autocovariance(0);
+  if (!(variance > 0.0)) return 1.0;
+  constexpr double kWindowFactor = 5.0;
+  // Beyond this lag the time is cut short (and the band it gives narrower):
+  // the cost stays linear in the drive's length.
+  constexpr size_t kMaxLag = 5000;
+  double time = 1.0;
+  for (size_t lag = 1; lag < std::min(n, kMaxLag); ++lag) {
+    time += 2.0 * autocovariance(lag) / variance;
+    if (static_cast<double>(lag) >= kWindowFactor * time) break;
+  }
+  return std::max(time, 1.0);
+}
+
 NeesSummary SummarizeNees(std::vector<double> nees, int dof, double confidence) {
   NeesSummary summary;
   summary.frame_band = AverageNeesBand(dof, 1, confidence);
@@ -37,6 +62,9 @@ NeesSummary SummarizeNees(std::vector<double> nees, int dof, double confidence) 
     inside += v >= summary.frame_band.lower && v <= summary.frame_band.upper;
   }
   summary.mean = sum / summary.frames;
+  summary.effective_frames =
+      std::max(1, static_cast<int>(summary.frames / IntegratedAutocorrelationTime(nees)));
+  summary.effective_mean_band = AverageNeesBand(dof, summary.effective_frames, confidence);
   summary.share_inside_frame_band = static_cast<double>(inside) / summary.frames;
   const size_t mid = nees.size() / 2;
   std::nth_element(nees.begin(), nees.begin() + static_cast<std::ptrdiff_t>(mid), nees.end());

@@ -86,6 +86,50 @@ TEST(SummarizeNeesTest, ConsistentAndOverconfidentFilters) {
   EXPECT_GT(bad.mean, bad.mean_band.upper);
   EXPECT_LT(bad.share_inside_frame_band, 0.8);
   EXPECT_EQ(SummarizeNees({}, 3).frames, 0);
+  // White frames are worth about as many independent ones.
+  EXPECT_GT(good.effective_frames, 3000);
+  EXPECT_LT(good.effective_frames, 5000);
+}
+
+// White noise has an autocorrelation time of 1; an AR(1) series
+// x_k = a x_(k-1) + e_k has (1 + a) / (1 - a): 19 for a = 0.9.
+TEST(IntegratedAutocorrelationTimeTest, WhiteAndAutoregressiveSeries) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  std::vector<double> white, ar1;
+  double x = 0.0;
+  for (int k = 0; k < 50000; ++k) {
+    white.push_back(normal(rng));
+    x = 0.9 * x + normal(rng);
+    ar1.push_back(x);
+  }
+  EXPECT_NEAR(IntegratedAutocorrelationTime(white), 1.0, 0.1);
+  EXPECT_NEAR(IntegratedAutocorrelationTime(ar1), 19.0, 2.5);
+  EXPECT_EQ(IntegratedAutocorrelationTime({}), 1.0);
+  EXPECT_EQ(IntegratedAutocorrelationTime({2.0, 2.0, 2.0}), 1.0);
+}
+
+// A correlated drive: the same chi-square(3) NEES held for 20 frames at a
+// time is worth about a twentieth of its frames, and its band widens so.
+TEST(SummarizeNeesTest, CorrelatedFramesWidenTheEffectiveBand) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal;
+  std::vector<double> held;
+  for (int k = 0; k < 400; ++k) {
+    double v = 0.0;
+    for (int d = 0; d < 3; ++d) v += std::pow(normal(rng), 2);
+    held.insert(held.end(), 20, v);
+  }
+  const NeesSummary s = SummarizeNees(held, 3);
+  EXPECT_EQ(s.frames, 8000);
+  EXPECT_GT(s.effective_frames, 250);
+  EXPECT_LT(s.effective_frames, 650);
+  // About sqrt(20) times wider.
+  const double strict = s.mean_band.upper - s.mean_band.lower;
+  const double effective = s.effective_mean_band.upper - s.effective_mean_band.lower;
+  EXPECT_GT(effective, 3.5 * strict);
+  EXPECT_LT(effective, 5.5 * strict);
+  EXPECT_LT(s.effective_mean_band.lower, s.mean_band.lower);
 }
 
 }  // namespace
