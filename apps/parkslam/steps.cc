@@ -139,10 +139,11 @@ std::string DescribeMapping(const mapping::Mapper& mapper, double total_s) {
       text, sizeof text,
       "%d keyframes, %d slot observations (%d with several candidates), %d tag "
       "observations; %d slots created, %d merged, %d dropped as overlapping, %zu in the map, "
-      "%zu tags; keyframe update median %.2f ms, max %.2f ms; final %.2f s; total %.2f s",
+      "%zu tags; keyframe update median %.2f ms, max %.2f ms; final %.2f s (corner "
+      "covariances %.2f s); total %.2f s",
       st.keyframes, st.slot_observations, st.mixture_observations, st.tag_observations,
       st.slots_created, st.slots_merged, st.slots_overlapping, map.slots.size(), map.tags.size(),
-      median, worst, st.final_solve_ms / 1000.0, total_s);
+      median, worst, st.final_solve_ms / 1000.0, st.covariance_ms / 1000.0, total_s);
   return text;
 }
 
@@ -356,17 +357,20 @@ nlohmann::json NeesToJson(const eval::NeesSummary& n) {
           {"mean", n.mean},
           {"median", n.median},
           {"mean_band", {n.mean_band.lower, n.mean_band.upper}},
+          {"effective_frames", n.effective_frames},
+          {"effective_mean_band", {n.effective_mean_band.lower, n.effective_mean_band.upper}},
           {"frame_band", {n.frame_band.lower, n.frame_band.upper}},
           {"share_inside_frame_band", n.share_inside_frame_band}};
 }
 
 std::string DescribeNees(const eval::NeesSummary& n) {
-  char text[320];
+  char text[480];
   std::snprintf(text, sizeof text,
                 "consistency: NEES mean %.2f (ideal 3; 95 %% band of the mean over %d frames "
-                "[%.2f, %.2f]), median %.2f; %.1f %% of frames inside the per-frame band "
-                "[%.2f, %.2f]",
-                n.mean, n.frames, n.mean_band.lower, n.mean_band.upper, n.median,
+                "[%.2f, %.2f], over the %d independent frames they are worth [%.2f, %.2f]), "
+                "median %.2f; %.1f %% of frames inside the per-frame band [%.2f, %.2f]",
+                n.mean, n.frames, n.mean_band.lower, n.mean_band.upper, n.effective_frames,
+                n.effective_mean_band.lower, n.effective_mean_band.upper, n.median,
                 100.0 * n.share_inside_frame_band, n.frame_band.lower, n.frame_band.upper);
   return text;
 }
