@@ -2,7 +2,9 @@
 
 #include <ceres/ceres.h>
 
+#include <Eigen/Cholesky>
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -78,6 +80,42 @@ std::vector<size_t> AllTagRecordsOfFreeTags(const std::vector<TagRecord>& record
     if (free->count(records[r].tag) > 0) in_play.push_back(r);
   }
   return in_play;
+}
+
+// The joint covariance of n corners (2n x 2n, corner a at rows 2a, 2a+1)
+// moved to the gauge that holds their rigid motion as a whole: each
+// corner's uncertainty relative to the others, the error left once the map
+// is laid rigidly onto the lot (as `eval-map` lays it), not the uncertainty
+// of the path from the first keyframe to it.
+//
+// With the centroid m of the corners p_a, d_a = p_a - m, the RMS radius L
+// and J the rotation by +90 degrees, a small rigid motion (t, theta) moves
+// p_a by A_a (t, L theta), A_a = [I_2, J d_a / L]. The best rigid fit of
+// errors e removes A (A^T A)^-1 A^T e, so the errors left are M e with
+// M = I - A (A^T A)^-1 A^T, and their covariance M P M^T. That is the
+// covariance in the gauge C^T dx = 0 with C = A on the corners: covariances
+// of two gauges are related by Q P Q^T, Q = I - G (C^T G)^-1 C^T for the
+// rigid motions G of the whole graph (Triggs et al., "Bundle Adjustment --
+// A Modern Synthesis", 2000, section 9), and on the corners Q is M.
+Eigen::MatrixXd RelativeToTheCorners(const Eigen::MatrixXd& corners, const Eigen::MatrixXd& joint) {
+  const Eigen::Index n = corners.rows();
+  const Eigen::RowVector2d centroid = corners.colwise().mean();
+  const Eigen::MatrixXd d = corners.rowwise() - centroid;
+  const double radius_m = std::sqrt(d.squaredNorm() / static_cast<double>(n));
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 3);
+  for (Eigen::Index a = 0; a < n; ++a) {
+    A(2 * a, 0) = A(2 * a + 1, 1) = 1.0;
+    A(2 * a, 2) = -d(a, 1) / radius_m;
+    A(2 * a + 1, 2) = d(a, 0) / radius_m;
+  }
+  // M = I - A K with K = (A^T A)^-1 A^T (3 x 2n): M P M^T expanded, so that
+  // no 2n x 2n product but P's own is formed.
+  const Eigen::MatrixXd K = (A.transpose() * A).ldlt().solve(A.transpose());
+  const Eigen::MatrixXd PKt = joint * K.transpose();  // 2n x 3
+  const Eigen::Matrix3d KPKt = K * PKt;
+  Eigen::MatrixXd relative = joint - A * PKt.transpose() - PKt * A.transpose();
+  relative += A * KPKt * A.transpose();
+  return relative;
 }
 
 // One graph being built over the state.
@@ -174,6 +212,61 @@ class GraphBuilder {
     result->final_cost = summary.final_cost;
   }
 
+  // The covariances of ComputeCornerCovariances (map_graph.h): of the
+  // corners the map will show as seen, jointly, in this graph's gauge (the
+  // first keyframe held), then moved to the gauge of the corners' own rigid
+  // motion (RelativeToTheCorners). Ceres' SPARSE_QR at the present values,
+  // the mixtures at the components they pick. False when Ceres fails (a
+  // graph that leaves more than its gauge free) or fewer than two corners.
+  bool ComputeCovariances(CornerCovariances* out) {
+    struct Seen {
+      size_t slot;
+      int corner;
+      const double* block;
+    };
+    std::vector<Seen> seen;
+    for (size_t s = 0; s < state_.slots.size(); ++s) {
+      const SlotLandmark& slot = state_.slots[s];
+      if (!slot.alive || slot.observations < options_.min_observations) continue;
+      for (int j = 0; j < kSlotCorners; ++j) {
+        const double* block = slot.corners[j].data();
+        if (slot.corner_observations[j] == 0 || !problem_.HasParameterBlock(block) ||
+            problem_.IsParameterBlockConstant(block)) {
+          continue;
+        }
+        seen.push_back({s, j, block});
+      }
+    }
+    if (seen.size() < 2) return false;
+    std::vector<std::pair<const double*, const double*>> wanted;
+    for (size_t a = 0; a < seen.size(); ++a) {
+      for (size_t b = a; b < seen.size(); ++b) wanted.emplace_back(seen[a].block, seen[b].block);
+    }
+    ceres::Covariance::Options covariance_options;
+    covariance_options.algorithm_type = ceres::SPARSE_QR;
+    covariance_options.num_threads = 1;
+    ceres::Covariance covariance(covariance_options);
+    if (!covariance.Compute(wanted, &problem_)) return false;
+    const Eigen::Index n = static_cast<Eigen::Index>(seen.size());
+    Eigen::MatrixXd joint(2 * n, 2 * n);
+    Eigen::MatrixXd corners(n, 2);
+    for (Eigen::Index a = 0; a < n; ++a) {
+      corners.row(a) = state_.slots[seen[a].slot].Corner(seen[a].corner).transpose();
+      for (Eigen::Index b = a; b < n; ++b) {
+        Eigen::Matrix<double, 2, 2, Eigen::RowMajor> block;
+        covariance.GetCovarianceBlock(seen[a].block, seen[b].block, block.data());
+        joint.block<2, 2>(2 * a, 2 * b) = block;
+        joint.block<2, 2>(2 * b, 2 * a) = block.transpose();
+      }
+    }
+    const Eigen::MatrixXd relative = RelativeToTheCorners(corners, joint);
+    out->assign(state_.slots.size(), {});
+    for (Eigen::Index a = 0; a < n; ++a) {
+      (*out)[seen[a].slot][seen[a].corner] = relative.block<2, 2>(2 * a, 2 * a);
+    }
+    return true;
+  }
+
   // Which component each mixture picked at the solution.
   void ReadBackChoices(MapGraphSolve* result) const {
     for (const MixtureBlock& m : mixtures_) {
@@ -249,6 +342,16 @@ MapGraphSolve SolveMapGraph(MapState* state, int first_free, int max_iterations,
   graph.Solve(max_iterations, &result);
   graph.ReadBackChoices(&result);
   return result;
+}
+
+bool ComputeCornerCovariances(MapState* state, const MapperOptions& options,
+                              CornerCovariances* covariances) {
+  if (state->keyframes.empty()) return false;
+  GraphBuilder graph(state, 0, options);
+  graph.AddOdometry();
+  graph.AddSlots(0);
+  graph.AddTags(0);
+  return graph.ComputeCovariances(covariances);
 }
 
 }  // namespace parkslam::mapping

@@ -10,8 +10,12 @@
 // the records whose mixture now picks another component are reported, for
 // slot management to move their evidence.
 
+#include <array>
 #include <cstddef>
+#include <optional>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "parkslam/mapping/map_state.h"
 #include "parkslam/mapping/mapper_options.h"
@@ -39,6 +43,19 @@ struct MapGraphSolve {
 // change the records' choices. Throws std::runtime_error when Ceres fails.
 MapGraphSolve SolveMapGraph(MapState* state, int first_free, int max_iterations, bool final,
                             const MapperOptions& options);
+
+// The marginal covariance of each corner that the map will show as seen (of
+// a live slot with MapperOptions::min_observations) in the full graph at the
+// state's present values (every keyframe and record in), m^2, by slot index
+// of the state, relative to the map as a whole: the gauge is the rigid
+// motion of those corners together, not the first keyframe. Every other
+// corner gets std::nullopt. It holds the drive's own uncertainty: drift
+// between loop closures, how often and how well each corner was seen.
+// Returns false, filling nothing, when Ceres cannot compute it (a graph that
+// leaves more than its gauge free) or fewer than two corners were seen.
+using CornerCovariances = std::vector<std::array<std::optional<Eigen::Matrix2d>, kSlotCorners>>;
+bool ComputeCornerCovariances(MapState* state, const MapperOptions& options,
+                              CornerCovariances* covariances);
 
 }  // namespace parkslam::mapping
 

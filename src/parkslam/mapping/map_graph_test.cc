@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
+
 #include "parkslam/mapping/mapping_parts_test_util.h"
 #include "parkslam/mapping/slot_management.h"
 
@@ -84,6 +86,61 @@ TEST(MapGraphTest, AWindowedSolveHoldsTheKeyframesBeforeItFixed) {
   EXPECT_EQ(windowed.residual_blocks, 1);
   EXPECT_EQ(state.keyframes[0].pose, (std::array<double, 3>{0.0, 0.0, 0.0}));
   EXPECT_NEAR(state.keyframes[1].pose[0], 1.0, 1e-6);
+}
+
+// Eleven keyframes 1 m apart along x; slot A seen from the first three,
+// slot B, its mirror image about x = 5, from the last three. Relative to
+// the map as a whole (the gauge of ComputeCornerCovariances) the two are
+// equally sure; with the first keyframe as the gauge, B would carry the
+// whole chain's drift and A none of it.
+TEST(MapGraphTest, CornerCovariancesAreRelativeToTheMapNotToTheStart) {
+  MapperOptions options;
+  MapState state = StateWithOneKeyframe();
+  for (int k = 1; k <= 10; ++k) {
+    Keyframe keyframe;
+    keyframe.pose = {static_cast<double>(k), 0.0, 0.0};
+    keyframe.T_previous_this = SE2(1.0, 0.0, 0.0);
+    keyframe.covariance = Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal();
+    state.keyframes.push_back(keyframe);
+  }
+  const auto see = [&](int slot, int keyframe, double x_m) {
+    SlotRecord record;
+    record.keyframe = keyframe;
+    record.observation = SlotAt(x_m - keyframe, 2);
+    record.candidates = {slot};
+    record.weights = {1.0};
+    record.chosen = slot;
+    AddSlotRecord(&state, record, options);
+  };
+  CreateSlot(&state, 0, SlotAt(0.0, 2), options);
+  see(0, 1, 0.0);
+  see(0, 2, 0.0);
+  CreateSlot(&state, 10, SlotAt(-2.5, 2), options);
+  see(1, 9, 7.5);
+  see(1, 8, 7.5);
+  CornerCovariances covariances;
+  ASSERT_TRUE(ComputeCornerCovariances(&state, options, &covariances));
+  ASSERT_EQ(covariances.size(), 2u);
+  for (const auto& slot : covariances) {
+    // The entrance corners were seen, the far ones not (their sigma comes
+    // from the row: back_line.h).
+    for (int j : {0, 1}) {
+      ASSERT_TRUE(slot[j].has_value());
+      EXPECT_GT(slot[j]->determinant(), 0.0);
+      EXPECT_NEAR((*slot[j])(0, 1), (*slot[j])(1, 0), 1e-12);
+    }
+    EXPECT_FALSE(slot[2].has_value());
+    EXPECT_FALSE(slot[3].has_value());
+  }
+  // A's entrance corner at (0, 2) mirrors B's at (10, 2).
+  const double a = covariances[0][0]->trace(), b = covariances[1][1]->trace();
+  EXPECT_NEAR(a / b, 1.0, 0.1);
+  // Less than the chain's own drift between them (8 m at 1e-4 m^2 a metre,
+  // and its yaw), which an anchor at the start would give B.
+  EXPECT_LT(b, 2.0 * 8e-4);
+  EXPECT_GT(b, 1e-5);
+  // The graph is left as it was: covariances do not move the estimate.
+  EXPECT_EQ(state.keyframes[0].pose, (std::array<double, 3>{0.0, 0.0, 0.0}));
 }
 
 }  // namespace

@@ -377,6 +377,13 @@ void Mapper::Finish() {
   RecomputeSlotEvidence(&state_, options_);
   AssignIds(&state_, options_);
   stats_.slots_overlapping += DropOverlappingSlots(&state_, options_);
+  corner_covariances_.clear();
+  const auto covariance_start = std::chrono::steady_clock::now();
+  if (options_.corner_sigma_from_graph &&
+      !ComputeCornerCovariances(&state_, options_, &corner_covariances_)) {
+    corner_covariances_.clear();  // the evidence's sigmas instead
+  }
+  stats_.covariance_ms = ElapsedMs(covariance_start);
   stats_.final_solve_ms = ElapsedMs(start);
 }
 
@@ -385,7 +392,8 @@ SemanticMap Mapper::Map() const {
   map.metadata["source"] = "parkslam mapper";
   map.metadata["robust"] = options_.robust == RobustMode::kMaxMixture ? "maxmix" : "none";
   map.metadata["mode"] = options_.mode == MappingMode::kBatch ? "batch" : "online";
-  for (const SlotLandmark& slot : state_.slots) {
+  for (size_t index = 0; index < state_.slots.size(); ++index) {
+    const SlotLandmark& slot = state_.slots[index];
     if (!slot.alive || slot.observations < options_.min_observations) continue;
     MapSlot s;
     s.id = slot.id.empty() ? TemporaryId(slot.temporary_number) : slot.id;
@@ -398,13 +406,20 @@ SemanticMap Mapper::Map() const {
     for (int j = 0; j < kSlotCorners; ++j) {
       s.corners_map[j] = slot.Corner(j);
       s.corner_observed[j] = slot.corner_observations[j] > 0;
-      // Seen: the detector's sigma over the evidence, above the floor that
-      // evidence does not lower. Far corners not seen: ShareBackLines below.
-      const double n = std::max(1, slot.corner_observations[j]);
-      s.corner_sigma_m[j] = s.corner_observed[j]
-                                ? std::hypot(options_.corner_evidence_sigma_m / std::sqrt(n),
-                                             options_.corner_sigma_floor_m)
-                                : options_.depth_prior_sigma_m;
+      // Seen: the graph's marginal (or the detector's sigma over the
+      // evidence) above the floor. Far corners not seen: ShareBackLines.
+      const std::optional<Eigen::Matrix2d>* covariance =
+          index < corner_covariances_.size() ? &corner_covariances_[index][j] : nullptr;
+      if (!s.corner_observed[j]) {
+        s.corner_sigma_m[j] = options_.depth_prior_sigma_m;
+      } else if (covariance != nullptr && covariance->has_value()) {
+        s.corner_sigma_m[j] =
+            std::hypot(std::sqrt(0.5 * (*covariance)->trace()), options_.corner_sigma_floor_m);
+      } else {
+        const double n = slot.corner_observations[j];
+        s.corner_sigma_m[j] = std::hypot(options_.corner_evidence_sigma_m / std::sqrt(n),
+                                         options_.corner_sigma_floor_m);
+      }
     }
     s.observation_count = slot.observations;
     map.slots.push_back(s);

@@ -20,6 +20,7 @@
 
 #include "parkslam/common/trajectory.h"
 #include "parkslam/map/semantic_map.h"
+#include "parkslam/mapping/map_graph.h"
 #include "parkslam/mapping/map_state.h"
 #include "parkslam/mapping/mapper_options.h"
 #include "parkslam/odometry/odometry_ekf.h"
@@ -44,7 +45,8 @@ struct MapperStats {
   // windowed (online) solve took: what bounds its time however long the
   // drive.
   int max_window_residual_blocks = 0;
-  double final_solve_ms = 0.0;
+  double final_solve_ms = 0.0;  // with the covariances
+  double covariance_ms = 0.0;   // the corners' (MapperOptions::corner_sigma_from_graph)
   int final_iterations = 0;
   double final_cost = 0.0;
 };
@@ -114,6 +116,9 @@ class Mapper {
   bool long_drive_ = false;     // retire_check_min_records were stored once
   double distance_since_solve_m_ = 0.0;
   MapperStats stats_;
+  // The corners' marginal covariances at the end (Finish), by slot index;
+  // empty when the graph's could not be computed.
+  CornerCovariances corner_covariances_;
 };
 
 }  // namespace parkslam::mapping

@@ -108,15 +108,20 @@ struct MapperOptions {
   double initial_trust_region_radius = 1e8;
 
   // The corner sigmas the map states (docs/mapping.md, "How sure a
-  // corner is"). A corner seen n times: sqrt(corner_evidence_sigma_m^2 / n
-  // + corner_sigma_floor_m^2), the floor being what no number of
-  // observations averages away (the trajectory's and the front end's
-  // systematic errors). Far corners never seen come from the row
-  // (back_line.h): from a neighbour's depth with row_depth_sigma_m, or the
-  // standard depth's guess with depth_prior_sigma_m, the spread of real
-  // slots' depths.
+  // corner is"). A corner seen: with corner_sigma_from_graph, its marginal
+  // covariance in the final graph relative to the map's other seen corners
+  // (map_graph.h, ComputeCornerCovariances; the sigma is the root of half
+  // its trace), which holds the drive's drift between loop closures; else,
+  // seen n times, corner_evidence_sigma_m / sqrt(n). Either way combined
+  // with corner_sigma_floor_m, what the graph does not model: the front
+  // end's errors repeat between sightings of one pass, they are not
+  // independent. Far corners never seen come from the row (back_line.h):
+  // from a neighbour's depth with row_depth_sigma_m, or the standard
+  // depth's guess with depth_prior_sigma_m, the spread of real slots'
+  // depths.
+  bool corner_sigma_from_graph = true;
   double corner_evidence_sigma_m = 0.05;
-  double corner_sigma_floor_m = 0.017;
+  double corner_sigma_floor_m = 0.014;
   double row_depth_sigma_m = 0.05;
   double depth_prior_sigma_m = 0.4;
 
@@ -162,6 +167,7 @@ struct MapperOptions {
     v("final_iterations", final_iterations);
     v("final_rounds", final_rounds);
     v("initial_trust_region_radius", initial_trust_region_radius);
+    v("corner_sigma_from_graph", corner_sigma_from_graph);
     v("corner_evidence_sigma_m", corner_evidence_sigma_m);
     v("corner_sigma_floor_m", corner_sigma_floor_m);
     v("row_depth_sigma_m", row_depth_sigma_m);
