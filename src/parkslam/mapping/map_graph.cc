@@ -217,7 +217,8 @@ class GraphBuilder {
   // first keyframe held), then moved to the gauge of the corners' own rigid
   // motion (RelativeToTheCorners). Ceres' SPARSE_QR at the present values,
   // the mixtures at the components they pick. False when Ceres fails (a
-  // graph that leaves more than its gauge free) or fewer than two corners.
+  // graph that leaves more than its gauge free), for fewer than two corners
+  // and for more than kMaxJointCorners.
   bool ComputeCovariances(CornerCovariances* out) {
     struct Seen {
       size_t slot;
@@ -237,7 +238,11 @@ class GraphBuilder {
         seen.push_back({s, j, block});
       }
     }
-    if (seen.size() < 2) return false;
+    // The joint covariance is dense: 2,000 corners (about 500 slots) take
+    // 128 MB and Ceres' blocks as much again. A larger map keeps the
+    // sighting-count sigmas (the caller's fallback).
+    constexpr size_t kMaxJointCorners = 2000;
+    if (seen.size() < 2 || seen.size() > kMaxJointCorners) return false;
     std::vector<std::pair<const double*, const double*>> wanted;
     for (size_t a = 0; a < seen.size(); ++a) {
       for (size_t b = a; b < seen.size(); ++b) wanted.emplace_back(seen[a].block, seen[b].block);
@@ -254,7 +259,9 @@ class GraphBuilder {
       corners.row(a) = state_.slots[seen[a].slot].Corner(seen[a].corner).transpose();
       for (Eigen::Index b = a; b < n; ++b) {
         Eigen::Matrix<double, 2, 2, Eigen::RowMajor> block;
-        covariance.GetCovarianceBlock(seen[a].block, seen[b].block, block.data());
+        if (!covariance.GetCovarianceBlock(seen[a].block, seen[b].block, block.data())) {
+          return false;
+        }
         joint.block<2, 2>(2 * a, 2 * b) = block;
         joint.block<2, 2>(2 * b, 2 * a) = block.transpose();
       }

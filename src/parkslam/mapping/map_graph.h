@@ -52,7 +52,8 @@ MapGraphSolve SolveMapGraph(MapState* state, int first_free, int max_iterations,
 // corner gets std::nullopt. It holds the drive's own uncertainty: drift
 // between loop closures, how often and how well each corner was seen.
 // Returns false, filling nothing, when Ceres cannot compute it (a graph that
-// leaves more than its gauge free) or fewer than two corners were seen.
+// leaves more than its gauge free), when fewer than two corners were seen,
+// or more than 2,000 (the joint covariance is dense: 128 MB at that size).
 using CornerCovariances = std::vector<std::array<std::optional<Eigen::Matrix2d>, kSlotCorners>>;
 bool ComputeCornerCovariances(MapState* state, const MapperOptions& options,
                               CornerCovariances* covariances);
