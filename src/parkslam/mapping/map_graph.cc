@@ -15,6 +15,7 @@
 #include "parkslam/mapping/costs/odometry_factor.h"
 #include "parkslam/mapping/costs/slot_shape_factor.h"
 #include "parkslam/mapping/costs/tag_observation_factor.h"
+#include "parkslam/mapping/slot_management.h"
 
 namespace parkslam::mapping {
 namespace {
@@ -228,7 +229,7 @@ class GraphBuilder {
     std::vector<Seen> seen;
     for (size_t s = 0; s < state_.slots.size(); ++s) {
       const SlotLandmark& slot = state_.slots[s];
-      if (!slot.alive || slot.observations < options_.min_observations) continue;
+      if (!InTheMap(slot, options_)) continue;
       for (int j = 0; j < kSlotCorners; ++j) {
         const double* block = slot.corners[j].data();
         if (slot.corner_observations[j] == 0 || !problem_.HasParameterBlock(block) ||

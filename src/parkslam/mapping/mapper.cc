@@ -377,11 +377,11 @@ void Mapper::Finish() {
   RecomputeSlotEvidence(&state_, options_);
   AssignIds(&state_, options_);
   stats_.slots_overlapping += DropOverlappingSlots(&state_, options_);
+  // Left empty when it cannot be computed: Map() takes the sightings' sigmas.
   corner_covariances_.clear();
   const auto covariance_start = std::chrono::steady_clock::now();
-  if (options_.corner_sigma_from_graph &&
-      !ComputeCornerCovariances(&state_, options_, &corner_covariances_)) {
-    corner_covariances_.clear();  // the evidence's sigmas instead
+  if (options_.corner_sigma_from_graph) {
+    ComputeCornerCovariances(&state_, options_, &corner_covariances_);
   }
   stats_.covariance_ms = ElapsedMs(covariance_start);
   stats_.final_solve_ms = ElapsedMs(start);
@@ -394,7 +394,7 @@ SemanticMap Mapper::Map() const {
   map.metadata["mode"] = options_.mode == MappingMode::kBatch ? "batch" : "online";
   for (size_t index = 0; index < state_.slots.size(); ++index) {
     const SlotLandmark& slot = state_.slots[index];
-    if (!slot.alive || slot.observations < options_.min_observations) continue;
+    if (!InTheMap(slot, options_)) continue;
     MapSlot s;
     s.id = slot.id.empty() ? TemporaryId(slot.temporary_number) : slot.id;
     s.temporary = slot.id.empty();
@@ -408,13 +408,13 @@ SemanticMap Mapper::Map() const {
       s.corner_observed[j] = slot.corner_observations[j] > 0;
       // Seen: the graph's marginal (or the detector's sigma over the
       // evidence) above the floor. Far corners not seen: ShareBackLines.
-      const std::optional<Eigen::Matrix2d>* covariance =
-          index < corner_covariances_.size() ? &corner_covariances_[index][j] : nullptr;
+      const bool from_graph =
+          index < corner_covariances_.size() && corner_covariances_[index][j].has_value();
       if (!s.corner_observed[j]) {
         s.corner_sigma_m[j] = options_.depth_prior_sigma_m;
-      } else if (covariance != nullptr && covariance->has_value()) {
-        s.corner_sigma_m[j] =
-            std::hypot(std::sqrt(0.5 * (*covariance)->trace()), options_.corner_sigma_floor_m);
+      } else if (from_graph) {
+        s.corner_sigma_m[j] = std::hypot(std::sqrt(0.5 * corner_covariances_[index][j]->trace()),
+                                         options_.corner_sigma_floor_m);
       } else {
         const double n = slot.corner_observations[j];
         s.corner_sigma_m[j] = std::hypot(options_.corner_evidence_sigma_m / std::sqrt(n),

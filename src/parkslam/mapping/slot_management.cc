@@ -222,7 +222,7 @@ int DropOverlappingSlots(MapState* state, const MapperOptions& options) {
   std::deque<SlotLandmark>& slots = state->slots;
   std::vector<int> order;
   for (int s = 0; s < static_cast<int>(slots.size()); ++s) {
-    if (slots[s].alive && slots[s].observations >= options.min_observations) order.push_back(s);
+    if (InTheMap(slots[s], options)) order.push_back(s);
   }
   // Named slots first (an ID read again and again is evidence of its own),
   // then the more observed.

@@ -48,6 +48,12 @@ void RebuildIdOwners(MapState* state);
 // current choices, then the owners.
 void RecomputeSlotEvidence(MapState* state, const MapperOptions& options);
 
+// A slot the map shows: alive and seen at least min_observations times
+// (fewer: spurious).
+inline bool InTheMap(const SlotLandmark& slot, const MapperOptions& options) {
+  return slot.alive && slot.observations >= options.min_observations;
+}
+
 // Merges alive slots whose entrance corners both lie within
 // merge_distance_m, keeping the better-observed one; the records' candidates
 // and choices move to it. Returns how many were merged.
