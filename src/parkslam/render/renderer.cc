@@ -16,10 +16,15 @@
 #include "parkslam/common/seed_mix.h"
 #include "parkslam/render/light_field.h"
 #include "parkslam/render/sensor_noise.h"
-#include "parkslam/render/tag_texture.h"
+#include "parkslam/scene/tag_texture.h"
 
 namespace parkslam::render {
 namespace {
+
+using scene::kTagBlackCells;
+using scene::kTagTotalCells;
+using scene::Tag36h11Count;
+using scene::Tag36h11Image;
 
 constexpr std::uint64_t kCarStreamTag = 0xca7;
 constexpr std::uint64_t kPedestrianStreamTag = 0x9ed;

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "parkslam/common/angles.h"
@@ -44,6 +46,14 @@ cv::Mat SmoothNoise(cv::Size size, double cell_px, cv::RNG& rng) {
 // made once stand in for fresh noise per scene.
 cv::Mat BankWindow(const cv::Mat& bank, cv::Size window_size, cv::Size size, cv::RNG& rng,
                    int interpolation) {
+  if (window_size == size && (size.width > bank.cols || size.height > bank.rows)) {
+    // Larger than the bank (a whole lot's floor): the bank tiled from a
+    // random place, at its own scale.
+    const int x0 = rng.uniform(0, bank.cols), y0 = rng.uniform(0, bank.rows);
+    cv::Mat tiled;
+    cv::repeat(bank, size.height / bank.rows + 2, size.width / bank.cols + 2, tiled);
+    return tiled(cv::Rect(x0, y0, size.width, size.height)).clone();
+  }
   const int w = std::min(window_size.width, bank.cols);
   const int h = std::min(window_size.height, bank.rows);
   const cv::Rect window(rng.uniform(0, bank.cols - w + 1), rng.uniform(0, bank.rows - h + 1), w, h);
@@ -787,7 +797,7 @@ class Painter {
         cast(s.center, s.yaw_rad, s.half_x, s.half_y, s.z1, s.shape != SolidShape::kBox,
              s.corner_radius_m);
       }
-      cast(Eigen::Vector2d(1.35, 0), 0.0, 2.35, 0.92, 1.5, false);  // the car itself
+      if (options_.ego_shadow) cast(Eigen::Vector2d(1.35, 0), 0.0, 2.35, 0.92, 1.5, false);
       cv::RNG local(MixSeed(l.seed, 0x7ee));
       for (int t = 0; t < l.trees; ++t) {
         const Eigen::Vector2d c(local.uniform(-4.0, 7.0), local.uniform(-6.0, 6.0));
@@ -816,7 +826,8 @@ class Painter {
       if (s.material != SolidMaterial::kPaint) continue;
       FillPolygon(BoxPolygon(c_, s.center, s.yaw_rad, s.half_x, s.half_y), all, &mask);
     }
-    FillPolygon(BoxPolygon(c_, Eigen::Vector2d(1.35, 0), 0.0, 2.35, 0.92), all, &mask);
+    if (options_.ego_shadow)  // this car
+      FillPolygon(BoxPolygon(c_, Eigen::Vector2d(1.35, 0), 0.0, 2.35, 0.92), all, &mask);
     // A wide blur, done at a quarter of the resolution.
     cv::Mat small;
     cv::resize(mask, small, cv::Size(), 0.25, 0.25, cv::INTER_AREA);
@@ -847,29 +858,68 @@ Canvas::Canvas(double min_x, double max_y, double width_m, double height_m, doub
 LightMap::LightMap(const Lighting& l) {
   const int n = static_cast<int>(2 * kLightHalfExtentM / kLightGridM);
   grid_ = cv::Mat(n, n, CV_32F);
+  min_x_m_ = -kLightHalfExtentM;
+  max_y_m_ = kLightHalfExtentM;
+  Fill(l);
+}
+
+LightMap::LightMap(const Lighting& l, double min_x_m, double min_y_m, double max_x_m,
+                   double max_y_m) {
+  const int cols = std::max(2, static_cast<int>(std::ceil((max_x_m - min_x_m) / kLightGridM)));
+  const int rows = std::max(2, static_cast<int>(std::ceil((max_y_m - min_y_m) / kLightGridM)));
+  grid_ = cv::Mat(rows, cols, CV_32F);
+  min_x_m_ = min_x_m;
+  max_y_m_ = max_y_m;
+  Fill(l);
+}
+
+LightMap::LightMap(const LightMap& source, double yaw_rad, const Eigen::Vector2d& t) {
+  const int n = static_cast<int>(2 * kLightHalfExtentM / kLightGridM);
+  grid_ = cv::Mat(n, n, CV_32F);
+  min_x_m_ = -kLightHalfExtentM;
+  max_y_m_ = kLightHalfExtentM;
+  const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);
+  for (int r = 0; r < n; ++r) {
+    const double y = max_y_m_ - (r + 0.5) * kLightGridM;
+    for (int col = 0; col < n; ++col) {
+      const double x = min_x_m_ + (col + 0.5) * kLightGridM;
+      grid_.at<float>(r, col) = source.At(c * x - s * y + t.x(), s * x + c * y + t.y());
+    }
+  }
+}
+
+void LightMap::Fill(const Lighting& l) {
   cv::RNG rng(MixSeed(l.seed, 0x11e));
   const cv::Mat patch = SmoothNoise(grid_.size(), 3.0 / kLightGridM, rng);
   // Night: a few lamps at random grid places.
   std::vector<bool> lit;
   for (int i = 0; i < 64; ++i) lit.push_back(!l.night || rng.uniform(0.0, 1.0) < 0.35);
   const double sigma = 0.35 * l.lamp_spacing_m;
-  for (int r = 0; r < n; ++r) {
-    const double y = kLightHalfExtentM - (r + 0.5) * kLightGridM;
-    for (int c = 0; c < n; ++c) {
-      const double x = -kLightHalfExtentM + (c + 0.5) * kLightGridM;
+  // The lamp grid's axes (Lighting::lamp_grid_yaw_rad).
+  const Eigen::Vector2d gx(std::cos(l.lamp_grid_yaw_rad), std::sin(l.lamp_grid_yaw_rad));
+  const Eigen::Vector2d gy(-gx.y(), gx.x());
+  for (int r = 0; r < grid_.rows; ++r) {
+    const double y = max_y_m_ - (r + 0.5) * kLightGridM;
+    for (int c = 0; c < grid_.cols; ++c) {
+      const double x = min_x_m_ + (c + 0.5) * kLightGridM;
       double v = 1.0;
       if (!l.outdoor) {
         double pool = 0.0;
-        const double fx = std::round((x - l.lamp_offset.x()) / l.lamp_spacing_m);
-        const double fy = std::round((y - l.lamp_offset.y()) / l.lamp_spacing_m);
+        const Eigen::Vector2d rel = Eigen::Vector2d(x, y) - l.lamp_offset;
+        const double u = rel.dot(gx), w = rel.dot(gy);
+        const double fx = std::round(u / l.lamp_spacing_m);
+        const double fy = std::round(w / l.lamp_spacing_m);
         for (int i = -1; i <= 1; ++i) {
           for (int j = -1; j <= 1; ++j) {
             const auto ix = static_cast<std::int64_t>(fx) + i,
                        iy = static_cast<std::int64_t>(fy) + j;
             if (!lit[static_cast<size_t>(((ix * 7 + iy * 13) % 64 + 64) % 64)]) continue;
-            const double lx = l.lamp_offset.x() + static_cast<double>(ix) * l.lamp_spacing_m;
-            const double ly = l.lamp_offset.y() + static_cast<double>(iy) * l.lamp_spacing_m;
-            const double d2 = (x - lx) * (x - lx) + (y - ly) * (y - ly);
+            // The lamp in the scene's axes (with an unturned grid, to the
+            // bit what it always was).
+            const Eigen::Vector2d lamp = l.lamp_offset +
+                                         gx * (static_cast<double>(ix) * l.lamp_spacing_m) +
+                                         gy * (static_cast<double>(iy) * l.lamp_spacing_m);
+            const double d2 = (x - lamp.x()) * (x - lamp.x()) + (y - lamp.y()) * (y - lamp.y());
             pool += std::exp(-d2 / (2 * sigma * sigma));
           }
         }
@@ -888,8 +938,8 @@ LightMap::LightMap(const Lighting& l) {
 }
 
 float LightMap::At(double x_m, double y_m) const {
-  const double c = (x_m + kLightHalfExtentM) / kLightGridM - 0.5;
-  const double r = (kLightHalfExtentM - y_m) / kLightGridM - 0.5;
+  const double c = (x_m - min_x_m_) / kLightGridM - 0.5;
+  const double r = (max_y_m_ - y_m) / kLightGridM - 0.5;
   const double cc = std::clamp(c, 0.0, grid_.cols - 1.001),
                rr = std::clamp(r, 0.0, grid_.rows - 1.001);
   const int ic = static_cast<int>(cc), ir = static_cast<int>(rr);
@@ -903,8 +953,8 @@ float LightMap::At(double x_m, double y_m) const {
 cv::Mat LightMap::OnCanvas(const Canvas& canvas) const {
   // Canvas pixel (u, v) -> grid (c, r) is affine.
   const double s = canvas.resolution_m / kLightGridM;
-  const double c0 = (canvas.min_x_m + kLightHalfExtentM) / kLightGridM - 0.5 + 0.5 * s;
-  const double r0 = (kLightHalfExtentM - canvas.max_y_m) / kLightGridM - 0.5 + 0.5 * s;
+  const double c0 = (canvas.min_x_m - min_x_m_) / kLightGridM - 0.5 + 0.5 * s;
+  const double r0 = (max_y_m_ - canvas.max_y_m) / kLightGridM - 0.5 + 0.5 * s;
   const cv::Matx23d M(s, 0, c0, 0, s, r0);
   cv::Mat out;
   cv::warpAffine(grid_, out, M, canvas.bgr.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
@@ -916,6 +966,74 @@ void PaintFloor(const Scene& scene, const LightMap& light, const FloorPainterOpt
                 FontBook* fonts, Canvas* canvas, cv::Mat* slot_paint) {
   Painter painter(scene, light, options, fonts, canvas);
   painter.Run(slot_paint);
+}
+
+namespace {
+
+// Footprints up to this many level-0 texels sample level 0; each further
+// level takes footprints twice as large (the near floor of the scene
+// renderer: 2 cm texels up to 3.5 cm footprints).
+constexpr double kTexelsPerFootprint = 1.75;
+
+}  // namespace
+
+cv::Point2f FloorAtlas::AtlasPixel(const Eigen::Vector2d& p, double footprint_m) const {
+  const double ratio = footprint_m / (kTexelsPerFootprint * resolution_m);
+  int level = ratio < 1.0 ? 0 : std::ilogb(ratio) + 1;  // floor(log2) + 1
+  level = std::clamp(level, 0, static_cast<int>(levels.size()) - 1);
+  const double scale = std::ldexp(1.0, level);  // texel edge in level-0 texels
+  const double x = (p.x() - min_x_m) / (resolution_m * scale) - 0.5;
+  const double y = (max_y_m - p.y()) / (resolution_m * scale) - 0.5;
+  const cv::Rect& r = levels[static_cast<size_t>(level)];
+  if (!(x > 0.5 && y > 0.5 && x < r.width - 1.5 && y < r.height - 1.5)) return {-10.0f, -10.0f};
+  return {static_cast<float>(r.x + x), static_cast<float>(r.y + y)};
+}
+
+FloorAtlas PaintFloorAtlas(const Scene& scene, const LightMap& light, FontBook* fonts,
+                           double min_x_m, double min_y_m, double max_x_m, double max_y_m,
+                           double resolution_m, int levels, double max_pixels) {
+  const double width_m = max_x_m - min_x_m, height_m = max_y_m - min_y_m;
+  if (!(width_m > 0 && height_m > 0 && resolution_m > 0 && levels >= 1 && levels <= 8)) {
+    throw std::invalid_argument("floor atlas: an empty area, a resolution or levels out of range");
+  }
+  if (width_m * height_m / (resolution_m * resolution_m) > max_pixels) {
+    throw std::invalid_argument("floor atlas: " + std::to_string(width_m) + " m x " +
+                                std::to_string(height_m) + " m at " + std::to_string(resolution_m) +
+                                " m a pixel is over " + std::to_string(max_pixels) + " pixels");
+  }
+  Canvas canvas(min_x_m, max_y_m, width_m, height_m, resolution_m);
+  FloorPainterOptions options;
+  options.ego_shadow = false;
+  PaintFloor(scene, light, options, fonts, &canvas);
+  std::vector<cv::Mat> chain = {canvas.bgr};
+  for (int k = 1; k < levels; ++k) {
+    cv::Mat next;
+    cv::pyrDown(chain.back(), next);
+    chain.push_back(next);
+  }
+  FloorAtlas atlas;
+  atlas.min_x_m = min_x_m;
+  atlas.max_y_m = max_y_m;
+  atlas.resolution_m = resolution_m;
+  const int gap = 4;
+  int right_height = 0, right_width = 0;
+  for (int k = 1; k < levels; ++k) {
+    right_height += chain[static_cast<size_t>(k)].rows + gap;
+    right_width = std::max(right_width, chain[static_cast<size_t>(k)].cols);
+  }
+  atlas.bgr =
+      cv::Mat(std::max(canvas.bgr.rows, right_height),
+              canvas.bgr.cols + (levels > 1 ? gap + right_width : 0), CV_8UC3, cv::Scalar::all(0));
+  int y = 0;
+  for (int k = 0; k < levels; ++k) {
+    const cv::Mat& level = chain[static_cast<size_t>(k)];
+    const cv::Rect where = k == 0 ? cv::Rect(0, 0, level.cols, level.rows)
+                                  : cv::Rect(canvas.bgr.cols + gap, y, level.cols, level.rows);
+    if (k > 0) y += level.rows + gap;
+    level.copyTo(atlas.bgr(where));
+    atlas.levels.push_back(where);
+  }
+  return atlas;
 }
 
 }  // namespace parkslam::scene

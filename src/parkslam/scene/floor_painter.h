@@ -36,18 +36,30 @@ struct Canvas {
 // colour in the scene's tint; shadows are not in it.
 class LightMap {
  public:
+  // Over +-24 m round the origin (a scene round the car).
   explicit LightMap(const Lighting& light);
+  // Over the rectangle [min_x, max_x] x [min_y, max_y] (a whole lot).
+  LightMap(const Lighting& light, double min_x_m, double min_y_m, double max_x_m, double max_y_m);
+  // `source` seen from another frame: the factor at p is source's at
+  // R p + t (R turned by yaw_rad), over +-24 m round this frame's origin.
+  // A lot's light seen from the car.
+  LightMap(const LightMap& source, double yaw_rad, const Eigen::Vector2d& t);
   float At(double x_m, double y_m) const;
   // The factor resampled onto a canvas's pixels (CV_32F).
   cv::Mat OnCanvas(const Canvas& canvas) const;
 
  private:
-  cv::Mat grid_;  // CV_32F
+  void Fill(const Lighting& light);
+  cv::Mat grid_;  // CV_32F, rows grow with -y
+  double min_x_m_ = -24.0, max_y_m_ = 24.0;
 };
 
 struct FloorPainterOptions {
   bool draw_text = true;
   bool dirt = true;
+  // The dark under the car itself (at the origin); off for a floor that
+  // the car drives over (a lot's, painted once).
+  bool ego_shadow = true;
 };
 
 // Paints `scene`'s floor into `canvas` (its geometry set, its image
@@ -56,6 +68,27 @@ struct FloorPainterOptions {
 // paint is.
 void PaintFloor(const Scene& scene, const LightMap& light, const FloorPainterOptions& options,
                 FontBook* fonts, Canvas* canvas, cv::Mat* slot_paint = nullptr);
+
+// A floor painted once over a large area (a lot's, in the map frame) for
+// cameras that move over it: level 0 at resolution_m, each further level
+// half the one before (a mip chain), all in one image, so that one remap
+// per camera samples every pixel at the level its footprint suits.
+struct FloorAtlas {
+  cv::Mat bgr;                   // CV_8UC3, radiance / kRadianceScale
+  std::vector<cv::Rect> levels;  // level 0 on the left, the others stacked to its right
+  double min_x_m = 0.0, max_y_m = 0.0, resolution_m = 0.02;
+
+  // Where the floor point p lies in bgr, at the level that suits a pixel
+  // footprint of footprint_m; (-10, -10) off the floor.
+  cv::Point2f AtlasPixel(const Eigen::Vector2d& p, double footprint_m) const;
+};
+
+// Paints `scene`'s floor over [min_x, max_x] x [min_y, max_y] (the car's
+// own shadow left out) and builds its levels. Throws std::invalid_argument
+// when the area is empty or holds more than max_pixels at level 0.
+FloorAtlas PaintFloorAtlas(const Scene& scene, const LightMap& light, FontBook* fonts,
+                           double min_x_m, double min_y_m, double max_x_m, double max_y_m,
+                           double resolution_m, int levels, double max_pixels = 4e7);
 
 }  // namespace parkslam::scene
 

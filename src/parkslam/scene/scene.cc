@@ -862,6 +862,23 @@ Colour PaintColour(PaintKind paint) {
   return {235, 238, 238};
 }
 
+Look SampleLook(std::uint64_t seed, bool outdoor, const SceneSamplerOptions& options) {
+  Scene scene;
+  scene.seed = seed;
+  Random floor_rng = Random::Derive(seed, kFloorTag);
+  SampleFloor(floor_rng, outdoor, &scene);
+  Random light_rng = Random::Derive(seed, kLightTag);
+  SampleLight(light_rng, outdoor, &scene);
+  Random cameras = Random::Derive(seed, kCamerasTag);
+  SampleCameras(cameras, options, outdoor, &scene);
+  return {scene.floor, scene.light, scene.cameras, scene.front_camera};
+}
+
+void AddParkedCar(std::uint64_t seed, const Eigen::Vector2d& center, double yaw_rad, Scene* scene) {
+  Random rng(seed);
+  AddCar(rng, center, yaw_rad, scene);
+}
+
 Scene SampleScene(std::uint64_t seed, const SceneSamplerOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw std::invalid_argument("scene sampler: " + error);

@@ -152,6 +152,9 @@ struct Lighting {
   double lamp_spacing_m = 6.0;
   Eigen::Vector2d lamp_offset = Eigen::Vector2d::Zero();
   double lamp_height_m = 2.8;
+  // The lamp grid's axes turned by this from the scene's (a lot seen from
+  // a turned car); the lamps' tubes run along its first axis.
+  double lamp_grid_yaw_rad = 0.0;
   double pools = 0.3;   // 0: even; 1: strong pools, dark between
   double patchy = 0.2;  // amplitude of metre-scale light variation
   bool night = false;   // a few warm lamps, dark elsewhere
@@ -185,6 +188,17 @@ struct CameraLook {
   std::uint64_t seed = 0;
 };
 
+// An AprilTag (tag36h11) on a wall or pillar, facing normal_yaw_rad, for
+// the front camera (paper III-B). size_m is the edge of its black square;
+// a white margin of one cell lies round it (tag_texture.h).
+struct WallTag {
+  int tag_id = 0;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  double normal_yaw_rad = 0.0;
+  double z_center_m = 1.35;
+  double size_m = 0.5;
+};
+
 struct Scene {
   std::uint64_t seed = 0;
   std::vector<MarkingPoint> marks;
@@ -193,6 +207,7 @@ struct Scene {
   std::vector<FloorText> texts;
   std::vector<Decal> decals;
   std::vector<Solid> solids;
+  std::vector<WallTag> tags;
   Floor floor;
   Lighting light;
   std::vector<CameraLook> cameras;  // in the order of the rig's fusion cameras
@@ -243,6 +258,20 @@ struct SceneSamplerOptions {
 
 // A random scene, deterministic by seed.
 Scene SampleScene(std::uint64_t seed, const SceneSamplerOptions& options = {});
+
+// A look without a layout: the floor, the light and the cameras drawn as
+// SampleScene draws them, from their own streams of `seed` (a lot's look,
+// lot_scene.h).
+struct Look {
+  Floor floor;
+  Lighting light;
+  std::vector<CameraLook> cameras;
+  CameraLook front_camera;
+};
+Look SampleLook(std::uint64_t seed, bool outdoor, const SceneSamplerOptions& options = {});
+
+// A parked car (body, cabin, tyres) at `center`, its length along yaw_rad.
+void AddParkedCar(std::uint64_t seed, const Eigen::Vector2d& center, double yaw_rad, Scene* scene);
 
 // The paint's colour before light (BGR).
 Colour PaintColour(PaintKind paint);

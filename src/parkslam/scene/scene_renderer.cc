@@ -1,9 +1,11 @@
 #include "parkslam/scene/scene_renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
@@ -15,6 +17,7 @@
 #include "parkslam/common/random.h"
 #include "parkslam/common/seed_mix.h"
 #include "parkslam/scene/floor_painter.h"
+#include "parkslam/scene/tag_texture.h"
 
 namespace parkslam::scene {
 namespace {
@@ -30,7 +33,9 @@ constexpr double kMaxOffAxisRad = 1.66;        // 95 degrees: a 190-degree lens
 constexpr float kAutoExposureTarget = 115.0f;  // mean grey level the cameras meter for
 constexpr double kSpecularHalfExtentM = 10.0;
 
-enum PixelKind : std::uint8_t { kNone, kGround, kUp, kEgo };
+// kFarGround: the floor beyond the scene's atlas (a lot's floor reaches
+// there; a scene's does not: its dark below the horizon).
+enum PixelKind : std::uint8_t { kNone, kGround, kUp, kEgo, kFarGround };
 
 // The floor at three resolutions side by side, so that one remap per camera
 // samples each pixel's footprint.
@@ -45,16 +50,23 @@ struct AzimuthIndex {
   std::vector<float> azimuth;  // radians in (-pi, pi]
   std::vector<int> pixel;
   std::vector<float> reach;  // horizontal reach before the floor (-1: the car's body)
-  void Add(float a, int i, float r) {
+  // The same on a lot's floor, which reaches everywhere (floor_reach), and
+  // indoors under its ceiling too (roofed_reach).
+  std::vector<float> floor_reach, roofed_reach;
+  void Add(float a, int i, float r, float floor_r, float roofed_r) {
     azimuth.push_back(a);
     pixel.push_back(i);
     reach.push_back(r);
+    floor_reach.push_back(floor_r);
+    roofed_reach.push_back(roofed_r);
   }
 };
 
 struct CameraTable {
   std::string name;
+  camera::CameraConfig config;
   int width = 0, height = 0;
+  double pixel_angle_rad = 0.0;  // of one pixel near the axis
   Eigen::Vector3d c_vehicle = Eigen::Vector3d::Zero();
   cv::Mat map_xy, map_frac;  // fixed-point maps into the atlas
   cv::Mat kind;              // CV_8U PixelKind
@@ -68,8 +80,10 @@ struct CameraTable {
   std::vector<float> ground_t;               // along the ray to the floor; inf where none
   std::vector<float> horizontal;             // horizontal length of the unit ray
   std::vector<Eigen::Vector2f> ground_xy;
-  AzimuthIndex all_pixels;     // every valid pixel
-  AzimuthIndex needed_pixels;  // those the top view needs
+  std::vector<float> footprint;  // the pixel's footprint on the floor, metres
+  std::vector<float> floor_t;    // along the ray to the floor wherever it meets it; inf up
+  AzimuthIndex all_pixels;       // every valid pixel
+  AzimuthIndex needed_pixels;    // those the top view needs
 };
 
 struct SolidHit {
@@ -294,6 +308,18 @@ struct SceneRenderer::Impl {
   std::optional<CameraTable> front;
   AtlasLayout atlas;
   cv::Mat noise_bank;  // CV_32F standard normal
+  // Tag textures by ID (16, 8, 4, 2, 1 pixels a cell), made when first
+  // seen.
+  mutable std::mutex tag_mutex;
+  mutable std::map<int, std::array<cv::Mat, 5>> tag_textures;
+  const std::array<cv::Mat, 5>& TagTexture(int tag_id) const;
+  // Every pixel's place in a painted floor for the car at (yaw, t): full,
+  // or the pixels the top view needs.
+  cv::Mat FloorMap(const CameraTable& t, const FloorAtlas& floor, double yaw_rad,
+                   const Eigen::Vector2d& tr, bool full) const;
+  // The tags the camera sees, over the background; their depth into depth.
+  void ShadeTags(const CameraTable& t, const Scene& scene, const LightMap& light, cv::Mat* radiance,
+                 std::vector<float>* depth) const;
 
   Impl(const camera::CameraRig& r, const SceneRendererOptions& o);
   int Layouts() const {
@@ -305,14 +331,20 @@ struct SceneRenderer::Impl {
   CameraTable BuildTable(const camera::CameraConfig& config) const;
   cv::Point2f AtlasPixel(const Eigen::Vector2d& g, double footprint) const;
   // full: every pixel; otherwise only those the top view needs (the rest black).
+  // floor_map: where each pixel samples atlas_bgr (FloorMap); null: the
+  // table's own maps into the scene's atlas.
   cv::Mat RenderCamera(const CameraTable& table, const Scene& scene, const CameraLook& look,
                        const cv::Mat& atlas_bgr, const LightMap& light, const Colour& ego_colour,
-                       bool full, cv::Mat* solid_mask) const;
+                       bool full, cv::Mat* solid_mask, const cv::Mat* floor_map = nullptr) const;
+  // far_floor: the floor beyond the scene's atlas is in `ground` too.
   void ShadeBackground(const CameraTable& t, const Scene& scene, const LightMap& light,
                        const Colour& ego_colour, const cv::Mat& ground, const cv::Mat& specular,
-                       const std::uint8_t* need, const cv::Range& rows, cv::Mat* radiance) const;
+                       const std::uint8_t* need, const cv::Range& rows, bool far_floor,
+                       cv::Mat* radiance) const;
+  // depth: the nearest surface so far along each pixel (null: the floor).
   void ShadeSolids(const CameraTable& t, const Scene& scene, const LightMap& light,
-                   const std::uint8_t* need, cv::Mat* radiance, cv::Mat* solid_mask) const;
+                   const std::uint8_t* need, cv::Mat* radiance, cv::Mat* solid_mask,
+                   const std::vector<float>* depth = nullptr) const;
   void ApplyLook(const CameraLook& look, const CameraTable& table, float gain, bool full,
                  cv::Mat* radiance, cv::Mat* out8) const;
   // What a pass from radiance to 8 bits applies: gains per channel,
@@ -470,7 +502,8 @@ void SceneRenderer::Impl::MarkNeeded() {
     const AzimuthIndex& all = t.all_pixels;
     for (size_t k = 0; k < all.pixel.size(); ++k) {
       if (t.needed.data[all.pixel[k]] != 0)
-        t.needed_pixels.Add(all.azimuth[k], all.pixel[k], all.reach[k]);
+        t.needed_pixels.Add(all.azimuth[k], all.pixel[k], all.reach[k], all.floor_reach[k],
+                            all.roofed_reach[k]);
     }
   }
 }
@@ -548,7 +581,8 @@ PixelRays UnprojectPixels(const camera::CameraModel& model, int width, int heigh
 }
 
 // The valid pixels sorted by the azimuth of their ray, with their reach.
-void IndexByAzimuth(const std::vector<bool>& valid, CameraTable* t) {
+void IndexByAzimuth(const std::vector<bool>& valid, double ceiling_m, CameraTable* t) {
+  const float up = static_cast<float>(ceiling_m - t->c_vehicle.z());
   const size_t n = valid.size();
   std::vector<std::pair<float, int>> az;
   az.reserve(n);
@@ -559,7 +593,13 @@ void IndexByAzimuth(const std::vector<bool>& valid, CameraTable* t) {
   std::sort(az.begin(), az.end());
   for (const auto& [a, i] : az) {
     const size_t k = static_cast<size_t>(i);
-    t->all_pixels.Add(a, i, t->kind.data[k] == kEgo ? -1.0f : t->ground_t[k] * t->horizontal[k]);
+    const bool ego = t->kind.data[k] == kEgo;
+    const float h = t->horizontal[k];
+    const float floor_reach = t->floor_t[k] * h;
+    const float dz = t->rays[k].z();
+    const float roofed = dz > 1e-6f ? std::min(floor_reach, up / dz * h) : floor_reach;
+    t->all_pixels.Add(a, i, ego ? -1.0f : t->ground_t[k] * h, ego ? -1.0f : floor_reach,
+                      ego ? -1.0f : roofed);
   }
 }
 
@@ -593,6 +633,8 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
   const camera::CameraModel model(config.intrinsics);
   CameraTable t;
   t.name = config.name;
+  t.config = config;
+  t.pixel_angle_rad = 1.0 / std::max(1.0, config.intrinsics.fx);
   t.width = model.width();
   t.height = model.height();
   t.c_vehicle = config.T_vehicle_camera.translation();
@@ -602,6 +644,8 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
   t.ground_t.assign(n, kInf);
   t.horizontal.assign(n, 0.0f);
   t.ground_xy.assign(n, Eigen::Vector2f::Zero());
+  t.footprint.assign(n, 0.0f);
+  t.floor_t.assign(n, kInf);
   t.kind = cv::Mat(t.height, t.width, CV_8U, cv::Scalar(kNone));
   t.vignette = cv::Mat(t.height, t.width, CV_32F, cv::Scalar(0));
   t.ego_shade = cv::Mat(t.height, t.width, CV_32F, cv::Scalar(0));
@@ -628,11 +672,14 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
         const double pixel_angle = 1.0 / std::max(1.0, config.intrinsics.fx);
         const double footprint = s * pixel_angle / std::sqrt(std::max(1e-3, -d.z()));
         const cv::Point2f atlas_px = AtlasPixel(g, footprint);
+        t.footprint[i] = static_cast<float>(footprint);
+        t.floor_t[i] = static_cast<float>(s);
+        t.ground_xy[i] = g.cast<float>();
+        kind = kFarGround;
         if (atlas_px.x >= 0) {
           kind = kGround;
           map.at<cv::Point2f>(v, u) = atlas_px;
           t.ground_t[i] = static_cast<float>(cz / -d.z());
-          t.ground_xy[i] = g.cast<float>();
         }
       }
       SolidHit hit;
@@ -653,7 +700,7 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
   }
   cv::convertMaps(map, cv::noArray(), t.map_xy, t.map_frac, CV_16SC2);
   t.ego = t.kind == kEgo;
-  IndexByAzimuth(pixels.valid, &t);
+  IndexByAzimuth(pixels.valid, options.ceiling_height_m, &t);
   return t;
 }
 
@@ -672,16 +719,19 @@ cv::Mat SpecularMap(const CameraTable& t, const Scene& scene, const LightMap& li
   const Eigen::Vector2d c = t.c_vehicle.head<2>();
   const double s = l.lamp_spacing_m;
   constexpr double kReachM = 9.0;  // lamps farther mirror beyond the top view
-  for (double gx = std::floor((c.x() - kReachM - l.lamp_offset.x()) / s);
-       gx <= (c.x() + kReachM - l.lamp_offset.x()) / s; gx += 1) {
-    for (double gy = std::floor((c.y() - kReachM - l.lamp_offset.y()) / s);
-         gy <= (c.y() + kReachM - l.lamp_offset.y()) / s; gy += 1) {
-      const Eigen::Vector2d lamp_centre = l.lamp_offset + Eigen::Vector2d(gx, gy) * s;
+  // The camera in the lamp grid's axes.
+  const Eigen::Vector2d ax(std::cos(l.lamp_grid_yaw_rad), std::sin(l.lamp_grid_yaw_rad));
+  const Eigen::Vector2d ay(-ax.y(), ax.x());
+  const double cu = c.dot(ax), cw = c.dot(ay);
+  const double ou = l.lamp_offset.dot(ax), ow = l.lamp_offset.dot(ay);
+  for (double gx = std::floor((cu - kReachM - ou) / s); gx <= (cu + kReachM - ou) / s; gx += 1) {
+    for (double gy = std::floor((cw - kReachM - ow) / s); gy <= (cw + kReachM - ow) / s; gy += 1) {
+      const Eigen::Vector2d lamp_centre = l.lamp_offset + ax * (gx * s) + ay * (gy * s);
       const double strength = 35.0 * scene.floor.gloss * light.At(lamp_centre.x(), lamp_centre.y());
       // A tube 1.2 m along x: its reflection, three blobs along it, each
       // stretched towards the camera by the grazing view.
       for (const double along_tube : {-0.45, 0.0, 0.45}) {
-        const Eigen::Vector2d lamp = lamp_centre + Eigen::Vector2d(along_tube, 0.0);
+        const Eigen::Vector2d lamp = lamp_centre + ax * along_tube;
         const Eigen::Vector2d r = c + (lamp - c) * (cz / (cz + h));
         const double dist = (r - c).norm();
         const Eigen::Vector2d away =
@@ -713,7 +763,8 @@ cv::Mat SpecularMap(const CameraTable& t, const Scene& scene, const LightMap& li
 // building; indoors the ceiling with its lamps, or the dark below the
 // horizon.
 inline cv::Vec3f SkyOrCeiling(const Eigen::Vector3f& d, const Lighting& l, const LightMap& light,
-                              double ceiling, const Eigen::Vector3d& c_vehicle, float light_here) {
+                              double ceiling, const Eigen::Vector3d& c_vehicle, float light_here,
+                              const Eigen::Vector2d& grid_x) {
   const Colour tint = l.tint;
   cv::Vec3f p;
   if (l.outdoor) {
@@ -738,8 +789,11 @@ inline cv::Vec3f SkyOrCeiling(const Eigen::Vector3f& d, const Lighting& l, const
     const float x = static_cast<float>(c_vehicle.x()) + s * d.x();
     const float y = static_cast<float>(c_vehicle.y()) + s * d.y();
     const double ls = l.lamp_spacing_m;
-    const double lx = x - l.lamp_offset.x() - std::round((x - l.lamp_offset.x()) / ls) * ls;
-    const double ly = y - l.lamp_offset.y() - std::round((y - l.lamp_offset.y()) / ls) * ls;
+    // The point in the lamp grid's axes (grid_x: its first axis).
+    const double rx = x - l.lamp_offset.x(), ry = y - l.lamp_offset.y();
+    const double gu = rx * grid_x.x() + ry * grid_x.y(), gw = ry * grid_x.x() - rx * grid_x.y();
+    const double lx = gu - std::round(gu / ls) * ls;
+    const double ly = gw - std::round(gw / ls) * ls;
     const bool lamp = std::abs(lx) < 0.6 && std::abs(ly) < 0.08;
     const float level = lamp ? 480.0f : 55.0f * light.At(x, y);
     p = cv::Vec3f(level * tint[0], level * tint[1], level * tint[2]);
@@ -806,14 +860,15 @@ SolidWedge WedgeOf(const Solid& solid, const SolidFrame& frame, const Eigen::Vec
 
 // Solid s against the pixels of `index` in its azimuth wedge: where it is
 // nearer than depth, depth becomes its distance and which becomes s.
-void TraceSolid(const CameraTable& t, const AzimuthIndex& index, const Solid& solid,
-                const SolidFrame& frame, size_t s, std::vector<float>* depth_out,
-                std::vector<std::int16_t>* which_out) {
+void TraceSolid(const CameraTable& t, const AzimuthIndex& index, const std::vector<float>& reach,
+                const Solid& solid, const SolidFrame& frame, size_t s,
+                std::vector<float>* depth_out, std::vector<std::int16_t>* which_out) {
   std::vector<float>& depth = *depth_out;
   std::vector<std::int16_t>& which = *which_out;
   const SolidWedge wedge = WedgeOf(solid, frame, t.c_vehicle.head<2>());
   const float lo = wedge.lo, hi = wedge.hi;
   const float near_xy = wedge.near_xy;
+  const float cz = static_cast<float>(t.c_vehicle.z()), top = static_cast<float>(solid.z1);
   const auto scan = [&](float a0, float a1) {
     const auto first = std::lower_bound(index.azimuth.begin(), index.azimuth.end(), a0);
     const auto last = std::upper_bound(index.azimuth.begin(), index.azimuth.end(), a1);
@@ -822,9 +877,13 @@ void TraceSolid(const CameraTable& t, const AzimuthIndex& index, const Solid& so
     for (size_t k = k0; k < k1; ++k) {
       // Rays that meet the floor (or the car) before the solid's nearest
       // point cannot meet it: read in azimuth order, contiguous.
-      if (index.reach[k] < near_xy) continue;
+      if (reach[k] < near_xy) continue;
       const size_t i = static_cast<size_t>(index.pixel[k]);
       if (depth[i] * t.horizontal[i] < near_xy) continue;
+      // A rising ray above the solid's top where it comes nearest passes
+      // over it (every solid is a vertical prism within [z0, z1]).
+      const float dz = t.rays[i].z();
+      if (dz > 0.0f && cz + near_xy * dz / std::max(1e-6f, t.horizontal[i]) > top) continue;
       SolidHit hit;
       hit.t = depth[i];
       if (Intersect(solid, frame.cos_yaw, frame.sin_yaw, t.c_vehicle, t.rays[i], &hit)) {
@@ -931,8 +990,9 @@ void SceneRenderer::Impl::ShadeBackground(const CameraTable& t, const Scene& sce
                                           const LightMap& light, const Colour& ego_colour,
                                           const cv::Mat& ground, const cv::Mat& specular,
                                           const std::uint8_t* need, const cv::Range& rows,
-                                          cv::Mat* radiance) const {
+                                          bool far_floor, cv::Mat* radiance) const {
   const Lighting& l = scene.light;
+  const Eigen::Vector2d grid_x(std::cos(l.lamp_grid_yaw_rad), std::sin(l.lamp_grid_yaw_rad));
   const float light_here = light.At(t.c_vehicle.x(), t.c_vehicle.y());
   const Colour tint = l.tint;
   const int spec_n = static_cast<int>(2 * kSpecularHalfExtentM / kSpecularCellM);
@@ -950,7 +1010,9 @@ void SceneRenderer::Impl::ShadeBackground(const CameraTable& t, const Scene& sce
         p = cv::Vec3f(0, 0, 0);
         continue;
       }
-      switch (kind[u]) {
+      std::uint8_t k_here = kind[u];
+      if (k_here == kFarGround) k_here = far_floor ? kGround : kUp;
+      switch (k_here) {
         case kGround: {
           for (int k = 0; k < 3; ++k) p[k] = g[u][k] * kRadianceScale;
           if (!specular.empty()) {
@@ -967,7 +1029,7 @@ void SceneRenderer::Impl::ShadeBackground(const CameraTable& t, const Scene& sce
           break;
         }
         case kUp:
-          p = SkyOrCeiling(t.rays[i], l, light, ceiling, t.c_vehicle, light_here);
+          p = SkyOrCeiling(t.rays[i], l, light, ceiling, t.c_vehicle, light_here, grid_x);
           break;
         case kEgo: {
           const float shade = ego[u] * light_here;
@@ -984,7 +1046,8 @@ void SceneRenderer::Impl::ShadeBackground(const CameraTable& t, const Scene& sce
 // The solids, each in the azimuth wedge it covers, over the background.
 void SceneRenderer::Impl::ShadeSolids(const CameraTable& t, const Scene& scene,
                                       const LightMap& light, const std::uint8_t* need,
-                                      cv::Mat* radiance, cv::Mat* solid_mask) const {
+                                      cv::Mat* radiance, cv::Mat* solid_mask,
+                                      const std::vector<float>* initial_depth) const {
   const Lighting& l = scene.light;
   const Colour tint = l.tint;
   const Eigen::Vector3f sun(
@@ -992,14 +1055,29 @@ void SceneRenderer::Impl::ShadeSolids(const CameraTable& t, const Scene& scene,
       static_cast<float>(std::sin(l.sun_azimuth_rad) * std::cos(l.sun_elevation_rad)),
       static_cast<float>(std::sin(l.sun_elevation_rad)));
   const size_t n = t.rays.size();
-  std::vector<float> depth(t.ground_t);
+  std::vector<float> depth(initial_depth != nullptr ? *initial_depth : t.ground_t);
   std::vector<std::int16_t> which(n, -1);
   std::vector<SolidFrame> frames;
   frames.reserve(scene.solids.size());
   for (const Solid& solid : scene.solids) frames.emplace_back(solid);
   const AzimuthIndex& index = need != nullptr ? t.needed_pixels : t.all_pixels;
+  // On a lot's floor (initial_depth given) the floor, and indoors the
+  // ceiling, end the rays.
+  const std::vector<float>& reach = initial_depth == nullptr ? index.reach
+                                    : scene.light.outdoor    ? index.floor_reach
+                                                             : index.roofed_reach;
+  // Nearest first: a pixel that already met something nearer than a
+  // solid's nearest point skips it at once (a lot's far walls).
+  std::vector<std::pair<double, size_t>> order;
+  order.reserve(scene.solids.size());
   for (size_t s = 0; s < scene.solids.size(); ++s) {
-    TraceSolid(t, index, scene.solids[s], frames[s], s, &depth, &which);
+    const Solid& solid = scene.solids[s];
+    order.emplace_back(
+        (solid.center - t.c_vehicle.head<2>()).norm() - std::hypot(solid.half_x, solid.half_y), s);
+  }
+  std::sort(order.begin(), order.end());
+  for (const auto& [unused, s] : order) {
+    TraceSolid(t, index, reach, scene.solids[s], frames[s], s, &depth, &which);
   }
   // The car's own body hides the floor as any solid does.
   if (solid_mask != nullptr) *solid_mask = t.ego.clone();
@@ -1025,15 +1103,21 @@ void SceneRenderer::Impl::ShadeSolids(const CameraTable& t, const Scene& scene,
 cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& scene,
                                           const CameraLook& look, const cv::Mat& atlas_bgr,
                                           const LightMap& light, const Colour& ego_colour,
-                                          bool full, cv::Mat* solid_mask) const {
+                                          bool full, cv::Mat* solid_mask,
+                                          const cv::Mat* floor_map) const {
   const std::uint8_t* need = full || t.needed.empty() ? nullptr : t.needed.data;
   cv::Mat ground;
   const cv::Range rows = need != nullptr ? t.needed_rows : cv::Range(0, t.height);
   ground = cv::Mat(t.height, t.width, CV_8UC3);  // read only within rows
   if (rows.size() > 0) {
     cv::Mat band = ground.rowRange(rows);
-    cv::remap(atlas_bgr, band, t.map_xy.rowRange(rows), t.map_frac.rowRange(rows), cv::INTER_LINEAR,
-              cv::BORDER_CONSTANT);
+    if (floor_map != nullptr) {
+      cv::remap(atlas_bgr, band, floor_map->rowRange(rows), cv::noArray(), cv::INTER_LINEAR,
+                cv::BORDER_CONSTANT);
+    } else {
+      cv::remap(atlas_bgr, band, t.map_xy.rowRange(rows), t.map_frac.rowRange(rows),
+                cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    }
   }
   const cv::Mat specular = SpecularMap(t, scene, light);
 
@@ -1041,12 +1125,164 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
   cv::Mat radiance(t.height, t.width, CV_32FC3);
   radiance.rowRange(0, rows.start).setTo(cv::Scalar::all(0));
   radiance.rowRange(rows.end, t.height).setTo(cv::Scalar::all(0));
-  ShadeBackground(t, scene, light, ego_colour, ground, specular, need, rows, &radiance);
-  ShadeSolids(t, scene, light, need, &radiance, solid_mask);
+  ShadeBackground(t, scene, light, ego_colour, ground, specular, need, rows, floor_map != nullptr,
+                  &radiance);
+  if (floor_map != nullptr) {
+    // On a lot's floor: the floor wherever it is, then the tags, nearer.
+    std::vector<float> depth = t.floor_t;
+    if (!scene.light.outdoor) {
+      // Indoors the ceiling ends every ray that rises.
+      const float up = static_cast<float>(options.ceiling_height_m - t.c_vehicle.z());
+      for (size_t i = 0; i < depth.size(); ++i) {
+        if (t.rays[i].z() > 1e-6f) depth[i] = up / t.rays[i].z();
+      }
+    }
+    if (!scene.tags.empty()) ShadeTags(t, scene, light, &radiance, &depth);
+    ShadeSolids(t, scene, light, need, &radiance, solid_mask, &depth);
+  } else {
+    ShadeSolids(t, scene, light, need, &radiance, solid_mask);
+  }
   const float auto_gain = AutoGain(t, radiance);
   cv::Mat out8;
   ApplyLook(look, t, auto_gain, full, &radiance, &out8);
   return out8;
+}
+
+const std::array<cv::Mat, 5>& SceneRenderer::Impl::TagTexture(int tag_id) const {
+  const std::lock_guard<std::mutex> lock(tag_mutex);
+  auto it = tag_textures.find(tag_id);
+  if (it == tag_textures.end()) {
+    std::array<cv::Mat, 5> levels;
+    levels[0] = Tag36h11Image(tag_id, 16);
+    for (size_t l = 1; l < levels.size(); ++l) {
+      cv::resize(levels[l - 1], levels[l], cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    }
+    it = tag_textures.emplace(tag_id, std::move(levels)).first;
+  }
+  return it->second;  // std::map: never moved by later insertions
+}
+
+cv::Mat SceneRenderer::Impl::FloorMap(const CameraTable& t, const FloorAtlas& floor, double yaw_rad,
+                                      const Eigen::Vector2d& tr, bool full) const {
+  cv::Mat map(t.height, t.width, CV_32FC2, cv::Scalar(-10, -10));
+  const cv::Range rows = full || t.needed.empty() ? cv::Range(0, t.height) : t.needed_rows;
+  const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);
+  for (int v = rows.start; v < rows.end; ++v) {
+    const std::uint8_t* kind = t.kind.ptr<std::uint8_t>(v);
+    const std::uint8_t* need = full || t.needed.empty() ? nullptr : t.needed.ptr<std::uint8_t>(v);
+    cv::Point2f* out = map.ptr<cv::Point2f>(v);
+    for (int u = 0; u < t.width; ++u) {
+      if ((kind[u] != kGround && kind[u] != kFarGround) || (need != nullptr && need[u] == 0))
+        continue;
+      const size_t i =
+          static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
+      const Eigen::Vector2f& g = t.ground_xy[i];
+      const Eigen::Vector2d p(c * g.x() - s * g.y() + tr.x(), s * g.x() + c * g.y() + tr.y());
+      out[u] = floor.AtlasPixel(p, t.footprint[i]);
+    }
+  }
+  return map;
+}
+
+namespace {
+
+// Bilinear sample of an 8-bit grey image at (x, y), pixel centres at
+// integers, clamped at the edges.
+float SampleGrey(const cv::Mat& img, double x, double y) {
+  const double cx = std::clamp(x, 0.0, img.cols - 1.001), cy = std::clamp(y, 0.0, img.rows - 1.001);
+  const int x0 = static_cast<int>(cx), y0 = static_cast<int>(cy);
+  const float fx = static_cast<float>(cx - x0), fy = static_cast<float>(cy - y0);
+  const std::uint8_t* r0 = img.ptr<std::uint8_t>(y0);
+  const std::uint8_t* r1 = img.ptr<std::uint8_t>(y0 + 1);
+  return (r0[x0] * (1 - fx) + r0[x0 + 1] * fx) * (1 - fy) +
+         (r1[x0] * (1 - fx) + r1[x0 + 1] * fx) * fy;
+}
+
+// A tag's paper: black and white as albedo, with a one-cell white margin
+// round the tag's own white ring, as tags are printed and mounted.
+constexpr float kTagBlack = 25.0f, kTagWhite = 215.0f;
+constexpr double kTagMarginCells = 1.0;
+
+}  // namespace
+
+// Paper III-B: each tag a vertical square on its wall or pillar, ray cast
+// over the pixels its corners project round.
+void SceneRenderer::Impl::ShadeTags(const CameraTable& t, const Scene& scene, const LightMap& light,
+                                    cv::Mat* radiance, std::vector<float>* depth) const {
+  const camera::CameraModel model(t.config.intrinsics);
+  const Eigen::Isometry3d T_camera_vehicle = t.config.T_vehicle_camera.inverse();
+  const Colour tint = scene.light.tint;
+  const Eigen::Vector3d c = t.c_vehicle;
+  for (const WallTag& tag : scene.tags) {
+    const Eigen::Vector3d n(std::cos(tag.normal_yaw_rad), std::sin(tag.normal_yaw_rad), 0.0);
+    const Eigen::Vector3d right(-n.y(), n.x(), 0.0);  // the viewer's right, facing the tag
+    const Eigen::Vector3d P(tag.center.x(), tag.center.y(), tag.z_center_m);
+    if (n.dot(c - P) <= 0.0) continue;  // seen from behind its wall
+    const double cell = tag.size_m / kTagBlackCells;
+    const double half_cells = kTagTotalCells / 2.0 + kTagMarginCells;
+    const double half = half_cells * cell;
+    double u0 = 1e9, v0 = 1e9, u1 = -1e9, v1 = -1e9;
+    bool whole = true;
+    for (const double sx : {-1.0, 1.0}) {
+      for (const double sz : {-1.0, 1.0}) {
+        const Eigen::Vector3d q = P + right * (sx * half) + Eigen::Vector3d::UnitZ() * (sz * half);
+        const auto px = model.Project(T_camera_vehicle * q);
+        if (!px) {
+          whole = false;
+          continue;
+        }
+        u0 = std::min(u0, px->x());
+        v0 = std::min(v0, px->y());
+        u1 = std::max(u1, px->x());
+        v1 = std::max(v1, px->y());
+      }
+    }
+    // A tag partly behind the camera is left out (a front camera sees
+    // tags ahead).
+    if (!whole) continue;
+    const int x0 = std::max(0, static_cast<int>(std::floor(u0)) - 2);
+    const int y0 = std::max(0, static_cast<int>(std::floor(v0)) - 2);
+    const int x1 = std::min(t.width, static_cast<int>(std::ceil(u1)) + 3);
+    const int y1 = std::min(t.height, static_cast<int>(std::ceil(v1)) + 3);
+    if (x0 >= x1 || y0 >= y1) continue;
+    const std::array<cv::Mat, 5>& texture = TagTexture(tag.tag_id);
+    for (int v = y0; v < y1; ++v) {
+      cv::Vec3f* out = radiance->ptr<cv::Vec3f>(v);
+      const std::uint8_t* kind = t.kind.ptr<std::uint8_t>(v);
+      for (int u = x0; u < x1; ++u) {
+        if (kind[u] == kNone || kind[u] == kEgo) continue;
+        const size_t i =
+            static_cast<size_t>(v) * static_cast<size_t>(t.width) + static_cast<size_t>(u);
+        const Eigen::Vector3d d = t.rays[i].cast<double>();
+        const double facing = n.dot(d);
+        if (facing >= -1e-6) continue;
+        const double along = n.dot(P - c) / facing;
+        if (!(along > 0.0 && along < (*depth)[i])) continue;
+        const Eigen::Vector3d q = c + d * along;
+        const double a = (q - P).dot(right) / cell + kTagTotalCells / 2.0;
+        const double b = (P.z() - q.z()) / cell + kTagTotalCells / 2.0;
+        if (a < -kTagMarginCells || b < -kTagMarginCells || a > kTagTotalCells + kTagMarginCells ||
+            b > kTagTotalCells + kTagMarginCells) {
+          continue;
+        }
+        float texel = 255.0f;
+        if (a >= 0.0 && b >= 0.0 && a < kTagTotalCells && b < kTagTotalCells) {
+          // The level whose texel matches the pixel's footprint on the tag.
+          const double footprint = along * t.pixel_angle_rad / std::max(-facing, 0.2);
+          const double texel0 = cell / 16.0;
+          const int level = std::clamp(
+              static_cast<int>(std::floor(std::log2(std::max(1e-9, footprint / texel0)))), 0, 4);
+          const double per_cell = 16.0 / static_cast<double>(1 << level);
+          texel = SampleGrey(texture[static_cast<size_t>(level)], a * per_cell - 0.5,
+                             b * per_cell - 0.5);
+        }
+        const float albedo = kTagBlack + (kTagWhite - kTagBlack) * texel / 255.0f;
+        const float lit = albedo * light.At(q.x(), q.y());
+        out[u] = cv::Vec3f(lit * tint[0], lit * tint[1], lit * tint[2]);
+        (*depth)[i] = static_cast<float>(along);
+      }
+    }
+  }
 }
 
 namespace {
@@ -1372,6 +1608,47 @@ RenderedScene SceneRenderer::Render(const Scene& scene, FontBook* fonts,
     out.solids = fusion.Fuse(masks);
   }
   if (request.dots) out.dots = m.MarkDots(fusion, scene, near, far);
+  return out;
+}
+
+RenderedScene SceneRenderer::RenderOnFloor(const Scene& view, const LightMap& light,
+                                           const FloorAtlas& floor, double yaw_rad,
+                                           const Eigen::Vector2d& t,
+                                           const RenderRequest& request) const {
+  const Impl& m = *impl_;
+  if (view.cameras.size() < m.fisheyes.size()) {
+    throw std::invalid_argument("scene renderer: the view has " +
+                                std::to_string(view.cameras.size()) + " camera looks for " +
+                                std::to_string(m.fisheyes.size()) + " cameras");
+  }
+  Random ego_rng = Random::Derive(view.seed, 0xe90);
+  const float ego_level = static_cast<float>(ego_rng.Uniform(20, 200));
+  const Colour ego_colour(ego_level, ego_level,
+                          ego_level * static_cast<float>(ego_rng.Uniform(0.9, 1.1)));
+  RenderedScene out;
+  // The front camera (the largest image) on a thread of its own, beside
+  // the fisheyes.
+  std::thread front;
+  if (request.front && m.front) {
+    front = std::thread([&] {
+      const cv::Mat floor_map = m.FloorMap(*m.front, floor, yaw_rad, t, true);
+      out.front = m.RenderCamera(*m.front, view, view.front_camera, floor.bgr, light, ego_colour,
+                                 true, nullptr, &floor_map);
+    });
+  }
+  for (size_t c = 0; c < m.fisheyes.size(); ++c) {
+    const cv::Mat floor_map = m.FloorMap(m.fisheyes[c], floor, yaw_rad, t, request.fisheyes);
+    out.fisheyes.push_back(m.RenderCamera(m.fisheyes[c], view, view.cameras[c], floor.bgr, light,
+                                          ego_colour, request.fisheyes, nullptr, &floor_map));
+  }
+  if (front.joinable()) front.join();
+  if (request.top_view) {
+    cv::Mat top =
+        FusionOf(view).Fuse(out.fisheyes, view.fusion_nearest ? camera::FusionLookup::kNearest
+                                                              : camera::FusionLookup::kBilinear);
+    ProcessLikeTheUnit(view, &top);
+    out.top_view = top;
+  }
   return out;
 }
 

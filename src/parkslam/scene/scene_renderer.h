@@ -26,6 +26,7 @@
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/top_view.h"
+#include "parkslam/scene/floor_painter.h"
 #include "parkslam/scene/font_book.h"
 #include "parkslam/scene/scene.h"
 
@@ -77,6 +78,7 @@ struct RenderRequest {
   bool slot_paint = false;  // the fused clean slot-line coverage
   bool solids = false;      // the fused mask of solids (what hides the floor)
   bool dots = false;        // a dot on every marking point, fused (label checks)
+  bool top_view = true;     // the fused view (RenderOnFloor only: Render always fuses)
 };
 
 struct RenderedScene {
@@ -101,6 +103,17 @@ class SceneRenderer {
   // null (no text is painted then).
   RenderedScene Render(const Scene& scene, FontBook* fonts,
                        const RenderRequest& request = {}) const;
+
+  // One frame set of a car on a floor painted once (a lot's: lot_scene.h).
+  // `view` holds what the car sees besides the floor, in the vehicle frame
+  // (solids, tags, light, camera looks); the floor is `floor`'s, whose
+  // frame holds the vehicle at yaw_rad and t (the car's pose in the map);
+  // `light` is the light seen from the car (LightMap's turning
+  // constructor). Fisheyes, front camera (with tags) and the fused view as
+  // requested; no slot paint or dots. Deterministic as Render.
+  RenderedScene RenderOnFloor(const Scene& view, const LightMap& light, const FloorAtlas& floor,
+                              double yaw_rad, const Eigen::Vector2d& t,
+                              const RenderRequest& request) const;
 
   // The top-view pixel (0-based) where the ground point p_vehicle shows in
   // the scene's fused view: seen by the true rig, fused with the scene's

@@ -1,5 +1,7 @@
 #include "parkslam/sim/scenario_config.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -23,6 +25,16 @@ void CheckRegion(const RegionConfig& r, const std::string& field, FieldChecker& 
 
 void CheckWorld(const WorldConfig& w, FieldChecker& c) {
   c.Require(!w.name.empty(), "world.name", "must not be empty");
+  {
+    const std::vector<std::string>& looks = LookNames();
+    std::string known;
+    for (const std::string& l : looks) known += (known.empty() ? "" : ", ") + l;
+    c.Require(std::find(looks.begin(), looks.end(), w.look) != looks.end(), "world.look",
+              "must be one of " + known);
+  }
+  c.Require(w.look_seed >= 0, "world.look_seed", "must be non-negative");
+  c.Require(std::isfinite(w.parked_share) && w.parked_share <= 1.0, "world.parked_share",
+            "must be at most 1 (negative: drawn from 0.3-0.7)");
   c.Require(w.seed >= 0, "world.seed", "must be non-negative");
   CheckRegion(w.hall, "world.hall", c);
   c.InRange(w.hall.max_x_m - w.hall.min_x_m, kMinHallSide_m, kMaxHallSide_m, "world.hall",
@@ -246,6 +258,12 @@ SlotRowConfig Row(const char* kind, double x, double y, bool far_side_left, int 
 }
 
 }  // namespace
+
+const std::vector<std::string>& LookNames() {
+  static const std::vector<std::string> kNames = {"grey",        "seed",    "epoxy",  "concrete",
+                                                  "underground", "outdoor", "yellow", "faded"};
+  return kNames;
+}
 
 bool WorldConfig::IsValid(std::string* error) const {
   FieldChecker checker(error);

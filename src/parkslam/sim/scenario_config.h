@@ -112,6 +112,13 @@ struct WorldConfig {
   // Share of slots with no painted ID, and with an ID worn beyond reading.
   double id_missing_rate = 0.03;
   double id_worn_rate = 0.05;
+  // How the cameras see the lot (scene/lot_scene.h): "grey", the flat grey
+  // floor with seven-segment IDs; a named look (LookNames()); or "seed",
+  // a look drawn from look_seed. parked_share: the share of slots with a
+  // parked car in a named or seeded look (negative: drawn, 0.3-0.7).
+  std::string look = "grey";
+  int look_seed = 1;
+  double parked_share = -1.0;
   // A lot given explicitly (world_plan.h, docs/world_plan.md): when set,
   // the world is the plan's slots, walls, pillars and tags inside `hall`,
   // and the keys above that generate a lot (rows, corridor, pillar size,
@@ -136,6 +143,9 @@ struct WorldConfig {
     v("tag_regions", tag_regions);
     v("id_missing_rate", id_missing_rate);
     v("id_worn_rate", id_worn_rate);
+    v("look", look);
+    v("look_seed", look_seed);
+    v("parked_share", parked_share);
     v("plan", plan);
   }
 
@@ -349,6 +359,12 @@ struct ScenarioConfig {
 // pillars, a 3 m entrance and a 40 m corridor, 60 tags near the entrance and
 // in the corridor, and an eastern part without any tag.
 ScenarioConfig DefaultScenario();
+
+// The values of WorldConfig::look: "grey", "seed", then the named looks
+// (bright indoor epoxy, dim worn concrete, an underground deck with lamp
+// glare and puddles, outdoor asphalt with sun and hard shadows, yellow
+// paint, faded paint with repaints).
+const std::vector<std::string>& LookNames();
 
 }  // namespace parkslam::sim
 

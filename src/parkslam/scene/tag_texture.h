@@ -1,12 +1,12 @@
-#ifndef PARKSLAM_RENDER_TAG_TEXTURE_H_
-#define PARKSLAM_RENDER_TAG_TEXTURE_H_
+#ifndef PARKSLAM_SCENE_TAG_TEXTURE_H_
+#define PARKSLAM_SCENE_TAG_TEXTURE_H_
 
 // AprilTag images for the renderer (paper III-B: tag36h11 on pillars and
 // walls), drawn by libapriltag itself so that its detector decodes them.
 
 #include <opencv2/core.hpp>
 
-namespace parkslam::render {
+namespace parkslam::scene {
 
 // tag36h11 as libapriltag draws it (apriltag_to_image): kTagTotalCells
 // cells square, a one-cell white border around the black square of
@@ -28,6 +28,6 @@ int Tag36h11Count();
 // std::invalid_argument for pixels_per_cell < 1.
 cv::Mat Tag36h11Image(int tag_id, int pixels_per_cell = 1);
 
-}  // namespace parkslam::render
+}  // namespace parkslam::scene
 
-#endif  // PARKSLAM_RENDER_TAG_TEXTURE_H_
+#endif  // PARKSLAM_SCENE_TAG_TEXTURE_H_

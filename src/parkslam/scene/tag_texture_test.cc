@@ -1,4 +1,4 @@
-#include "parkslam/render/tag_texture.h"
+#include "parkslam/scene/tag_texture.h"
 
 #include <apriltag/apriltag.h>
 #include <apriltag/tag36h11.h>
@@ -7,7 +7,7 @@
 #include <opencv2/core.hpp>
 #include <stdexcept>
 
-namespace parkslam::render {
+namespace parkslam::scene {
 namespace {
 
 TEST(TagTextureTest, IsTenCellsWithWhiteOuterRingAndBlackBorder) {
@@ -63,4 +63,4 @@ TEST(TagTextureTest, RejectsIdsOutsideTheFamily) {
 }
 
 }  // namespace
-}  // namespace parkslam::render
+}  // namespace parkslam::scene

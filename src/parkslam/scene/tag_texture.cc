@@ -1,4 +1,4 @@
-#include "parkslam/render/tag_texture.h"
+#include "parkslam/scene/tag_texture.h"
 
 #include <apriltag/apriltag.h>
 #include <apriltag/tag36h11.h>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace parkslam::render {
+namespace parkslam::scene {
 namespace {
 
 // The family is read-only once created; it lives as long as the program.
@@ -41,4 +41,4 @@ cv::Mat Tag36h11Image(int tag_id, int pixels_per_cell) {
   return image;
 }
 
-}  // namespace parkslam::render
+}  // namespace parkslam::scene
