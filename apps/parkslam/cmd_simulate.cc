@@ -15,9 +15,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "parkslam/camera/camera_model.h"
+#include "parkslam/harness/frame_renderer.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/rig_yaml.h"
-#include "parkslam/render/renderer.h"
 #include "parkslam/sim/world.h"
 
 namespace parkslam::app {
@@ -30,7 +30,8 @@ void WriteImages(const std::filesystem::path& dir, const io::Dataset& dataset, d
   const camera::CameraRig rig = camera::DefaultRig();
   const std::vector<std::string>& names = camera::AllCameraNames();
   const sim::World world = sim::BuildWorld(dataset.scenario->world);
-  const render::Renderer renderer(world, rig, render::RenderOptions{}, dataset.seed);
+  const harness::FrameRenderer renderer(world, dataset.scenario->world, rig, dataset.seed,
+                                        /*whole_images=*/true);
   const Trajectory& truth = dataset.groundtruth_trajectory;
   const TimeNs start = truth.front().t_ns, end = truth.back().t_ns;
   const TimeNs period = FromSeconds(1.0 / rate_hz);

@@ -66,6 +66,7 @@ struct ScenarioOptions {
   std::vector<std::string> overrides;
   double id_confusion_rate = -1.0;  // < 0: keep the scenario's
   double id_partial_rate = -1.0;
+  std::string look;  // a look's name or a seed ("": the scenario's)
 };
 void AddScenarioOptions(CLI::App* command, ScenarioOptions* options);
 // The files the scenario is read from (--world, --plan), named as the user

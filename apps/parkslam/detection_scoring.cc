@@ -170,7 +170,7 @@ ImageScore Score(const ImageTruth& truth, const perception::SlotDetection& detec
 DriveScorer::DriveScorer(const sim::ScenarioConfig& scenario, std::uint64_t seed,
                          const perception::PerceptionOptions& perception)
     : simulation_(sim::Simulate(scenario, seed)),
-      cameras_(simulation_.world, seed, perception),
+      cameras_(simulation_.world, scenario.world, seed, perception),
       truth_(sim::GroundTruthTrajectory(simulation_)) {}
 
 DriveScorer::Frame DriveScorer::ScoreAt(TimeNs t_ns, Scores* scores) const {

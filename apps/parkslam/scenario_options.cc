@@ -45,6 +45,10 @@ void AddScenarioOptions(CLI::App* command, ScenarioOptions* options) {
       ->add_option("--id-partial-rate", options->id_partial_rate,
                    "Share of ID readings with one digit unread")
       ->check(CLI::Range(0.0, 1.0));
+  command->add_option("--look", options->look,
+                      "How the cameras see the lot: grey (flat floor, seven-segment IDs), "
+                      "epoxy, concrete, underground, outdoor, yellow, faded, or a number: a "
+                      "look drawn from that seed (sets world.look and world.look_seed)");
   command->add_option("--set", options->overrides,
                       "Override a scenario key, e.g. --set route.laps=4 "
                       "--set sensors.slots.miss_rate=0.1 (repeatable)");
@@ -66,6 +70,15 @@ sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options) {
   }
   if (options.id_partial_rate >= 0.0) {
     scenario.sensors.ids.partial_rate = options.id_partial_rate;
+  }
+  if (!options.look.empty()) {
+    const bool number = options.look.find_first_not_of("0123456789") == std::string::npos;
+    if (number && options.look.size() <= 9) {
+      scenario.world.look = "seed";
+      scenario.world.look_seed = std::stoi(options.look);
+    } else {
+      scenario.world.look = options.look;  // checked with the scenario below
+    }
   }
   for (const std::string& assignment : options.overrides) {
     io::ApplyOverride(&scenario, assignment);

@@ -9,9 +9,13 @@ namespace parkslam::harness {
 
 LiveCameras::LiveCameras(sim::World world, std::uint64_t render_seed,
                          const perception::PerceptionOptions& perception)
+    : LiveCameras(std::move(world), sim::WorldConfig{}, render_seed, perception) {}
+
+LiveCameras::LiveCameras(sim::World world, const sim::WorldConfig& config,
+                         std::uint64_t render_seed, const perception::PerceptionOptions& perception)
     : world_(std::move(world)),
       rig_(camera::DefaultRig()),
-      renderer_(world_, rig_, render::RenderOptions{}, render_seed),
+      renderer_(world_, config, rig_, render_seed),
       front_end_(rig_, perception),
       cameras_(camera::AllCameraNames()) {}
 

@@ -13,17 +13,21 @@
 
 #include "parkslam/common/se2.h"
 #include "parkslam/common/time.h"
+#include "parkslam/harness/frame_renderer.h"
 #include "parkslam/perception/front_end.h"
-#include "parkslam/render/renderer.h"
 #include "parkslam/sensor/sensor_log.h"
+#include "parkslam/sim/scenario_config.h"
 #include "parkslam/sim/world.h"
 
 namespace parkslam::harness {
 
 class LiveCameras {
  public:
-  // Renders `world` with the default rig; render_seed draws the sensor
-  // noise of every frame (render::Renderer).
+  // Renders `world` with the default rig in the look config.look names
+  // (FrameRenderer); render_seed draws the grey look's dirt and noise.
+  LiveCameras(sim::World world, const sim::WorldConfig& config, std::uint64_t render_seed,
+              const perception::PerceptionOptions& perception = {});
+  // The grey look.
   LiveCameras(sim::World world, std::uint64_t render_seed,
               const perception::PerceptionOptions& perception = {});
 
@@ -37,14 +41,14 @@ class LiveCameras {
 
   const sim::World& world() const { return world_; }
   const camera::CameraRig& rig() const { return rig_; }
-  const render::Renderer& renderer() const { return renderer_; }
+  const FrameRenderer& renderer() const { return renderer_; }
   const perception::PerceptionFrontEnd& front_end() const { return front_end_; }
   const std::vector<std::string>& cameras() const { return cameras_; }
 
  private:
   sim::World world_;
   camera::CameraRig rig_;
-  render::Renderer renderer_;
+  FrameRenderer renderer_;
   perception::PerceptionFrontEnd front_end_;
   std::vector<std::string> cameras_;
 };

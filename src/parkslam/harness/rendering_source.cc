@@ -4,20 +4,28 @@
 
 #include "parkslam/camera/image_plane.h"
 
+#include <opencv2/imgproc.hpp>
+
 namespace parkslam::harness {
 
-CameraFrame RenderCameraFrame(const render::Renderer& renderer, const SE2& T_map_vehicle,
-                              TimeNs t_ns, const std::vector<std::string>& cameras) {
+CameraFrame RenderCameraFrame(const FrameRenderer& renderer, const SE2& T_map_vehicle, TimeNs t_ns,
+                              const std::vector<std::string>& cameras) {
   CameraFrame frame;
   frame.t_ns = t_ns;
   frame.cameras = cameras;
   for (const cv::Mat& image : renderer.RenderAll(T_map_vehicle, t_ns, cameras)) {
-    frame.images.push_back(camera::ToImagePlane(image));
+    if (image.channels() == 3) {
+      cv::Mat grey;
+      cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+      frame.images.push_back(camera::ToImagePlane(grey));
+    } else {
+      frame.images.push_back(camera::ToImagePlane(image));
+    }
   }
   return frame;
 }
 
-RenderingSource::RenderingSource(SensorSource& inner, const render::Renderer& renderer,
+RenderingSource::RenderingSource(SensorSource& inner, const FrameRenderer& renderer,
                                  const Trajectory& truth, std::vector<std::string> cameras,
                                  double rate_hz)
     : inner_(inner), renderer_(renderer), truth_(truth), cameras_(std::move(cameras)) {

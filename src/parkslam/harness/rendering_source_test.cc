@@ -18,8 +18,9 @@ const ShortDrive& Drive() {
   return d;
 }
 
-const render::Renderer& Renderer() {
-  static const render::Renderer r(Drive().simulation.world, camera::DefaultRig(), {}, 3);
+const FrameRenderer& Renderer() {
+  static const FrameRenderer r(Drive().simulation.world, sim::WorldConfig{}, camera::DefaultRig(),
+                               3);
   return r;
 }
 

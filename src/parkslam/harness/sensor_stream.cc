@@ -93,8 +93,8 @@ SensorStream::SensorStream(const StreamInputs& in, const StreamOptions& options)
                                ": live images render the simulated world, and this dataset has "
                                "no scenario (a recording); use its recorded images (--images)");
     }
-    pixels_->cameras = std::make_unique<LiveCameras>(sim::BuildWorld(in.scenario->world), in.seed,
-                                                     options.perception);
+    pixels_->cameras = std::make_unique<LiveCameras>(
+        sim::BuildWorld(in.scenario->world), in.scenario->world, in.seed, options.perception);
     pixels_->frames = std::make_unique<RenderingSource>(
         log_, pixels_->cameras->renderer(), *in.truth, pixels_->cameras->cameras(), rate_hz);
     front_end = &pixels_->cameras->front_end();

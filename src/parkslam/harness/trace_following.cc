@@ -250,8 +250,8 @@ TraceFollowingResult FollowTrace(const sim::ScenarioConfig& scenario, const Sema
   std::unique_ptr<LiveCameras> cameras;
   if (const auto* live = std::get_if<FromLiveRendering>(&options.frames)) {
     if (!(live->rate_hz > 0.0)) throw std::invalid_argument("live image rate must be > 0 Hz");
-    cameras = std::make_unique<LiveCameras>(sim::BuildWorld(scenario.world), options.seed,
-                                            options.perception);
+    cameras = std::make_unique<LiveCameras>(sim::BuildWorld(scenario.world), scenario.world,
+                                            options.seed, options.perception);
     setup.cameras = cameras.get();
     setup.image_period_ns = FromSeconds(1.0 / live->rate_hz);
   }

@@ -28,8 +28,9 @@ const Lot& DefaultLot() {
   return lot;
 }
 
-const render::Renderer& Renderer() {
-  static const render::Renderer r(DefaultLot().world, camera::DefaultRig(), {}, 11);
+const harness::FrameRenderer& Renderer() {
+  static const harness::FrameRenderer r(DefaultLot().world, sim::WorldConfig{},
+                                        camera::DefaultRig(), 11);
   return r;
 }
 
