@@ -26,7 +26,7 @@ constexpr std::uint64_t kCarsTag = 0xca5;
 constexpr std::uint64_t kDirtTag = 0xd17;
 constexpr std::uint64_t kWallsTag = 0x3a11;
 
-Eigen::Vector2d Dir(double yaw) { return {std::cos(yaw), std::sin(yaw)}; }
+Eigen::Vector2d Heading(double yaw) { return {std::cos(yaw), std::sin(yaw)}; }
 
 // The lot's extent: slots, walls and pillars, with a margin.
 struct Extent {
@@ -242,7 +242,7 @@ void PaintIds(const sim::World& world, const LotPaint& paint, Random& rng, Scene
   }
 }
 
-Colour Grey(double level) {
+Colour GreyColour(double level) {
   const auto v = static_cast<float>(level);
   return {v, v, v};
 }
@@ -250,7 +250,7 @@ Colour Grey(double level) {
 // The walls and pillars as solids reaching the ceiling, and the tags on
 // them (paper III-B).
 void AddStructures(const sim::World& world, Random& rng, Scene* lot) {
-  const Colour wall_colour = Grey(rng.Uniform(150, 210));
+  const Colour wall_colour = GreyColour(rng.Uniform(150, 210));
   for (const sim::WorldWall& w : world.walls) {
     const Eigen::Vector2d d = w.b_map - w.a_map;
     const double length = d.norm();
@@ -266,7 +266,7 @@ void AddStructures(const sim::World& world, Random& rng, Scene* lot) {
     wall.colour = wall_colour;
     lot->solids.push_back(wall);
   }
-  const Colour pillar_colour = Grey(rng.Uniform(170, 225));
+  const Colour pillar_colour = GreyColour(rng.Uniform(170, 225));
   for (const sim::WorldPillar& p : world.pillars) {
     Solid pillar;
     pillar.shape = SolidShape::kBox;
@@ -281,7 +281,7 @@ void AddStructures(const sim::World& world, Random& rng, Scene* lot) {
     WallTag tag;
     tag.tag_id = t.tag_id;
     tag.normal_yaw_rad = t.normal_yaw_rad;
-    tag.center = t.p_map + Dir(t.normal_yaw_rad) * kTagStandOffM;
+    tag.center = t.p_map + Heading(t.normal_yaw_rad) * kTagStandOffM;
     tag.z_center_m = kTagCentreHeightM;
     tag.size_m = t.size_m;
     lot->tags.push_back(tag);
@@ -373,7 +373,7 @@ bool LotLook::IsValid(std::string* error) const {
     for (const std::string& n : names) known += ", " + n;
     return fail("unknown look '" + preset + "' (known: " + known + ")");
   }
-  if (!(parked_share <= 1.0) || std::isnan(parked_share)) {
+  if (!(parked_share <= 1.0)) {  // NaN fails too
     return fail("parked_share must be at most 1 (negative: drawn)");
   }
   return true;

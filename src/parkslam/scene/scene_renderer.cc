@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <map>
 #include <memory>
@@ -1628,12 +1629,14 @@ RenderedScene SceneRenderer::RenderOnFloor(const Scene& view, const LightMap& li
   RenderedScene out;
   // The front camera (the largest image) on a thread of its own, beside
   // the fisheyes.
-  std::thread front;
+  // (A future joins however this function is left, and carries the
+  // thread's exception.)
+  std::future<cv::Mat> front;
   if (request.front && m.front) {
-    front = std::thread([&] {
+    front = std::async(std::launch::async, [&] {
       const cv::Mat floor_map = m.FloorMap(*m.front, floor, yaw_rad, t, true);
-      out.front = m.RenderCamera(*m.front, view, view.front_camera, floor.bgr, light, ego_colour,
-                                 true, nullptr, &floor_map);
+      return m.RenderCamera(*m.front, view, view.front_camera, floor.bgr, light, ego_colour, true,
+                            nullptr, &floor_map);
     });
   }
   for (size_t c = 0; c < m.fisheyes.size(); ++c) {
@@ -1641,7 +1644,7 @@ RenderedScene SceneRenderer::RenderOnFloor(const Scene& view, const LightMap& li
     out.fisheyes.push_back(m.RenderCamera(m.fisheyes[c], view, view.cameras[c], floor.bgr, light,
                                           ego_colour, request.fisheyes, nullptr, &floor_map));
   }
-  if (front.joinable()) front.join();
+  if (front.valid()) out.front = front.get();
   if (request.top_view) {
     cv::Mat top =
         FusionOf(view).Fuse(out.fisheyes, view.fusion_nearest ? camera::FusionLookup::kNearest
