@@ -8,6 +8,8 @@
 #include "parkslam/mapping/mapper.h"
 #include "parkslam/sim/simulator.h"
 
+#include <opencv2/core.hpp>
+
 namespace parkslam::harness {
 namespace {
 
@@ -76,6 +78,50 @@ TEST(RenderingSourceTest, InvalidRateThrows) {
   const ShortDrive& d = Drive();
   SensorLogSource log(d.simulation.log);
   EXPECT_THROW(RenderingSource(log, Renderer(), d.truth, {"front"}, 0.0), std::invalid_argument);
+}
+
+// A named look goes through the scene renderer's lot: colour images of
+// every camera's size, taken to grey planes for the front end.
+TEST(RenderingSourceTest, ANamedLookRendersEveryCameraAndTheFrameIsGrey) {
+  sim::World world;
+  for (int k = 0; k < 2; ++k) {
+    sim::WorldSlot slot;
+    const double x0 = 2.5 * k;
+    slot.corners_map = {Eigen::Vector2d(x0, 3.0), Eigen::Vector2d(x0 + 2.5, 3.0),
+                        Eigen::Vector2d(x0 + 2.5, 8.3), Eigen::Vector2d(x0, 8.3)};
+    slot.painted_id = std::to_string(40 + k);
+    world.slots.push_back(slot);
+  }
+  sim::WorldConfig config;
+  config.look = "concrete";
+  config.parked_share = 0.5;
+  const camera::CameraRig rig = camera::DefaultRig();
+  const FrameRenderer renderer(world, config, rig, 1);
+  EXPECT_EQ(renderer.look(), "concrete");
+  const std::vector<std::string> names = {"front", "front_mono", "left"};
+  const std::vector<cv::Mat> images = renderer.RenderAll(SE2(2.5, 0.0, 1.5), 1000, names);
+  ASSERT_EQ(images.size(), names.size());
+  for (size_t c = 0; c < names.size(); ++c) {
+    const camera::CameraConfig* camera = rig.Find(names[c]);
+    ASSERT_NE(camera, nullptr);
+    EXPECT_EQ(images[c].type(), CV_8UC3) << names[c];
+    EXPECT_EQ(images[c].cols, camera->intrinsics.width) << names[c];
+    EXPECT_EQ(images[c].rows, camera->intrinsics.height) << names[c];
+    EXPECT_GT(cv::mean(images[c])[1], 5.0) << names[c];
+  }
+  const CameraFrame frame = RenderCameraFrame(renderer, SE2(2.5, 0.0, 1.5), 1000, names);
+  ASSERT_EQ(frame.images.size(), names.size());
+  EXPECT_EQ(frame.images[1].pixels->size(),
+            static_cast<size_t>(frame.images[1].width * frame.images[1].height));
+  EXPECT_THROW(renderer.RenderAll(SE2(), 0, {"periscope"}), std::invalid_argument);
+}
+
+TEST(RenderingSourceTest, AnUnknownLookIsRefused) {
+  sim::WorldConfig config;
+  config.look = "marble";
+  std::string error;
+  EXPECT_FALSE(config.IsValid(&error));
+  EXPECT_NE(error.find("world.look"), std::string::npos) << error;
 }
 
 }  // namespace
