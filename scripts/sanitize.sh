@@ -7,7 +7,9 @@
 # The slowest tests run once, in scripts/test.sh's Release suite, and not
 # here: the ones that took over 12 s each under the sanitizers (long drives,
 # rendered frames, the CLI script, the format check), 34 of 743 tests but
-# 80 % of a sanitized run's 19 minutes. Every other test runs here too.
+# 80 % of a sanitized run's 19 minutes when measured; four that paint a
+# realistic lot's floor (3 to 40 s each in Release) joined them without a
+# sanitized measurement. Every other test runs here too.
 # SANITIZE_ALL=1 runs them all.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -33,6 +35,9 @@ slow=(cli_test format_check
   'SceneRendererTest\.(SolidsHideTheFloorAndItsLabels|StraightSeamsKeepTheirLabels)'
   'SceneRendererTest\.TheBumpersLipHidesADomeAheadOfTheCar'
   'SensorStreamTest\.(LiveRenderingReplacesTheObservationsWithWhatTheCamerasSee|OnPixelsTheLocalizerUsesSlotsAndTags)'
+  'SensorStreamTest\.InARealisticLookTheLocalizerStillUsesSlotsAndTags'
+  'LotRendererTest\.(TheFloorStaysInPlaceAsTheCarMoves|SlotLinesShowBrighterThanTheFloor)'
+  'LotRendererTest\.TheFrontCameraSeesTheTagLibapriltagDecodes'
   'SlotIdReaderTest\.ReadsTheDefaultLotInRenderedTopViews'
   'TraceFollowingTest\.(DeadReckoningAloneDriftsAway|FollowsTheTraceOnPixels)'
   'TraceFollowingTest\.(RealisticVehicleRepeatsTheTraceAt4And10Kmh|SafetyStopsInRandomKidnapsAndBlackouts)')
