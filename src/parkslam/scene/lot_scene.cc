@@ -250,7 +250,7 @@ Colour GreyColour(double level) {
 // The walls and pillars as solids reaching the ceiling, and the tags on
 // them (paper III-B).
 void AddStructures(const sim::World& world, Random& rng, Scene* lot) {
-  const Colour wall_colour = GreyColour(rng.Uniform(150, 210));
+  const Colour wall_colour = GreyColour(rng.Uniform(110, 170));
   for (const sim::WorldWall& w : world.walls) {
     const Eigen::Vector2d d = w.b_map - w.a_map;
     const double length = d.norm();
@@ -266,7 +266,7 @@ void AddStructures(const sim::World& world, Random& rng, Scene* lot) {
     wall.colour = wall_colour;
     lot->solids.push_back(wall);
   }
-  const Colour pillar_colour = GreyColour(rng.Uniform(170, 225));
+  const Colour pillar_colour = GreyColour(rng.Uniform(130, 190));
   for (const sim::WorldPillar& p : world.pillars) {
     Solid pillar;
     pillar.shape = SolidShape::kBox;
@@ -357,6 +357,15 @@ DrawnLook DrawLook(const LotLook& look) {
   out.outdoor = look.preset == "outdoor" || (look.preset == "seed" && look_rng.Bernoulli(0.35));
   out.look = SampleLook(MixSeed(look.seed, kLookTag), out.outdoor);
   ApplyPreset(look.preset, look_rng, &out.look, &out.paint);
+  // The front camera is a camera of its own, not one of the surround-view
+  // unit's: its own exposure (a fisheye's offset, up to twice too bright,
+  // clips the tags' white, and their corners' fit then shrinks the tags:
+  // 1.5 % too far at 17 m), no coarse sensor, its own focus and lens.
+  CameraLook& front = out.look.front_camera;
+  front.exposure = 1.0;
+  front.sensor_scale = 1.0;
+  front.defocus_px = std::min(front.defocus_px, 0.5);
+  front.vignetting = std::min(front.vignetting, 0.3);
   return out;
 }
 

@@ -32,6 +32,7 @@ constexpr double kMaxFootprintNearM = 0.035;
 constexpr double kSpecularCellM = 0.1;
 constexpr double kMaxOffAxisRad = 1.66;        // 95 degrees: a 190-degree lens
 constexpr float kAutoExposureTarget = 115.0f;  // mean grey level the cameras meter for
+constexpr float kHighlightLevel = 235.0f;      // where a lot's cameras keep their highlights
 constexpr double kSpecularHalfExtentM = 10.0;
 
 // kFarGround: the floor beyond the scene's atlas (a lot's floor reaches
@@ -969,18 +970,30 @@ Colour SolidAlbedo(const Solid& solid, const SolidFrame& frame, const SolidHit& 
 
 // Auto exposure: each camera meters its own image (every 7th pixel), so the
 // four differ where they see different things (visible seams).
-float AutoGain(const CameraTable& t, const cv::Mat& radiance) {
+// protect_highlights: as a camera's exposure does, also keep the brightest
+// 2 % of the metered pixels below white (a lot's bright walls and tags,
+// which would otherwise clip, and a clipped tag's corners shrink it).
+float AutoGain(const CameraTable& t, const cv::Mat& radiance, bool protect_highlights) {
   const size_t n = t.rays.size();
   double sum = 0.0;
   int count = 0;
+  std::vector<float> lumas;
   const cv::Vec3f* px = radiance.ptr<cv::Vec3f>(0);
   for (size_t i = 0; i < n; i += 7) {
     if (t.kind.data[i] == kNone || (!t.metered.empty() && t.metered.data[i] == 0)) continue;
-    sum += Luma(px[i]);
+    const float luma = Luma(px[i]);
+    sum += luma;
     ++count;
+    if (protect_highlights) lumas.push_back(luma);
   }
   const float metered = count > 0 ? static_cast<float>(sum / count) : kAutoExposureTarget;
-  return std::clamp(kAutoExposureTarget / std::max(1.0f, metered), 0.3f, 4.0f);
+  float gain = kAutoExposureTarget / std::max(1.0f, metered);
+  if (protect_highlights && !lumas.empty()) {
+    const auto p98 = lumas.begin() + static_cast<long>(0.98 * static_cast<double>(lumas.size()));
+    std::nth_element(lumas.begin(), p98, lumas.end());
+    gain = std::min(gain, kHighlightLevel / std::max(1.0f, *p98));
+  }
+  return std::clamp(gain, 0.3f, 4.0f);
 }
 
 }  // namespace
@@ -1143,7 +1156,7 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
   } else {
     ShadeSolids(t, scene, light, need, &radiance, solid_mask);
   }
-  const float auto_gain = AutoGain(t, radiance);
+  const float auto_gain = AutoGain(t, radiance, floor_map != nullptr);
   cv::Mat out8;
   ApplyLook(look, t, auto_gain, full, &radiance, &out8);
   return out8;
