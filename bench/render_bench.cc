@@ -5,7 +5,6 @@
 
 #include <benchmark/benchmark.h>
 
-#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -68,9 +67,7 @@ void BM_RenderLotFrameSet(benchmark::State& state, const std::string& look_name,
   const sim::World world = sim::BuildWorld(scenario.world);
   scene::LotLook look;
   look.preset = look_name;
-  scene::LotRendererOptions lot_options;
-  if (const char* range = std::getenv("LOT_RANGE")) lot_options.view_range_m = std::atof(range);
-  const scene::LotRenderer renderer(world, camera::DefaultRig(), look, lot_options);
+  const scene::LotRenderer renderer(world, camera::DefaultRig(), look);
   scene::RenderRequest request;
   request.front = front;
   request.top_view = false;
