@@ -35,30 +35,9 @@ struct LotLook {
 // shadows, yellow paint, faded paint with repaints.
 const std::vector<std::string>& LotPresetNames();
 
-// How one lot family paints its slots, drawn from the look.
-struct LotPaint {
-  PaintKind paint = PaintKind::kWhite;
-  double line_width_m = 0.15;
-  double opacity = 0.95, wear = 0.05;
-  bool entrance_line = false;  // a continuous entrance line; else stubs at the corners
-  double stub_m = 0.5;
-  bool back_line = true;
-  bool repainted = false;  // the ghost of an older layout beside today's lines
-  // Where IDs are painted: 0 inside the slot behind the entrance, read
-  // from the aisle; 1 the same, read from the slot; 2 along a separating
-  // line (turned a quarter).
-  int id_place = 0;
-  double id_height_m = 0.5, id_setback_m = 0.3;
-  int font = 0;  // into the font book
-  bool bold = true;
-  double stretch = 1.0;
-};
-
 // The lot of `world` with `look`, in the map frame. Deterministic by the
 // look. Throws std::invalid_argument for an invalid look.
 Scene BuildLotScene(const sim::World& world, const LotLook& look);
-// The paint of the lot family that BuildLotScene draws for `look`.
-LotPaint LotPaintOf(const LotLook& look);
 
 }  // namespace parkslam::scene
 

@@ -84,6 +84,7 @@ struct CameraTable {
   std::vector<Eigen::Vector2f> ground_xy;
   std::vector<float> footprint;  // the pixel's footprint on the floor, metres
   std::vector<float> floor_t;    // along the ray to the floor wherever it meets it; inf up
+  std::vector<float> roofed_t;   // the same under the ceiling (indoors: every rising ray ends)
   AzimuthIndex all_pixels;       // every valid pixel
   AzimuthIndex needed_pixels;    // those the top view needs
 };
@@ -583,8 +584,7 @@ PixelRays UnprojectPixels(const camera::CameraModel& model, int width, int heigh
 }
 
 // The valid pixels sorted by the azimuth of their ray, with their reach.
-void IndexByAzimuth(const std::vector<bool>& valid, double ceiling_m, CameraTable* t) {
-  const float up = static_cast<float>(ceiling_m - t->c_vehicle.z());
+void IndexByAzimuth(const std::vector<bool>& valid, CameraTable* t) {
   const size_t n = valid.size();
   std::vector<std::pair<float, int>> az;
   az.reserve(n);
@@ -597,11 +597,8 @@ void IndexByAzimuth(const std::vector<bool>& valid, double ceiling_m, CameraTabl
     const size_t k = static_cast<size_t>(i);
     const bool ego = t->kind.data[k] == kEgo;
     const float h = t->horizontal[k];
-    const float floor_reach = t->floor_t[k] * h;
-    const float dz = t->rays[k].z();
-    const float roofed = dz > 1e-6f ? std::min(floor_reach, up / dz * h) : floor_reach;
-    t->all_pixels.Add(a, i, ego ? -1.0f : t->ground_t[k] * h, ego ? -1.0f : floor_reach,
-                      ego ? -1.0f : roofed);
+    t->all_pixels.Add(a, i, ego ? -1.0f : t->ground_t[k] * h, ego ? -1.0f : t->floor_t[k] * h,
+                      ego ? -1.0f : t->roofed_t[k] * h);
   }
 }
 
@@ -702,7 +699,12 @@ CameraTable SceneRenderer::Impl::BuildTable(const camera::CameraConfig& config) 
   }
   cv::convertMaps(map, cv::noArray(), t.map_xy, t.map_frac, CV_16SC2);
   t.ego = t.kind == kEgo;
-  IndexByAzimuth(pixels.valid, options.ceiling_height_m, &t);
+  const float up = static_cast<float>(options.ceiling_height_m - t.c_vehicle.z());
+  t.roofed_t = t.floor_t;
+  for (size_t i = 0; i < n; ++i) {
+    if (t.rays[i].z() > 1e-6f) t.roofed_t[i] = up / t.rays[i].z();
+  }
+  IndexByAzimuth(pixels.valid, &t);
   return t;
 }
 
@@ -1142,15 +1144,9 @@ cv::Mat SceneRenderer::Impl::RenderCamera(const CameraTable& t, const Scene& sce
   ShadeBackground(t, scene, light, ego_colour, ground, specular, need, rows, floor_map != nullptr,
                   &radiance);
   if (floor_map != nullptr) {
-    // On a lot's floor: the floor wherever it is, then the tags, nearer.
-    std::vector<float> depth = t.floor_t;
-    if (!scene.light.outdoor) {
-      // Indoors the ceiling ends every ray that rises.
-      const float up = static_cast<float>(options.ceiling_height_m - t.c_vehicle.z());
-      for (size_t i = 0; i < depth.size(); ++i) {
-        if (t.rays[i].z() > 1e-6f) depth[i] = up / t.rays[i].z();
-      }
-    }
+    // On a lot's floor: the floor wherever it is (indoors under the
+    // ceiling), then the tags, nearer.
+    std::vector<float> depth = scene.light.outdoor ? t.floor_t : t.roofed_t;
     if (!scene.tags.empty()) ShadeTags(t, scene, light, &radiance, &depth);
     ShadeSolids(t, scene, light, need, &radiance, solid_mask, &depth);
   } else {
