@@ -6,8 +6,9 @@
 // outlier-free solution, the chi-square over the kept edges, the closures
 // rejected and the time.
 //
-//   parkslam_graph_bench [--seed 1] [--null-weight 0.01] [--null-scale 1e-6]
-//                        [--step 50] [--no-gate] [--quick]
+//   parkslam_graph_bench [--seed 1] [--null-weight 0.01] [--null-scale 1e-11]
+//                        [--step 50] [--no-gate] [--schedule auto|batch|incremental]
+//                        [--no-calibration] [--quick]
 
 #include <chrono>
 #include <cmath>
@@ -108,12 +109,20 @@ int main(int argc, char** argv) {
       mixture.incremental_step = std::atoi(argv[++i]);
     } else if (a == "--no-gate") {
       mixture.gate_new_closures = false;
+    } else if (a == "--no-calibration") {
+      mixture.calibrate_information = false;
+    } else if (a == "--schedule" && i + 1 < argc) {
+      const std::string schedule = argv[++i];
+      mixture.schedule = schedule == "batch"         ? graph::Schedule::kBatch
+                         : schedule == "incremental" ? graph::Schedule::kIncremental
+                                                     : graph::Schedule::kAuto;
     } else if (a == "--quick") {
       quick = true;
     } else {
       std::fprintf(stderr,
                    "usage: parkslam_graph_bench [--seed 1] [--null-weight 0.01] "
-                   "[--null-scale 1e-6] [--step 50] [--no-gate] [--quick]\n");
+                   "[--null-scale 1e-11] [--step 50] [--no-gate] "
+                   "[--schedule auto|batch|incremental] [--no-calibration] [--quick]\n");
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }

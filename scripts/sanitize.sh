@@ -39,6 +39,7 @@ slow=(cli_test format_check
   'LotRendererTest\.(TheFloorStaysInPlaceAsTheCarMoves|SlotLinesShowBrighterThanTheFloor)'
   'LotRendererTest\.TheFrontCameraSeesTheTagLibapriltagDecodes'
   'SlotIdReaderTest\.ReadsTheDefaultLotInRenderedTopViews'
+  'StandardGraphsTest\.M3500sRandomOutliersAreAllRejectedAndTheCleanOptimumReached'
   'TraceFollowingTest\.(DeadReckoningAloneDriftsAway|FollowsTheTraceOnPixels)'
   'TraceFollowingTest\.(RealisticVehicleRepeatsTheTraceAt4And10Kmh|SafetyStopsInRandomKidnapsAndBlackouts)')
 exclude=()

@@ -27,9 +27,9 @@ using PointBlock = std::array<double, 2>;
 PoseBlock ToBlock(const SE2& T) { return {T.x(), T.y(), T.yaw()}; }
 SE2 FromBlock(const PoseBlock& b) { return SE2(b[0], b[1], b[2]); }
 
-// The incremental schedule: the order of each pose id, and for each step of
+// The incremental order: the index of each pose id, and for each step of
 // that order the edges that become complete there.
-struct Schedule {
+struct PoseOrder {
   std::vector<int> pose_ids;                     // in id order
   std::map<int, int> order;                      // pose id -> index in pose_ids
   std::vector<std::vector<int>> pose_edges_at;   // by order index
@@ -37,8 +37,8 @@ struct Schedule {
   std::vector<int> odometry_into;                // edge from the previous pose, or -1
 };
 
-Schedule MakeSchedule(const PoseGraph& graph) {
-  Schedule s;
+PoseOrder MakePoseOrder(const PoseGraph& graph) {
+  PoseOrder s;
   for (const auto& [id, pose] : graph.poses) {
     s.order[id] = static_cast<int>(s.pose_ids.size());
     s.pose_ids.push_back(id);
@@ -69,7 +69,11 @@ ceres::Problem::Options ProblemOptions() {
 ceres::Solver::Options SolverOptions(const SolveOptions& options) {
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.trust_region_strategy_type =
+      options.trust_region == TrustRegion::kDogleg ? ceres::DOGLEG : ceres::LEVENBERG_MARQUARDT;
+  solver_options.initial_trust_region_radius = options.initial_trust_region_radius;
+  solver_options.max_trust_region_radius =
+      std::max(solver_options.max_trust_region_radius, options.initial_trust_region_radius);
   solver_options.max_num_iterations = options.max_iterations;
   solver_options.function_tolerance = options.function_tolerance;
   solver_options.num_threads = 1;
@@ -85,7 +89,7 @@ class IncrementalSolve {
   IncrementalSolve(const SolveOptions& options, PoseGraph* graph)
       : options_(options),
         graph_(graph),
-        schedule_(MakeSchedule(*graph)),
+        schedule_(MakePoseOrder(*graph)),
         pose_count_(static_cast<int>(schedule_.pose_ids.size())),
         robust_(options.robust == RobustKernel::kMaxMixture),
         mixture_of_(graph->pose_edges.size(), nullptr),
@@ -260,7 +264,7 @@ class IncrementalSolve {
 
   const SolveOptions& options_;
   PoseGraph* graph_;
-  const Schedule schedule_;
+  const PoseOrder schedule_;
   const int pose_count_;
   const bool robust_;
   // Storage with stable addresses (map nodes) for Ceres' parameter blocks.
@@ -279,7 +283,168 @@ class IncrementalSolve {
   std::vector<int> new_closures_;
 };
 
+// One schedule from the graph's estimates: `step` poses between solves (the
+// whole graph at once for step >= the pose count).
+SolveSummary RunSchedule(const SolveOptions& options, int step, PoseGraph* graph) {
+  IncrementalSolve solve(options, graph);
+  const int pose_count = solve.pose_count();
+  step = step > 0 ? std::min(step, pose_count) : pose_count;
+  for (int added = 0; added < pose_count;) {
+    const int until = std::min(pose_count, added + step);
+    solve.Step(added, until);
+    added = until;
+  }
+  return solve.Finish();
+}
+
+SolveOptions Batch(SolveOptions options) {
+  options.gate_new_closures = false;
+  return options;
+}
+
+// Adds the solver work of `more` to `total`.
+void AddWork(const SolveSummary& more, SolveSummary* total) {
+  total->iterations += more.iterations;
+  total->solves += more.solves;
+  total->converged = total->converged && more.converged;
+}
+
+// e^T Omega e of each kept closure.
+std::vector<double> KeptClosureChi2(const PoseGraph& graph, const std::vector<bool>& kept) {
+  std::vector<double> chi2;
+  for (size_t i = 0; i < graph.pose_edges.size(); ++i) {
+    if (kept[i] && !IsOdometry(graph.pose_edges[i])) {
+      chi2.push_back(PoseEdgeChi2(graph, graph.pose_edges[i]));
+    }
+  }
+  return chi2;
+}
+
+// The information scale that makes the kept closures' chi2 fit chi-square(3):
+// their median onto its median (robust while fewer than half of them are
+// wrong), or their mean onto its mean 3 (the a-posteriori variance factor of
+// geodesy, which heavier tails widen). 0 with fewer than 10 kept closures.
+double VarianceScale(std::vector<double> chi2, bool median) {
+  constexpr double kMedianChi2Of3Dof = 2.3659738843753377;
+  if (chi2.size() < 10) return 0.0;
+  if (median) {
+    std::nth_element(chi2.begin(), chi2.begin() + chi2.size() / 2, chi2.end());
+    return kMedianChi2Of3Dof / chi2[chi2.size() / 2];
+  }
+  double sum = 0.0;
+  for (double c : chi2) sum += c;
+  return 3.0 * static_cast<double>(chi2.size()) / sum;
+}
+
+// Scales every information matrix of a copy of `graph` by `scale`.
+PoseGraph ScaledInformation(const PoseGraph& graph, double scale) {
+  PoseGraph scaled = graph;
+  for (PoseEdge& e : scaled.pose_edges) e.information *= scale;
+  for (PointEdge& e : scaled.point_edges) e.information *= scale;
+  return scaled;
+}
+
+// The kept flags and rejections of `kept` with the chi2 of `graph`'s own
+// information at its estimates.
+void Rejudge(const PoseGraph& graph, SolveSummary* summary) {
+  summary->chi2 = 0.0;
+  summary->rejected = 0;
+  for (size_t i = 0; i < graph.pose_edges.size(); ++i) {
+    if (!summary->pose_edge_kept[i]) {
+      ++summary->rejected;
+      continue;
+    }
+    summary->chi2 += PoseEdgeChi2(graph, graph.pose_edges[i]);
+  }
+  for (const PointEdge& e : graph.point_edges) {
+    const Eigen::Vector2d r =
+        graph.poses.at(e.pose).inverse() * graph.points.at(e.point) - e.p_pose;
+    summary->chi2 += r.dot(e.information * r);
+  }
+}
+
+// Max-Mixture: the schedules of kAuto (or the one asked for), then the
+// calibration of the information (pose_graph_solver.h).
+SolveSummary SolveMixture(const SolveOptions& options, PoseGraph* graph) {
+  SolveSummary summary;
+  if (options.schedule == Schedule::kIncremental) {
+    summary = RunSchedule(options, options.incremental_step, graph);
+    summary.schedule = "incremental";
+  } else {
+    PoseGraph batch = *graph;
+    summary = RunSchedule(Batch(options), 0, &batch);
+    summary.schedule = "batch";
+    if (options.schedule == Schedule::kAuto) {
+      // The incremental schedule too, with the information sized by the
+      // closures batch kept (its gate and thresholds are then the data's),
+      // and the two solutions compared in that same model.
+      double scale = 1.0;
+      if (options.calibrate_information) {
+        const double kept_scale =
+            VarianceScale(KeptClosureChi2(batch, summary.pose_edge_kept), false);
+        if (kept_scale > 1e-9 && kept_scale < 1e9) scale = kept_scale;
+      }
+      PoseGraph incremental = ScaledInformation(*graph, scale);
+      SolveSummary other = RunSchedule(options, options.incremental_step, &incremental);
+      other.schedule = "incremental";
+      PoseGraph batch_scaled = ScaledInformation(batch, scale);
+      const bool better = MixtureCost(options, incremental) < MixtureCost(options, batch_scaled);
+      AddWork(better ? summary : other, better ? &other : &summary);
+      if (better) {
+        summary = other;
+        batch.poses = incremental.poses;
+        batch.points = incremental.points;
+      }
+    }
+    *graph = std::move(batch);
+  }
+  if (!options.calibrate_information) return summary;
+  // First the median's rounds, which shed the wrong closures a loose
+  // information let in (robust while fewer than half of the kept ones are
+  // wrong), then the mean's, which size the noise of the rest and widen it
+  // for real closures' heavier tails.
+  // The mean's rounds start again from the uncalibrated solution, so that
+  // the tail the median's rounds shed can return.
+  const PoseGraph uncalibrated = *graph;
+  for (const bool median : {true, false}) {
+    for (int round = 0; round < (median ? 8 : 3); ++round) {
+      const double scale = VarianceScale(KeptClosureChi2(*graph, summary.pose_edge_kept), median);
+      if (!(scale > 1e-9 && scale < 1e9)) break;
+      PoseGraph scaled = ScaledInformation(!median && round == 0 ? uncalibrated : *graph, scale);
+      SolveSummary calibrated = RunSchedule(Batch(options), 0, &scaled);
+      AddWork(summary, &calibrated);
+      calibrated.schedule = summary.schedule;
+      calibrated.information_scale = scale;
+      graph->poses = scaled.poses;
+      graph->points = scaled.points;
+      const bool same = calibrated.pose_edge_kept == summary.pose_edge_kept;
+      summary = std::move(calibrated);
+      if (same) break;
+    }
+  }
+  Rejudge(*graph, &summary);
+  return summary;
+}
+
 }  // namespace
+
+double MixtureCost(const SolveOptions& options, const PoseGraph& graph) {
+  const double s = options.null_information_scale;
+  const double null_cost = -std::log(options.null_weight) - 1.5 * std::log(s);
+  const bool robust = options.robust == RobustKernel::kMaxMixture;
+  double cost = 0.0;
+  for (const PoseEdge& e : graph.pose_edges) {
+    const double chi2 = PoseEdgeChi2(graph, e);
+    cost +=
+        robust && !IsOdometry(e) ? std::min(0.5 * chi2, null_cost + 0.5 * s * chi2) : 0.5 * chi2;
+  }
+  for (const PointEdge& e : graph.point_edges) {
+    const Eigen::Vector2d r =
+        graph.poses.at(e.pose).inverse() * graph.points.at(e.point) - e.p_pose;
+    cost += 0.5 * r.dot(e.information * r);
+  }
+  return cost;
+}
 
 std::string ValidateSolveOptions(const SolveOptions& o) {
   if (!(o.null_weight > 0.0 && o.null_weight <= 1.0)) return "null_weight must be in (0, 1]";
@@ -287,6 +452,9 @@ std::string ValidateSolveOptions(const SolveOptions& o) {
     return "null_information_scale must be in (0, 1)";
   }
   if (o.incremental_step < 0) return "incremental_step must be >= 0";
+  if (!(o.initial_trust_region_radius >= 1e-6 && o.initial_trust_region_radius <= 1e16)) {
+    return "initial_trust_region_radius must be in [1e-6, 1e16]";
+  }
   if (o.max_iterations < 1 || o.max_iterations > 100000) {
     return "max_iterations must be in [1, 100000]";
   }
@@ -302,15 +470,9 @@ SolveSummary SolvePoseGraph(const SolveOptions& options, PoseGraph* graph) {
   }
   CheckPoseGraph(*graph);
   const auto start = std::chrono::steady_clock::now();
-  IncrementalSolve solve(options, graph);
-  const int pose_count = solve.pose_count();
-  const int step = options.incremental_step > 0 ? options.incremental_step : pose_count;
-  for (int added = 0; added < pose_count;) {
-    const int until = std::min(pose_count, added + step);
-    solve.Step(added, until);
-    added = until;
-  }
-  SolveSummary summary = solve.Finish();
+  SolveSummary summary = options.robust == RobustKernel::kMaxMixture
+                             ? SolveMixture(options, graph)
+                             : RunSchedule(options, options.incremental_step, graph);
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

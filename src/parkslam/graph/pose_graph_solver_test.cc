@@ -95,6 +95,46 @@ TEST(PoseGraphSolverTest, MaxMixtureRejectsConsistentGroupsOnARing) {
   EXPECT_GE(mixture.rejected, outliers);
 }
 
+// Information that states ten times the true sigmas lets local wrong
+// closures (0.5-2 m off, 10-40 true sigmas) pass as inliers (1-4 stated
+// sigmas); calibrated from the kept closures, the mixture sheds them.
+TEST(PoseGraphSolverTest, CalibrationShedsNearClosuresThatLooseInformationLetIn) {
+  sim::SyntheticGraph clean = Manhattan(600, 7);
+  for (PoseEdge& e : clean.graph.pose_edges) e.information /= 100.0;
+  const double clean_rmse = SolvedRmse(MaxMixture(), clean);
+  sim::SyntheticGraph spoiled = clean;
+  Random random(77);
+  ASSERT_EQ(sim::AddLocalOutliers(10, 20, spoiled.truth, &random, &spoiled.graph), 10);
+
+  SolveSummary calibrated, trusting;
+  const double calibrated_rmse = SolvedRmse(MaxMixture(), spoiled, &calibrated);
+  SolveOptions loose = MaxMixture();
+  loose.calibrate_information = false;
+  const double trusting_rmse = SolvedRmse(loose, spoiled, &trusting);
+  EXPECT_LT(calibrated_rmse, 1.1 * clean_rmse + 0.01) << clean_rmse;
+  EXPECT_EQ(calibrated.rejected, 10);
+  EXPECT_GT(calibrated.information_scale, 30.0);
+  EXPECT_LT(trusting.rejected, 5);
+  EXPECT_GT(trusting_rmse, 1.5 * clean_rmse) << clean_rmse;
+}
+
+TEST(SyntheticGraphTest, LocalOutliersJoinNearPosesAndMissTheTruth) {
+  const sim::SyntheticGraph clean = Manhattan(300, 8);
+  sim::SyntheticGraph spoiled = clean;
+  Random random(88);
+  ASSERT_EQ(sim::AddLocalOutliers(50, 20, spoiled.truth, &random, &spoiled.graph), 50);
+  ASSERT_EQ(spoiled.graph.pose_edges.size(), clean.graph.pose_edges.size() + 50);
+  PoseGraph at_truth = spoiled.graph;
+  at_truth.poses = spoiled.truth;
+  for (size_t i = clean.graph.pose_edges.size(); i < at_truth.pose_edges.size(); ++i) {
+    const PoseEdge& e = at_truth.pose_edges[i];
+    EXPECT_GE(e.to - e.from, 2);
+    EXPECT_LE(e.to - e.from, 20);
+    // At least 0.5 m off with 0.05 m sigmas: chi2 at least 100.
+    EXPECT_GT(PoseEdgeChi2(at_truth, e), 99.0);
+  }
+}
+
 TEST(PoseGraphSolverTest, FixedVertexStaysAndInvalidOptionsThrow) {
   sim::SyntheticGraph problem = Manhattan(100, 5);
   problem.graph.fixed = {50};

@@ -135,6 +135,23 @@ int AddRandomOutliers(int count, Random* random, graph::PoseGraph* graph) {
   return count;
 }
 
+int AddLocalOutliers(int count, int window, const std::map<int, SE2>& truth, Random* random,
+                     graph::PoseGraph* graph) {
+  const int n = static_cast<int>(truth.size());
+  if (count <= 0 || window < 2 || n < window + 1) return 0;
+  const Eigen::Matrix3d information = ClosureInformation(*graph);
+  for (int added = 0; added < count; ++added) {
+    const int i = static_cast<int>(random->Index(n - window));
+    const int j = i + 2 + static_cast<int>(random->Index(window - 1));
+    const double offset_m = random->Uniform(0.5, 2.0);
+    const double direction = random->Uniform(-std::numbers::pi, std::numbers::pi);
+    const SE2 offset(offset_m * std::cos(direction), offset_m * std::sin(direction),
+                     random->Uniform(-0.5, 0.5));
+    graph->pose_edges.push_back({i, j, truth.at(i).inverse() * truth.at(j) * offset, information});
+  }
+  return count;
+}
+
 int AddGroupedOutliers(int groups, int group_size, const std::map<int, SE2>& truth, Random* random,
                        graph::PoseGraph* graph) {
   const int n = static_cast<int>(truth.size());

@@ -53,6 +53,14 @@ SyntheticGraph MakeSyntheticGraph(const SyntheticGraphOptions& options, std::uin
 // whose information is that of a true closure. Returns how many were added.
 int AddRandomOutliers(int count, Random* random, graph::PoseGraph* graph);
 
+// Adds `count` local wrong closures (Sunderhauf & Protzel 2012's "local"
+// outliers): between a random pose i and pose i + k, k drawn from
+// [2, window], with a measurement near the true one, the true relative pose
+// moved by a random offset of 0.5 to 2 m and up to 0.5 rad. Such closures fit
+// the trajectory nearly as well as true ones. Returns how many were added.
+int AddLocalOutliers(int count, int window, const std::map<int, SE2>& truth, Random* random,
+                     graph::PoseGraph* graph);
+
 // Adds `groups` groups of `group_size` closures each: pose i + k claims to be
 // seen from pose j + k for k = 0..group_size-1, with measurements that agree
 // with each other and with odometry, as if place i were place j (perceptual
