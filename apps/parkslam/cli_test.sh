@@ -253,6 +253,20 @@ expect nonzero "ring.g2o: lies|input FILE" -- "$PARKSLAM" solve-graph "$tmp/ring
 printf 'VERTEX_SE2 0 0 0 0\nEDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n' > "$tmp/bad.g2o"
 expect nonzero "bad.g2o:2: EDGE_SE2.to: no VERTEX_SE2 1" -- "$PARKSLAM" solve-graph "$tmp/bad.g2o" --out "$tmp/o.g2o"
 [ ! -e "$tmp/o.g2o" ] && pass || fail "solve-graph wrote an output for a bad input"
+# The ring (its 20 random outliers last) spoiled with 15 local ones more;
+# the 35 wrong ones counted by --wrong-last.
+expect 0 "300 poses.*0 random, 15 local" -- "$PARKSLAM" make-graph --base "$tmp/ring_plain.g2o" \
+  --base-truth "$tmp/ring_truth.g2o" --local 15 --out "$tmp/ring_local.g2o"
+expect nonzero "--local and --groups need --base-truth" -- "$PARKSLAM" make-graph \
+  --base "$tmp/ring_plain.g2o" --local 15 --out "$tmp/o.g2o"
+expect 0 "of the last 35 closures \(wrong\): 0 kept; true closures rejected: 0" -- \
+  "$PARKSLAM" solve-graph "$tmp/ring_local.g2o" --robust maxmix --wrong-last 35 --out "$tmp/o.g2o"
+expect nonzero "--wrong-last 100000 exceeds the" -- "$PARKSLAM" solve-graph "$tmp/ring_local.g2o" \
+  --wrong-last 100000 --out "$tmp/o.g2o"
+# A Max-Mixture file's own null hypothesis is the default.
+printf 'VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\nEDGE_SE2 0 1 1 0 0 100 0 0 100 0 100\nEDGE_SE2 1 2 1 0 0 100 0 0 100 0 100\nEDGE_SE2_MIXTURE 0 2 2 EDGE_SE2 1 0 2 2 0 0 100 0 0 100 0 100 EDGE_SE2 0.1 0 2 2 0 0 1e-4 0 0 1e-4 0 1e-4\n' > "$tmp/mix.g2o"
+expect 0 "null weight 0.1, information scale 1e-06, the file's" -- "$PARKSLAM" solve-graph \
+  "$tmp/mix.g2o" --robust maxmix --out "$tmp/mix_out.g2o"
 
 # report: a demo folder, then broken inputs named by file, line and column.
 "$PARKSLAM" demo --out "$tmp/rep" --observations --consistency-runs 2 --follow-runs 1 \

@@ -74,11 +74,13 @@ void AddSolveGraphCommand(CLI::App& app) {
       ->check(CLI::IsMember({"none", "maxmix"}))
       ->capture_default_str();
   cmd->add_option("--null-weight", options->solve.null_weight,
-                  "Weight of the null hypothesis against the closure's 1")
+                  "Weight of the null hypothesis against the closure's 1 (default: the file's, "
+                  "where it has EDGE_SE2_MIXTURE closures)")
       ->check(CLI::Range(1e-12, 1.0))
       ->capture_default_str();
   cmd->add_option("--null-scale", options->solve.null_information_scale,
-                  "Information of the null hypothesis as a fraction of the closure's")
+                  "Information of the null hypothesis as a fraction of the closure's (default: "
+                  "the file's, where it has EDGE_SE2_MIXTURE closures)")
       ->check(CLI::Range(1e-15, 0.999))
       ->capture_default_str();
   cmd->add_option("--step", options->solve.incremental_step,
@@ -122,7 +124,7 @@ void AddSolveGraphCommand(CLI::App& app) {
   cmd->add_option("--truth", options->truth,
                   "A .g2o graph of the true poses: report the aligned position RMSE");
   cmd->add_flag("--json", options->json, "Print one JSON object");
-  cmd->callback([options] {
+  cmd->callback([options, cmd] {
     std::vector<io::NamedPath> inputs = {{options->in, "FILE"}};
     if (!options->truth.empty()) inputs.push_back({options->truth, "--truth"});
     io::CheckOutputsSpareInputs({{options->out, "--out"}}, inputs);
@@ -131,6 +133,13 @@ void AddSolveGraphCommand(CLI::App& app) {
     if (!options->truth.empty()) truth = io::ReadG2o(options->truth);
     options->solve.robust =
         options->robust == "maxmix" ? graph::RobustKernel::kMaxMixture : graph::RobustKernel::kNone;
+    // A file's own null (EDGE_SE2_MIXTURE) unless the command line names one.
+    if (g.file_null && cmd->count("--null-weight") == 0) {
+      options->solve.null_weight = g.file_null->weight;
+    }
+    if (g.file_null && cmd->count("--null-scale") == 0) {
+      options->solve.null_information_scale = g.file_null->information_scale;
+    }
     options->solve.gate_new_closures = options->gate == "on";
     options->solve.calibrate_information = options->calibrate == "on";
     options->solve.schedule = options->schedule == "batch"         ? graph::Schedule::kBatch
@@ -164,9 +173,10 @@ void AddSolveGraphCommand(CLI::App& app) {
                 g.point_edges.size());
     if (options->solve.robust == graph::RobustKernel::kMaxMixture) {
       std::printf(
-          "Max-Mixture: %d of %d loop closures rejected (null above chi2 %.1f), %s schedule, "
-          "information scaled by %.4g\n",
-          s.rejected, s.loop_closures,
+          "Max-Mixture: %d of %d loop closures rejected (null weight %.3g, information scale "
+          "%.3g%s: above chi2 %.1f), %s schedule, information scaled by %.4g\n",
+          s.rejected, s.loop_closures, options->solve.null_weight,
+          options->solve.null_information_scale, g.file_null ? ", the file's" : "",
           graph::MaxMixturePoseEdgeFactor::NullThresholdChi2(options->solve.null_weight,
                                                              options->solve.null_information_scale),
           s.schedule.c_str(), s.information_scale);

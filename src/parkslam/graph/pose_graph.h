@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <map>
+#include <optional>
 #include <set>
 #include <vector>
 
@@ -33,12 +34,21 @@ struct PointEdge {
   Eigen::Matrix2d information = Eigen::Matrix2d::Identity();
 };
 
+// The null hypothesis a file gave its loop closures (g2o's
+// EDGE_SE2_MIXTURE): its weight against the closure's own component and the
+// scale of its information against the closure's.
+struct NullHypothesis {
+  double weight = 0.0;
+  double information_scale = 0.0;
+};
+
 struct PoseGraph {
   std::map<int, SE2> poses;               // T_world_pose, by vertex id
   std::map<int, Eigen::Vector2d> points;  // p_world, by vertex id
   std::vector<PoseEdge> pose_edges;
   std::vector<PointEdge> point_edges;
   std::set<int> fixed;  // vertex ids held constant
+  std::optional<NullHypothesis> file_null;
 };
 
 // An edge between consecutive pose ids is odometry; every other pose edge is

@@ -19,7 +19,8 @@
 namespace parkslam::io {
 namespace {
 
-constexpr std::size_t kMaxFields = 16;
+// A two-component EDGE_SE2_MIXTURE line has 29 values.
+constexpr std::size_t kMaxFields = 32;
 
 struct Line {
   const std::string* source;
@@ -106,10 +107,84 @@ void AppendNumbers(std::string* out, std::initializer_list<double> values) {
 // for the messages.
 struct G2oParse {
   graph::PoseGraph graph;
+  int null_line = 0;               // the first EDGE_SE2_MIXTURE line
   std::map<int, int> vertex_line;  // id -> line that defined it
   std::vector<int> pose_edge_lines, point_edge_lines, fix_lines;
   std::vector<int> fix_ids;
 };
+
+bool Near(double a, double b) {
+  return std::abs(a - b) <= 1e-9 * (1.0 + std::abs(a) + std::abs(b));
+}
+
+// EDGE_SE2_MIXTURE a b 2  EDGE_SE2 w a b dx dy dtheta I11 I12 I13 I22 I23 I33  EDGE_SE2 ...
+// (Agarwal and Olson's Max-Mixture plugin for g2o): read where it is a
+// closure and its null hypothesis, the same measurement between the same
+// vertices, one component's information a scale s < 1 of the other's. The
+// closure enters as an EDGE_SE2 with the stronger component; weight and
+// scale become the graph's file_null, the same for every mixture line.
+void ParseMixture(const Line& line, G2oParse* p) {
+  line.ExpectCount(29);
+  const int from = line.Id(0, "a"), to = line.Id(1, "b");
+  if (from == to) line.Fail("b", "an edge from a vertex to itself");
+  if (text::ParseInt64(line.fields[2]) != 2) {
+    line.Fail("components", "this reader takes two components (a closure and its null), found " +
+                                text::Quoted(line.fields[2]));
+  }
+  struct Component {
+    double weight;
+    SE2 measured;
+    Eigen::Matrix3d information;
+  };
+  std::array<Component, 2> c;
+  for (int k = 0; k < 2; ++k) {
+    const std::size_t at = 3 + 13 * static_cast<std::size_t>(k);
+    if (line.fields[at] != "EDGE_SE2") {
+      line.Fail("component", "expected EDGE_SE2, found " + text::Quoted(line.fields[at]));
+    }
+    c[k].weight = line.Number(at + 1, "w", 1e12, "");
+    if (!(c[k].weight > 0.0)) line.Fail("w", "a component's weight must be positive");
+    if (line.Id(at + 2, "a") != from || line.Id(at + 3, "b") != to) {
+      line.Fail("component", "both components must join vertices " + std::to_string(from) +
+                                 " and " + std::to_string(to));
+    }
+    c[k].measured = SE2(line.Number(at + 4, "dx", kMaxCoordinate_m, "m"),
+                        line.Number(at + 5, "dy", kMaxCoordinate_m, "m"),
+                        line.Number(at + 6, "dtheta", kMaxAngle_rad, "rad"));
+    c[k].information = Information<3>(line, at + 7);
+  }
+  const int own = c[0].information.trace() >= c[1].information.trace() ? 0 : 1;
+  const Component& closure = c[own];
+  const Component& null = c[1 - own];
+  if (!Near(closure.measured.x(), null.measured.x()) ||
+      !Near(closure.measured.y(), null.measured.y()) ||
+      !Near(closure.measured.yaw(), null.measured.yaw())) {
+    line.Fail("component",
+              "the two components measure different poses (this reader takes a "
+              "closure and its null hypothesis)");
+  }
+  const double scale = null.information.trace() / closure.information.trace();
+  if (!(scale < 1.0) || !null.information.isApprox(scale * closure.information, 1e-6)) {
+    line.Fail("I", "the null's information is not a scale below 1 of the closure's");
+  }
+  const graph::NullHypothesis file_null{null.weight / closure.weight, scale};
+  if (!(file_null.weight <= 1.0)) {
+    line.Fail("w", "the null's weight exceeds the closure's");
+  }
+  if (p->graph.file_null) {
+    if (!Near(p->graph.file_null->weight, file_null.weight) ||
+        std::abs(p->graph.file_null->information_scale / file_null.information_scale - 1.0) >
+            1e-6) {
+      line.Fail("component", "a null hypothesis other than line " + std::to_string(p->null_line) +
+                                 "'s (this reader takes one per file)");
+    }
+  } else {
+    p->graph.file_null = file_null;
+    p->null_line = line.number;
+  }
+  p->graph.pose_edges.push_back({from, to, closure.measured, closure.information});
+  p->pose_edge_lines.push_back(line.number);
+}
 
 // One element line into the graph.
 void ParseElement(const Line& line, G2oParse* p) {
@@ -145,6 +220,8 @@ void ParseElement(const Line& line, G2oParse* p) {
     edge.information = Information<3>(line, 5);
     p->graph.pose_edges.push_back(edge);
     p->pose_edge_lines.push_back(line.number);
+  } else if (line.type == "EDGE_SE2_MIXTURE") {
+    ParseMixture(line, p);
   } else if (line.type == "EDGE_SE2_XY") {
     line.ExpectCount(7);
     graph::PointEdge edge;
@@ -157,7 +234,9 @@ void ParseElement(const Line& line, G2oParse* p) {
     p->point_edge_lines.push_back(line.number);
   } else if (line.type == "FIX") {
     if (line.count == 0) line.Fail("", "expected at least one vertex id");
-    if (line.count > kMaxFields) line.Fail("", "more than 16 ids on one line");
+    if (line.count > kMaxFields) {
+      line.Fail("", "more than " + std::to_string(kMaxFields) + " ids on one line");
+    }
     for (std::size_t i = 0; i < line.count; ++i) {
       p->fix_ids.push_back(line.Id(i, "id"));
       p->fix_lines.push_back(line.number);
@@ -165,7 +244,7 @@ void ParseElement(const Line& line, G2oParse* p) {
   } else {
     line.Fail("",
               "unknown element type (this reader takes VERTEX_SE2, VERTEX_XY, EDGE_SE2, "
-              "EDGE_SE2_XY and FIX)");
+              "EDGE_SE2_MIXTURE, EDGE_SE2_XY and FIX)");
   }
 }
 

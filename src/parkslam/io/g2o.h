@@ -9,8 +9,14 @@
 //   EDGE_SE2 from to dx dy dtheta I11 I12 I13 I22 I23 I33
 //   EDGE_SE2_XY pose point dx dy I11 I12 I22
 //   FIX id [id ...]
+//   EDGE_SE2_MIXTURE a b 2 EDGE_SE2 w a b dx dy dtheta I.. EDGE_SE2 w a b dx dy dtheta I..
 //
-// I.. is the upper triangle of the information matrix, row by row. Lines
+// I.. is the upper triangle of the information matrix, row by row. A
+// mixture line (Agarwal and Olson's Max-Mixture plugin for g2o) is read where
+// it is a closure and its null hypothesis: one measurement, one component's
+// information a scale s < 1 of the other's; the closure becomes an edge and
+// the null (weight ratio, s) the graph's file_null, one per file. The writer
+// writes plain EDGE_SE2 edges. Lines
 // starting with '#' and blank lines are skipped; any other element type is
 // an error naming its line (3D types and TORO's VERTEX2/EDGE2 are not read).
 

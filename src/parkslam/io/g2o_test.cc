@@ -80,8 +80,56 @@ TEST(G2oTest, ErrorsNameTheLineAndTheField) {
   EXPECT_EQ(ParseError("VERTEX_SE2 0 0 0 0\nFIX 3\n"), "g.g2o:2: FIX.id: no vertex 3");
   EXPECT_EQ(ParseError("VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n"),
             "g.g2o:1: VERTEX_SE3:QUAT: unknown element type (this reader takes VERTEX_SE2, "
-            "VERTEX_XY, EDGE_SE2, EDGE_SE2_XY and FIX)");
+            "VERTEX_XY, EDGE_SE2, EDGE_SE2_MIXTURE, EDGE_SE2_XY and FIX)");
   EXPECT_EQ(ParseError("# nothing\n"), "g.g2o: no VERTEX_SE2");
+}
+
+constexpr const char* kVertices =
+    "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\nVERTEX_SE2 3 3 0 0\n";
+
+TEST(G2oTest, ReadsAMixtureOfAClosureAndItsNull) {
+  const graph::PoseGraph g =
+      ParseG2o(std::string(kVertices) +
+                   "EDGE_SE2_MIXTURE 0 3 2 EDGE_SE2 1 0 3 3 0.1 0.2 44.72 0 0 44.72 0 44.72 "
+                   "EDGE_SE2 0.01 0 3 3 0.1 0.2 4.472e-10 0 0 4.472e-10 0 4.472e-10\n"
+                   // the null first, its weight and scale the same
+                   "EDGE_SE2_MIXTURE 1 3 2 EDGE_SE2 0.02 1 3 2 0 0 2e-9 0 0 2e-9 0 2e-9 "
+                   "EDGE_SE2 2 1 3 2 0 0 200 0 0 200 0 200\n",
+               "m.g2o");
+  ASSERT_EQ(g.pose_edges.size(), 2u);
+  EXPECT_EQ(g.pose_edges[0].to, 3);
+  EXPECT_DOUBLE_EQ(g.pose_edges[0].T_from_to.y(), 0.1);
+  EXPECT_DOUBLE_EQ(g.pose_edges[0].information(1, 1), 44.72);
+  EXPECT_DOUBLE_EQ(g.pose_edges[1].information(2, 2), 200.0);
+  ASSERT_TRUE(g.file_null.has_value());
+  EXPECT_DOUBLE_EQ(g.file_null->weight, 0.01);
+  EXPECT_NEAR(g.file_null->information_scale, 1e-11, 1e-20);
+  EXPECT_FALSE(ParseG2o(kSmall, "g.g2o").file_null.has_value());
+}
+
+TEST(G2oTest, MixturesOtherThanAClosureAndItsNullAreRefused) {
+  const std::string v = kVertices;
+  EXPECT_EQ(ParseError(v + "EDGE_SE2_MIXTURE 0 3 2 EDGE_SE2 1 0 3 3 0 0 1 0 0 1 0 1 "
+                           "EDGE_SE2 0.01 0 2 3 0 0 1e-6 0 0 1e-6 0 1e-6\n"),
+            "g.g2o:5: EDGE_SE2_MIXTURE.component: both components must join vertices 0 and 3");
+  EXPECT_EQ(ParseError(v + "EDGE_SE2_MIXTURE 0 3 2 EDGE_SE2 1 0 3 3 0 0 1 0 0 1 0 1 "
+                           "EDGE_SE2 0.01 0 3 2 0 0 1e-6 0 0 1e-6 0 1e-6\n"),
+            "g.g2o:5: EDGE_SE2_MIXTURE.component: the two components measure different poses "
+            "(this reader takes a closure and its null hypothesis)");
+  EXPECT_EQ(ParseError(v + "EDGE_SE2_MIXTURE 0 3 2 EDGE_SE2 1 0 3 3 0 0 1 0 0 1 0 1 "
+                           "EDGE_SE2 0.01 0 3 3 0 0 1e-6 0 0 2e-6 0 1e-6\n"),
+            "g.g2o:5: EDGE_SE2_MIXTURE.I: the null's information is not a scale below 1 of the "
+            "closure's");
+  EXPECT_EQ(ParseError(v + "EDGE_SE2_MIXTURE 0 3 2 EDGE_SE2 1 0 3 3 0 0 1 0 0 1 0 1 "
+                           "EDGE_SE2 0.01 0 3 3 0 0 1e-6 0 0 1e-6 0 1e-6\n"
+                           "EDGE_SE2_MIXTURE 1 3 2 EDGE_SE2 1 1 3 2 0 0 1 0 0 1 0 1 "
+                           "EDGE_SE2 0.1 1 3 2 0 0 1e-6 0 0 1e-6 0 1e-6\n"),
+            "g.g2o:6: EDGE_SE2_MIXTURE.component: a null hypothesis other than line 5's (this "
+            "reader takes one per file)");
+  EXPECT_EQ(ParseError(v + "EDGE_SE2_MIXTURE 0 3 3 EDGE_SE2 1 0 3 3 0 0 1 0 0 1 0 1 "
+                           "EDGE_SE2 0.01 0 3 3 0 0 1e-6 0 0 1e-6 0 1e-6\n"),
+            "g.g2o:5: EDGE_SE2_MIXTURE.components: this reader takes two components (a closure "
+            "and its null), found '3'");
 }
 
 }  // namespace
