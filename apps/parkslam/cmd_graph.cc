@@ -88,10 +88,10 @@ void AddSolveGraphCommand(CLI::App& app) {
       ->check(CLI::Range(0, 100000000))
       ->capture_default_str();
   cmd->add_option("--schedule", options->schedule,
-                  "Max-Mixture: batch (one solve from the file's estimates), incremental (--step "
-                  "poses at a time, with --gate), or auto (both, the incremental one with the "
-                  "information sized by batch's kept closures; the lower Max-Mixture cost is "
-                  "kept)")
+                  "batch (one solve from the file's estimates), incremental (--step poses at a "
+                  "time, with --gate), or auto (plain: batch; Max-Mixture: both, the incremental "
+                  "one with the information sized by batch's kept closures, and the lower "
+                  "Max-Mixture cost kept)")
       ->check(CLI::IsMember({"auto", "batch", "incremental"}))
       ->capture_default_str();
   cmd->add_option("--calibrate", options->calibrate,

@@ -470,9 +470,12 @@ SolveSummary SolvePoseGraph(const SolveOptions& options, PoseGraph* graph) {
   }
   CheckPoseGraph(*graph);
   const auto start = std::chrono::steady_clock::now();
-  SolveSummary summary = options.robust == RobustKernel::kMaxMixture
-                             ? SolveMixture(options, graph)
-                             : RunSchedule(options, options.incremental_step, graph);
+  SolveSummary summary =
+      options.robust == RobustKernel::kMaxMixture
+          ? SolveMixture(options, graph)
+          : RunSchedule(options,
+                        options.schedule == Schedule::kIncremental ? options.incremental_step : 0,
+                        graph);
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
