@@ -344,8 +344,8 @@ PoseGraph ScaledInformation(const PoseGraph& graph, double scale) {
   return scaled;
 }
 
-// The kept flags and rejections of `kept` with the chi2 of `graph`'s own
-// information at its estimates.
+// Recounts the rejections of summary->pose_edge_kept and the chi2 over the
+// kept edges, with `graph`'s own information at its estimates.
 void Rejudge(const PoseGraph& graph, SolveSummary* summary) {
   summary->chi2 = 0.0;
   summary->rejected = 0;
@@ -402,9 +402,9 @@ SolveSummary SolveMixture(const SolveOptions& options, PoseGraph* graph) {
   // First the median's rounds, which shed the wrong closures a loose
   // information let in (robust while fewer than half of the kept ones are
   // wrong), then the mean's, which size the noise of the rest and widen it
-  // for real closures' heavier tails.
-  // The mean's rounds start again from the uncalibrated solution, so that
-  // the tail the median's rounds shed can return.
+  // for real closures' heavier tails. The mean's first round starts again
+  // from the uncalibrated solution, so that the tail the median's rounds
+  // shed can return.
   const PoseGraph uncalibrated = *graph;
   for (const bool median : {true, false}) {
     for (int round = 0; round < (median ? 8 : 3); ++round) {
