@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <stdexcept>
 
 #include "parkslam/eval/trajectory_metrics.h"
@@ -116,6 +117,23 @@ TEST(PoseGraphSolverTest, CalibrationShedsNearClosuresThatLooseInformationLetIn)
   EXPECT_GT(calibrated.information_scale, 30.0);
   EXPECT_LT(trusting.rejected, 5);
   EXPECT_GT(trusting_rmse, 1.5 * clean_rmse) << clean_rmse;
+}
+
+// Odometry costs half its chi2; a closure the smaller of its own half chi2
+// and its null's -log w - 1.5 log s + half s chi2.
+TEST(PoseGraphSolverTest, MixtureCostTakesTheCheaperComponentOfEachClosure) {
+  PoseGraph graph;
+  graph.poses = {{0, SE2(0, 0, 0)}, {1, SE2(1, 0, 0)}, {2, SE2(2, 0, 0)}};
+  graph.pose_edges = {{0, 1, SE2(1.1, 0, 0), Eigen::Matrix3d::Identity() * 100.0},
+                      {0, 2, SE2(2.2, 0, 0), Eigen::Matrix3d::Identity() * 100.0},
+                      {0, 2, SE2(12.0, 0, 0), Eigen::Matrix3d::Identity() * 100.0}};
+  SolveOptions options = MaxMixture();
+  const double null_cost = -std::log(0.01) - 1.5 * std::log(1e-11);
+  // Odometry 0.5 * 100 * 0.01; the near closure its own 0.5 * 100 * 0.04;
+  // the far one (chi2 10,000) its null.
+  EXPECT_NEAR(MixtureCost(options, graph), 0.5 + 2.0 + null_cost + 0.5 * 1e-11 * 1e4, 1e-9);
+  options.robust = RobustKernel::kNone;
+  EXPECT_NEAR(MixtureCost(options, graph), 0.5 + 2.0 + 5000.0, 1e-9);
 }
 
 TEST(SyntheticGraphTest, LocalOutliersJoinNearPosesAndMissTheTruth) {
