@@ -60,6 +60,27 @@ PoseOrder MakePoseOrder(const PoseGraph& graph) {
   return s;
 }
 
+// e^T Omega e of a point edge at the graph's estimates.
+double PointEdgeChi2(const PoseGraph& graph, const PointEdge& e) {
+  const Eigen::Vector2d r = graph.poses.at(e.pose).inverse() * graph.points.at(e.point) - e.p_pose;
+  return r.dot(e.information * r);
+}
+
+// Counts the rejections of summary->pose_edge_kept and sums the chi2 over
+// the kept edges, with `graph`'s own information at its estimates.
+void SummarizeKept(const PoseGraph& graph, SolveSummary* summary) {
+  summary->chi2 = 0.0;
+  summary->rejected = 0;
+  for (size_t i = 0; i < graph.pose_edges.size(); ++i) {
+    if (!summary->pose_edge_kept[i]) {
+      ++summary->rejected;
+      continue;
+    }
+    summary->chi2 += PoseEdgeChi2(graph, graph.pose_edges[i]);
+  }
+  for (const PointEdge& e : graph.point_edges) summary->chi2 += PointEdgeChi2(graph, e);
+}
+
 ceres::Problem::Options ProblemOptions() {
   ceres::Problem::Options problem_options;
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -137,19 +158,11 @@ class IncrementalSolve {
     for (size_t i = 0; i < graph->pose_edges.size(); ++i) {
       const PoseEdge& e = graph->pose_edges[i];
       if (!IsOdometry(e)) ++summary_.loop_closures;
-      if (mixture_of_[i] != nullptr &&
-          mixture_of_[i]->NullChosen(poses_.at(e.from).data(), poses_.at(e.to).data())) {
-        summary_.pose_edge_kept[i] = false;
-        ++summary_.rejected;
-        continue;
-      }
-      summary_.chi2 += PoseEdgeChi2(*graph, e);
+      summary_.pose_edge_kept[i] =
+          mixture_of_[i] == nullptr ||
+          !mixture_of_[i]->NullChosen(poses_.at(e.from).data(), poses_.at(e.to).data());
     }
-    for (const PointEdge& e : graph->point_edges) {
-      const Eigen::Vector2d r =
-          graph->poses.at(e.pose).inverse() * graph->points.at(e.point) - e.p_pose;
-      summary_.chi2 += r.dot(e.information * r);
-    }
+    SummarizeKept(*graph, &summary_);
     return summary_;
   }
 
@@ -344,25 +357,6 @@ PoseGraph ScaledInformation(const PoseGraph& graph, double scale) {
   return scaled;
 }
 
-// Recounts the rejections of summary->pose_edge_kept and the chi2 over the
-// kept edges, with `graph`'s own information at its estimates.
-void Rejudge(const PoseGraph& graph, SolveSummary* summary) {
-  summary->chi2 = 0.0;
-  summary->rejected = 0;
-  for (size_t i = 0; i < graph.pose_edges.size(); ++i) {
-    if (!summary->pose_edge_kept[i]) {
-      ++summary->rejected;
-      continue;
-    }
-    summary->chi2 += PoseEdgeChi2(graph, graph.pose_edges[i]);
-  }
-  for (const PointEdge& e : graph.point_edges) {
-    const Eigen::Vector2d r =
-        graph.poses.at(e.pose).inverse() * graph.points.at(e.point) - e.p_pose;
-    summary->chi2 += r.dot(e.information * r);
-  }
-}
-
 // Max-Mixture: the schedules of kAuto (or the one asked for), then the
 // calibration of the information (pose_graph_solver.h).
 SolveSummary SolveMixture(const SolveOptions& options, PoseGraph* graph) {
@@ -422,7 +416,7 @@ SolveSummary SolveMixture(const SolveOptions& options, PoseGraph* graph) {
       if (same) break;
     }
   }
-  Rejudge(*graph, &summary);
+  SummarizeKept(*graph, &summary);
   return summary;
 }
 
@@ -438,11 +432,7 @@ double MixtureCost(const SolveOptions& options, const PoseGraph& graph) {
     cost +=
         robust && !IsOdometry(e) ? std::min(0.5 * chi2, null_cost + 0.5 * s * chi2) : 0.5 * chi2;
   }
-  for (const PointEdge& e : graph.point_edges) {
-    const Eigen::Vector2d r =
-        graph.poses.at(e.pose).inverse() * graph.points.at(e.point) - e.p_pose;
-    cost += 0.5 * r.dot(e.information * r);
-  }
+  for (const PointEdge& e : graph.point_edges) cost += 0.5 * PointEdgeChi2(graph, e);
   return cost;
 }
 
