@@ -30,6 +30,7 @@ slow=(cli_test format_check
   'SoakTest\.'
   'KidnapTest\.RelocalizesInAlmostAllTrials'
   'OdometryConsistencyTest\.NeesInsideChiSquareBandOnDefaultDrive'
+  'OnlineMappingTest\.BackgroundSolveKeepsTheMapAtBatchAccuracyAlongTheDrive'
   'PerceptionSourceTest\.ReplacesObservationsByWhatTheCamerasSee'
   'ReportTest\.EveryFigureAgreesWithMetricsJson'
   'ReportTest\.OpensInHeadlessChromiumAndLinksPlotsAndMap'

@@ -59,6 +59,12 @@ expect 0 '"slots_duplicate"' -- "$PARKSLAM" eval-map --map "$tmp/m.json" --truth
 expect 0 "wrote" -- "$PARKSLAM" render "$tmp/m.json" --out "$tmp/m.svg" --trajectory "$tmp/mt.tum"
 grep -q "</svg>" "$tmp/m.svg" && pass || fail "render wrote no SVG"
 expect 0 "map written" -- "$PARKSLAM" map "$tmp/d" --out "$tmp/m2.json" --robust none --mode online
+# The online map along the drive, scored every 5 s against the truth.
+expect 0 "along the drive .*slots seen twice: observed corners at worst" -- "$PARKSLAM" map "$tmp/d" \
+  --out "$tmp/m4.json" --mode online --track-out "$tmp/track.csv" --track-every-s 5 --track-batch
+head -1 "$tmp/track.csv" | grep -q "^t_s,slots_matched,.*,batch_tag_rmse_m$" && pass || fail "track.csv header"
+[ "$(wc -l < "$tmp/track.csv")" -ge 5 ] && pass || fail "track.csv has too few rows"
+expect nonzero "track-every-s" -- "$PARKSLAM" map "$tmp/d" --out "$tmp/m5.json" --track-out "$tmp/t.csv" --track-every-s 0
 expect nonzero "robust" -- "$PARKSLAM" map "$tmp/d" --out "$tmp/m3.json" --robust maybe
 printf '{"format": "parkslam-map", "version": 2}' > "$tmp/badmap.json"
 expect nonzero "badmap.json.*version" -- "$PARKSLAM" eval-map --map "$tmp/badmap.json" --truth "$tmp/d/groundtruth/map.json"

@@ -102,7 +102,8 @@ DriveSpan SpanOf(const SensorLog& log) {
 
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
                          std::optional<SE2> initial_pose, bool progress,
-                         const harness::StreamOptions& stream_options, std::string* faults_seen) {
+                         const harness::StreamOptions& stream_options, std::string* faults_seen,
+                         const MapperWatch& after_event) {
   mapping::Mapper mapper(
       options, odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle), initial_pose);
   const DriveSpan span = SpanOf(dataset.log);
@@ -112,6 +113,7 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
   SensorSource& source = stream.source();
   while (const auto event = source.Next()) {
     mapper.Process(*event);
+    if (after_event) after_event(mapper, EventTime(*event));
     if (bar) bar->Update(span.Tenths(EventTime(*event)));
   }
   mapper.Finish();
@@ -127,10 +129,11 @@ mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOption
 std::string DescribeMapping(const mapping::Mapper& mapper, double total_s) {
   const mapping::MapperStats& st = mapper.stats();
   std::vector<double> ms = st.keyframe_update_ms;
-  double median = 0.0, worst = 0.0;
+  double median = 0.0, p99 = 0.0, worst = 0.0;
   if (!ms.empty()) {
     std::sort(ms.begin(), ms.end());
     median = ms[ms.size() / 2];
+    p99 = ms[ms.size() * 99 / 100];
     worst = ms.back();
   }
   const SemanticMap map = mapper.Map();
@@ -139,12 +142,22 @@ std::string DescribeMapping(const mapping::Mapper& mapper, double total_s) {
       text, sizeof text,
       "%d keyframes, %d slot observations (%d with several candidates), %d tag "
       "observations; %d slots created, %d merged, %d dropped as overlapping, %zu in the map, "
-      "%zu tags; keyframe update median %.2f ms, max %.2f ms; final %.2f s (corner "
+      "%zu tags; keyframe update median %.2f ms, p99 %.2f ms, max %.2f ms; final %.2f s (corner "
       "covariances %.2f s); total %.2f s",
       st.keyframes, st.slot_observations, st.mixture_observations, st.tag_observations,
       st.slots_created, st.slots_merged, st.slots_overlapping, map.slots.size(), map.tags.size(),
-      median, worst, st.final_solve_ms / 1000.0, st.covariance_ms / 1000.0, total_s);
-  return text;
+      median, p99, worst, st.final_solve_ms / 1000.0, st.covariance_ms / 1000.0, total_s);
+  std::string description = text;
+  if (st.background_solves > 0) {
+    std::vector<double> solve_ms = st.background_solve_ms;
+    std::sort(solve_ms.begin(), solve_ms.end());
+    std::snprintf(text, sizeof text,
+                  "; %d background solves, median %.0f ms, max %.0f ms (waited for %.2f s in all)",
+                  st.background_solves, solve_ms[solve_ms.size() / 2], solve_ms.back(),
+                  st.background_wait_ms / 1000.0);
+    description += text;
+  }
+  return description;
 }
 
 std::vector<bool> PassedSlots(const io::Dataset& dataset, size_t truth_slots, int min_sightings) {

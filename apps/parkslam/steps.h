@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -49,11 +50,13 @@ DriveSpan SpanOf(const SensorLog& log);
 // Runs the mapper over a dataset's stream (harness/sensor_stream.h), tuned
 // from its sensor spec; with a progress bar on stderr when `progress`.
 // *faults_seen (when given) gets what the stream injected and what the
-// dead reckoning saw of it.
+// dead reckoning saw of it. after_event (when given) sees the mapper after
+// every event, before Finish: the map as it stands along the drive.
+using MapperWatch = std::function<void(const mapping::Mapper&, TimeNs)>;
 mapping::Mapper BuildMap(const io::Dataset& dataset, const mapping::MapperOptions& options,
                          std::optional<SE2> initial_pose, bool progress,
                          const harness::StreamOptions& stream = {},
-                         std::string* faults_seen = nullptr);
+                         std::string* faults_seen = nullptr, const MapperWatch& after_event = {});
 
 // What the dead reckoning saw of its inputs' faults, one line; "" when
 // nothing (no late event, no gated sample, no sensor gap over 0.5 s).

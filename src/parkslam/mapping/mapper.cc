@@ -21,6 +21,28 @@ double ElapsedMs(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
+// The batch mapper's end (paper III-C): final_rounds of a full solve, the
+// records' new choices recounted, duplicates merged.
+struct FinalRounds {
+  int iterations = 0;
+  double cost = 0.0;
+  int merged = 0;
+};
+FinalRounds SolveFinalRounds(MapState* state, const MapperOptions& options) {
+  FinalRounds result;
+  for (int round = 0; round < options.final_rounds; ++round) {
+    const MapGraphSolve solve = SolveMapGraph(state, 0, options.final_iterations, true, options);
+    result.iterations += solve.iterations;
+    result.cost = solve.final_cost;
+    for (const MapGraphSolve::Choice& choice : solve.changed) {
+      state->slot_records[choice.record].chosen = choice.after;
+    }
+    RecomputeSlotEvidence(state, options);
+    result.merged += MergeDuplicates(state, options);
+  }
+  return result;
+}
+
 }  // namespace
 
 bool MapperOptions::IsValid(std::string* error) const {
@@ -59,6 +81,8 @@ bool MapperOptions::IsValid(std::string* error) const {
   c.AtLeast(online_merge_every_keyframes, 0, "online_merge_every_keyframes");
   c.AtLeast(prune_unconfirmed_after_keyframes, 0, "prune_unconfirmed_after_keyframes");
   c.AtLeast(online_iterations, 1, "online_iterations");
+  c.NonNegative(background_solve_every_s, "background_solve_every_s");
+  c.AtLeast(background_iterations, 1, "background_iterations");
   c.AtLeast(batch_window_every, 1, "batch_window_every");
   c.AtLeast(final_iterations, 1, "final_iterations");
   c.AtLeast(final_rounds, 1, "final_rounds");
@@ -114,9 +138,92 @@ void Mapper::Process(const SensorEvent& event) {
   }
   if (same_time) return;  // these observations join the next solve
   AfterKeyframe();
+  const double waited_ms = MaybeApplyBackgroundSolve(t_ns);
   RetireOldRecords();
   MaybeMergeOnline();
-  stats_.keyframe_update_ms.push_back(ElapsedMs(start));
+  MaybeStartBackgroundSolve(t_ns);
+  stats_.keyframe_update_ms.push_back(ElapsedMs(start) - waited_ms);
+}
+
+bool Mapper::BackgroundRunning() const { return background_ != nullptr && background_->running(); }
+
+double Mapper::MaybeApplyBackgroundSolve(TimeNs t_ns) {
+  if (!BackgroundRunning()) return 0.0;
+  const bool ready = options_.background_wait ? t_ns >= background_due_ns_ : background_->done();
+  return ready ? ApplyBackgroundSolve() : 0.0;
+}
+
+void Mapper::MaybeStartBackgroundSolve(TimeNs t_ns) {
+  if (options_.mode != MappingMode::kOnline || options_.background_solve_every_s <= 0.0) return;
+  if (BackgroundRunning()) return;
+  if (background_ == nullptr) background_ = std::make_unique<BackgroundSolve>();
+  background_->Start(state_, mirror_stale_, options_.background_iterations, options_);
+  mirror_stale_ = false;
+  background_due_ns_ = t_ns + FromSeconds(options_.background_solve_every_s);
+}
+
+double Mapper::ApplyBackgroundSolve() {
+  const auto wait_start = std::chrono::steady_clock::now();
+  const MapGraphSolve solve = background_->Wait();
+  const double waited_ms = ElapsedMs(wait_start);
+  stats_.background_wait_ms += waited_ms;
+  stats_.background_solve_ms.push_back(background_->last_solve_ms());
+  ++stats_.background_solves;
+  const MapState& solved = background_->solved();
+  const size_t keyframes = background_->keyframes();
+  if (keyframes == 0) return waited_ms;
+  // Nothing was restructured while it ran (RetireOldRecords and
+  // MaybeMergeOnline wait for it), so the state holds the mirror's
+  // keyframes, slots, tags and records first, and what came since after
+  // them. Those move with the correction of the newest keyframe the solve
+  // knew: T_new = T_solved(n-1) T_now(n-1)^-1 T_now.
+  const int newest = static_cast<int>(keyframes) - 1;
+  const SE2 correction = solved.PoseOf(newest) * state_.PoseOf(newest).inverse();
+  for (size_t k = 0; k < state_.keyframes.size(); ++k) {
+    std::array<double, 3>& pose = state_.keyframes[k].pose;
+    if (k < keyframes) {
+      pose = solved.keyframes[k].pose;
+    } else {
+      const SE2 moved = correction * state_.PoseOf(static_cast<int>(k));
+      pose = {moved.x(), moved.y(), moved.yaw()};
+    }
+  }
+  for (size_t s = 0; s < state_.slots.size(); ++s) {
+    SlotLandmark& slot = state_.slots[s];
+    if (s < background_->slots()) {
+      slot.corners = solved.slots[s].corners;
+      continue;
+    }
+    for (std::array<double, 2>& c : slot.corners) {
+      const Eigen::Vector2d moved = correction * Eigen::Vector2d(c[0], c[1]);
+      c = {moved.x(), moved.y()};
+    }
+  }
+  for (size_t t = 0; t < state_.tags.size(); ++t) {
+    std::array<double, 3>& pose = state_.tags[t].pose;
+    if (t < background_->tags()) {
+      pose = solved.tags[t].pose;
+    } else {
+      const SE2 moved = correction * SE2(pose[0], pose[1], pose[2]);
+      pose = {moved.x(), moved.y(), moved.yaw()};
+    }
+  }
+  // The records whose mixture picks another slot at the solution move their
+  // evidence there (a windowed solve may have moved some already).
+  bool changed = false;
+  for (const MapGraphSolve::Choice& choice : solve.changed) {
+    SlotRecord& record = state_.slot_records[choice.record];
+    if (record.chosen == choice.after) continue;
+    MoveEvidence(&state_, record, record.chosen, -1, options_);
+    MoveEvidence(&state_, record, choice.after, +1, options_);
+    record.chosen = choice.after;
+    changed = true;
+  }
+  if (changed) RebuildIdOwners(&state_);
+  // A slot made twice (a loop closed late) now lies on its twin: merged
+  // now, not at the end, so the map along the drive has it once.
+  merge_pending_ = true;
+  return waited_ms;
 }
 
 bool Mapper::MaybeAddKeyframe(TimeNs t_ns, bool has_observations) {
@@ -190,37 +297,23 @@ void Mapper::AfterKeyframe() {
   const int count = static_cast<int>(state_.keyframes.size());
   const int every = options_.mode == MappingMode::kOnline ? 1 : options_.batch_window_every;
   if (count % every != 0) return;
-  Solve(std::max(0, count - options_.window_keyframes), options_.online_iterations, false);
+  Solve(std::max(0, count - options_.window_keyframes), options_.online_iterations);
 }
 
-void Mapper::Solve(int first_free, int max_iterations, bool final) {
+void Mapper::Solve(int first_free, int max_iterations) {
   if (state_.keyframes.empty()) return;
-  const MapGraphSolve solve = SolveMapGraph(&state_, first_free, max_iterations, final, options_);
-  if (final) {
-    stats_.final_iterations += solve.iterations;
-    stats_.final_cost = solve.final_cost;
-  } else {
-    stats_.max_window_residual_blocks =
-        std::max(stats_.max_window_residual_blocks, solve.residual_blocks);
-  }
+  const MapGraphSolve solve = SolveMapGraph(&state_, first_free, max_iterations, false, options_);
+  stats_.max_window_residual_blocks =
+      std::max(stats_.max_window_residual_blocks, solve.residual_blocks);
   // A record that changed its slot moves its evidence from one to the other
-  // (the final solve recounts everything; counting every record after every
-  // windowed solve grew with the drive).
+  // (counting every record after every windowed solve grew with the drive).
   for (const MapGraphSolve::Choice& choice : solve.changed) {
     SlotRecord& record = state_.slot_records[choice.record];
-    if (!final) {
-      MoveEvidence(&state_, record, choice.before, -1, options_);
-      MoveEvidence(&state_, record, choice.after, +1, options_);
-    }
+    MoveEvidence(&state_, record, choice.before, -1, options_);
+    MoveEvidence(&state_, record, choice.after, +1, options_);
     record.chosen = choice.after;
   }
-  if (!solve.changed.empty()) {
-    if (final) {
-      RecomputeSlotEvidence(&state_, options_);
-    } else {
-      RebuildIdOwners(&state_);
-    }
-  }
+  if (!solve.changed.empty()) RebuildIdOwners(&state_);
   distance_since_solve_m_ = 0.0;
 }
 
@@ -228,10 +321,13 @@ void Mapper::RetireOldRecords() {
   const int cap = options_.max_records_per_landmark;
   const size_t stored = state_.slot_records.size() + state_.tag_records.size();
   if (stored >= static_cast<size_t>(options_.retire_check_min_records)) long_drive_ = true;
-  if (cap <= 0 ||
+  // Waits for a background solve, which will lay its solution into these
+  // same records and keyframes.
+  if (cap <= 0 || BackgroundRunning() ||
       stored < std::max(retire_check_at_, static_cast<size_t>(options_.retire_check_min_records))) {
     return;
   }
+  mirror_stale_ = true;
   // A landmark over the cap loses every second record outside the window:
   // thinned evenly, it keeps observations from every pass, and with them
   // what ties the passes (and the loops of the drive) together; retiring
@@ -351,31 +447,37 @@ void Mapper::CullKeyframes() {
 
 void Mapper::MaybeMergeOnline() {
   const int every = options_.online_merge_every_keyframes;
-  if (!long_drive_ || every <= 0 || state_.keyframes.size() % static_cast<size_t>(every) != 0)
-    return;
-  const int pruned = PruneUnconfirmedSlots(&state_, options_);
+  if (long_drive_ && every > 0 && state_.keyframes.size() % static_cast<size_t>(every) == 0) {
+    prune_pending_ = true;
+  }
+  if ((!prune_pending_ && !merge_pending_) || BackgroundRunning()) return;
+  const int pruned = prune_pending_ ? PruneUnconfirmedSlots(&state_, options_) : 0;
+  prune_pending_ = merge_pending_ = false;
   const int merged = MergeDuplicates(&state_, options_);
   stats_.slots_pruned += pruned;
   stats_.slots_merged += merged;
   if (pruned == 0 && merged == 0) return;
+  mirror_stale_ = true;
   RecomputeSlotEvidence(&state_, options_);
   state_.RebuildRecordIndexes();
 }
 
 void Mapper::Finish() {
   const auto start = std::chrono::steady_clock::now();
+  if (BackgroundRunning()) ApplyBackgroundSolve();
   if (options_.mode == MappingMode::kBatch) {
-    for (int round = 0; round < options_.final_rounds; ++round) {
-      Solve(0, options_.final_iterations, true);
-      RecomputeSlotEvidence(&state_, options_);
-      stats_.slots_merged += MergeDuplicates(&state_, options_);
-    }
+    const FinalRounds rounds = SolveFinalRounds(&state_, options_);
+    stats_.final_iterations += rounds.iterations;
+    stats_.final_cost = rounds.cost;
+    stats_.slots_merged += rounds.merged;
+    distance_since_solve_m_ = 0.0;
   } else {
     RecomputeSlotEvidence(&state_, options_);
     stats_.slots_merged += MergeDuplicates(&state_, options_);
   }
   RecomputeSlotEvidence(&state_, options_);
   AssignIds(&state_, options_);
+  finished_ = true;
   stats_.slots_overlapping += DropOverlappingSlots(&state_, options_);
   // Left empty when it cannot be computed: Map() takes the sightings' sigmas.
   corner_covariances_.clear();
@@ -387,17 +489,36 @@ void Mapper::Finish() {
   stats_.final_solve_ms = ElapsedMs(start);
 }
 
-SemanticMap Mapper::Map() const {
+SemanticMap Mapper::Map() const { return Map(options_.min_observations); }
+
+SemanticMap Mapper::Map(int min_observations) const {
+  // Before Finish the slots are named as they would be if the drive ended
+  // now; Finish names them for good (and may drop some after).
+  const std::vector<std::string> ids =
+      finished_ ? std::vector<std::string>() : IdsByVotes(state_.slots, options_);
+  return MapOf(state_, options_, corner_covariances_, min_observations, ids);
+}
+
+SemanticMap Mapper::BatchMapSoFar(int min_observations) const {
+  MapState state = state_;
+  SolveFinalRounds(&state, options_);
+  return MapOf(state, options_, {}, min_observations, IdsByVotes(state.slots, options_));
+}
+
+SemanticMap Mapper::MapOf(const MapState& state, const MapperOptions& options,
+                          const CornerCovariances& corner_covariances, int min_observations,
+                          const std::vector<std::string>& ids) {
   SemanticMap map;
   map.metadata["source"] = "parkslam mapper";
-  map.metadata["robust"] = options_.robust == RobustMode::kMaxMixture ? "maxmix" : "none";
-  map.metadata["mode"] = options_.mode == MappingMode::kBatch ? "batch" : "online";
-  for (size_t index = 0; index < state_.slots.size(); ++index) {
-    const SlotLandmark& slot = state_.slots[index];
-    if (!InTheMap(slot, options_)) continue;
+  map.metadata["robust"] = options.robust == RobustMode::kMaxMixture ? "maxmix" : "none";
+  map.metadata["mode"] = options.mode == MappingMode::kBatch ? "batch" : "online";
+  for (size_t index = 0; index < state.slots.size(); ++index) {
+    const SlotLandmark& slot = state.slots[index];
+    if (!slot.alive || slot.observations < min_observations) continue;
     MapSlot s;
-    s.id = slot.id.empty() ? TemporaryId(slot.temporary_number) : slot.id;
-    s.temporary = slot.id.empty();
+    const std::string& id = ids.empty() ? slot.id : ids[index];
+    s.id = id.empty() ? TemporaryId(slot.temporary_number) : id;
+    s.temporary = id.empty();
     if (std::abs(slot.angle_rad - kPi / 2) > 1e-6) {
       s.kind = SlotKind::kAngled;
     } else {
@@ -409,32 +530,32 @@ SemanticMap Mapper::Map() const {
       // Seen: the graph's marginal (or the detector's sigma over the
       // evidence) above the floor. Far corners not seen: ShareBackLines.
       const bool from_graph =
-          index < corner_covariances_.size() && corner_covariances_[index][j].has_value();
+          index < corner_covariances.size() && corner_covariances[index][j].has_value();
       if (!s.corner_observed[j]) {
-        s.corner_sigma_m[j] = options_.depth_prior_sigma_m;
+        s.corner_sigma_m[j] = options.depth_prior_sigma_m;
       } else if (from_graph) {
-        s.corner_sigma_m[j] = std::hypot(std::sqrt(0.5 * corner_covariances_[index][j]->trace()),
-                                         options_.corner_sigma_floor_m);
+        s.corner_sigma_m[j] = std::hypot(std::sqrt(0.5 * corner_covariances[index][j]->trace()),
+                                         options.corner_sigma_floor_m);
       } else {
         const double n = slot.corner_observations[j];
-        s.corner_sigma_m[j] = std::hypot(options_.corner_evidence_sigma_m / std::sqrt(n),
-                                         options_.corner_sigma_floor_m);
+        s.corner_sigma_m[j] = std::hypot(options.corner_evidence_sigma_m / std::sqrt(n),
+                                         options.corner_sigma_floor_m);
       }
     }
     s.observation_count = slot.observations;
     map.slots.push_back(s);
   }
   BackLineOptions back_line;
-  back_line.row_depth_sigma_m = options_.row_depth_sigma_m;
-  back_line.depth_prior_sigma_m = options_.depth_prior_sigma_m;
+  back_line.row_depth_sigma_m = options.row_depth_sigma_m;
+  back_line.depth_prior_sigma_m = options.depth_prior_sigma_m;
   ShareBackLines(back_line, &map.slots);
   // Each tag implies an obstacle: the face of the wall or pillar it hangs on,
   // drawn as a segment one metre wide behind it.
-  for (const TagLandmark& tag : state_.tags) {
+  for (const TagLandmark& tag : state.tags) {
     const Eigen::Vector2d p(tag.pose[0], tag.pose[1]);
     const Eigen::Vector2d along(-std::sin(tag.pose[2]), std::cos(tag.pose[2]));
     map.obstacles.push_back({ObstacleKind::kWall, {p - 0.5 * along, p + 0.5 * along}});
-    map.tags.push_back({tag.tag_id, p, tag.pose[2], options_.tag_size_m,
+    map.tags.push_back({tag.tag_id, p, tag.pose[2], options.tag_size_m,
                         static_cast<int>(map.obstacles.size()) - 1});
   }
   return map;

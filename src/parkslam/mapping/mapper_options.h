@@ -99,6 +99,18 @@ struct MapperOptions {
   // "Soak").
   int prune_unconfirmed_after_keyframes = 300;
   int online_iterations = 5;
+  // Online: the full graph (every keyframe, slot and tag) is solved in a
+  // background thread (background_solve.h) every this many seconds of
+  // drive, at most background_iterations, and its solution laid into the
+  // map; 0: windowed updates only (docs/mapping.md, "Online at batch
+  // accuracy"). With background_wait, a solve started at time t is laid in
+  // at the first keyframe from t + background_solve_every_s on, waiting for
+  // it there if need be: the same map on every machine, and what a car
+  // whose solve fits that time sees. Without it, at the first keyframe
+  // after it finished: a live car that must never wait.
+  double background_solve_every_s = 2.0;
+  int background_iterations = 20;
+  bool background_wait = true;
   int batch_window_every = 10;  // batch: a windowed solve every n keyframes
   int final_iterations = 50;
   int final_rounds = 2;  // final solve, merge, re-choose, repeat
@@ -163,6 +175,9 @@ struct MapperOptions {
     v("online_merge_every_keyframes", online_merge_every_keyframes);
     v("prune_unconfirmed_after_keyframes", prune_unconfirmed_after_keyframes);
     v("online_iterations", online_iterations);
+    v("background_solve_every_s", background_solve_every_s);
+    v("background_iterations", background_iterations);
+    v("background_wait", background_wait);
     v("batch_window_every", batch_window_every);
     v("final_iterations", final_iterations);
     v("final_rounds", final_rounds);

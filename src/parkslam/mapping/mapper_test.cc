@@ -276,6 +276,53 @@ TEST(MapperTest, OnlineModeBuildsTheSameSlots) {
             static_cast<size_t>(mapper.stats().keyframes));
 }
 
+TEST(MapperTest, OnlineBackgroundSolveGivesTheSameMapOnEveryRun) {
+  // The background solve is laid in at a fixed time of the drive
+  // (background_wait), however fast its thread: two runs, one map.
+  const std::vector<TestSlot> slots{SlotAt(5.0), SlotAt(7.5), SlotAt(10.0)};
+  MapperOptions options = Options(RobustMode::kMaxMixture, MappingMode::kOnline);
+  options.background_solve_every_s = 0.5;
+  std::vector<SemanticMap> maps;
+  for (int run = 0; run < 2; ++run) {
+    Mapper mapper(options, {}, SE2());
+    Drive(
+        mapper, slots, [](int s, int) { return Reading(std::to_string(40 + s)); }, 0, 18);
+    // Along the drive the slots already carry the IDs their votes give.
+    const SemanticMap along = mapper.Map(2);
+    ASSERT_EQ(along.slots.size(), 3u);
+    EXPECT_EQ(FindNear(along, slots[1].corners_map[0])->id, "41");
+    EXPECT_GE(mapper.stats().background_solves, 15);
+    EXPECT_EQ(mapper.stats().background_solve_ms.size(),
+              static_cast<size_t>(mapper.stats().background_solves));
+    mapper.Finish();
+    maps.push_back(mapper.Map());
+  }
+  ASSERT_EQ(maps[0].slots.size(), 3u);
+  ASSERT_EQ(maps[1].slots.size(), 3u);
+  for (size_t s = 0; s < 3; ++s) {
+    for (int j = 0; j < 4; ++j) {
+      EXPECT_EQ(maps[0].slots[s].corners_map[j], maps[1].slots[s].corners_map[j]);
+    }
+  }
+}
+
+TEST(MapperTest, OnlineWithoutWaitingStillLaysInEveryFinishedSolve) {
+  // A live car never waits: each solve is laid in once it has finished.
+  const std::vector<TestSlot> slots{SlotAt(5.0), SlotAt(7.5)};
+  MapperOptions options = Options(RobustMode::kMaxMixture, MappingMode::kOnline);
+  options.background_wait = false;
+  Mapper mapper(options, {}, SE2());
+  Drive(
+      mapper, slots, [](int s, int) { return Reading(s == 0 ? "38" : "39"); }, 0, 15);
+  mapper.Finish();
+  EXPECT_GE(mapper.stats().background_solves, 1);
+  const SemanticMap map = mapper.Map();
+  ASSERT_EQ(map.slots.size(), 2u);
+  EXPECT_LT(
+      (FindNear(map, slots[0].corners_map[0])->corners_map[2] - slots[0].corners_map[2]).norm(),
+      0.05);
+}
+
 TEST(MapperTest, MalformedSlotObservationIsRejected) {
   Mapper mapper(Options(RobustMode::kMaxMixture), {}, SE2());
   // Clockwise corners: the slot would lie right of its entrance.
@@ -302,6 +349,11 @@ TEST(MapperTest, InvalidOptionsThrow) {
     EXPECT_FALSE(t.IsValid(&error));
     EXPECT_EQ(error, "initial_trust_region_radius: must be in [1e-32, 1e+16]");
   }
+  MapperOptions b;
+  b.background_solve_every_s = -1.0;
+  std::string error;
+  EXPECT_FALSE(b.IsValid(&error));
+  EXPECT_NE(error.find("background_solve_every_s"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -263,16 +263,16 @@ int DropOverlappingSlots(MapState* state, const MapperOptions& options) {
   return dropped;
 }
 
-void AssignIds(MapState* state, const MapperOptions& options) {
+std::vector<std::string> IdsByVotes(const std::deque<SlotLandmark>& slots,
+                                    const MapperOptions& options) {
   struct Claim {
     double votes;
     int slot;
     std::string id;
   };
   std::vector<Claim> claims;
-  for (int s = 0; s < static_cast<int>(state->slots.size()); ++s) {
-    SlotLandmark& slot = state->slots[s];
-    slot.id.clear();
+  for (int s = 0; s < static_cast<int>(slots.size()); ++s) {
+    const SlotLandmark& slot = slots[s];
     if (!slot.alive) continue;
     double total = 0.0;
     for (const auto& [id, votes] : slot.votes) total += votes;
@@ -284,13 +284,20 @@ void AssignIds(MapState* state, const MapperOptions& options) {
   std::sort(claims.begin(), claims.end(), [](const Claim& a, const Claim& b) {
     return a.votes > b.votes || (a.votes == b.votes && a.slot < b.slot);
   });
+  std::vector<std::string> ids(slots.size());
   std::set<std::string> taken;
   for (const Claim& claim : claims) {
-    SlotLandmark& slot = state->slots[claim.slot];
-    if (!slot.id.empty() || taken.count(claim.id) > 0) continue;
-    slot.id = claim.id;
+    std::string& id = ids[static_cast<size_t>(claim.slot)];
+    if (!id.empty() || taken.count(claim.id) > 0) continue;
+    id = claim.id;
     taken.insert(claim.id);
   }
+  return ids;
+}
+
+void AssignIds(MapState* state, const MapperOptions& options) {
+  const std::vector<std::string> ids = IdsByVotes(state->slots, options);
+  for (size_t s = 0; s < state->slots.size(); ++s) state->slots[s].id = ids[s];
 }
 
 }  // namespace parkslam::mapping

@@ -9,8 +9,10 @@
 // and records' choices.
 
 #include <array>
+#include <deque>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "parkslam/mapping/map_state.h"
 #include "parkslam/mapping/mapper_options.h"
@@ -78,6 +80,10 @@ int DropOverlappingSlots(MapState* state, const MapperOptions& options);
 // the slot's votes, and goes to the slot with most votes for it; the rest
 // stay temporary.
 void AssignIds(MapState* state, const MapperOptions& options);
+// The same names, by slot index ("" for temporary), without setting them:
+// what the slots would be called if the drive ended now.
+std::vector<std::string> IdsByVotes(const std::deque<SlotLandmark>& slots,
+                                    const MapperOptions& options);
 
 }  // namespace parkslam::mapping
 
