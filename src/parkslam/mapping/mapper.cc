@@ -81,7 +81,9 @@ bool MapperOptions::IsValid(std::string* error) const {
   c.AtLeast(online_merge_every_keyframes, 0, "online_merge_every_keyframes");
   c.AtLeast(prune_unconfirmed_after_keyframes, 0, "prune_unconfirmed_after_keyframes");
   c.AtLeast(online_iterations, 1, "online_iterations");
-  c.NonNegative(background_solve_every_s, "background_solve_every_s");
+  // An hour at most: beyond it no drive sees a second solve (and the time
+  // would overflow the clock's nanoseconds long before a double does).
+  c.InRange(background_solve_every_s, 0.0, 3600.0, "background_solve_every_s", "s");
   c.AtLeast(background_iterations, 1, "background_iterations");
   c.AtLeast(batch_window_every, 1, "batch_window_every");
   c.AtLeast(final_iterations, 1, "final_iterations");

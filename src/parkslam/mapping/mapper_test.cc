@@ -349,11 +349,16 @@ TEST(MapperTest, InvalidOptionsThrow) {
     EXPECT_FALSE(t.IsValid(&error));
     EXPECT_EQ(error, "initial_trust_region_radius: must be in [1e-32, 1e+16]");
   }
-  MapperOptions b;
-  b.background_solve_every_s = -1.0;
-  std::string error;
-  EXPECT_FALSE(b.IsValid(&error));
-  EXPECT_NE(error.find("background_solve_every_s"), std::string::npos) << error;
+  for (const double every_s : {-1.0, 1e300}) {
+    MapperOptions b;
+    b.background_solve_every_s = every_s;
+    std::string error;
+    EXPECT_FALSE(b.IsValid(&error));
+    EXPECT_EQ(error.rfind("background_solve_every_s: ", 0), 0u) << error;
+  }
+  MapperOptions windowed_only;
+  windowed_only.background_solve_every_s = 0.0;
+  EXPECT_TRUE(windowed_only.IsValid(nullptr));
 }
 
 }  // namespace
