@@ -24,7 +24,7 @@ cmake --build build-asan -j"$(nproc)"
 # thread pools) are not ours: leak checking is off, the rest is on.
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-slow=(cli_test format_check
+slow=(cli_test format_check install_test
   'DeadReckoningTest\.GyroOnlyAndDisturbedCompassDriftLessThanOnePercent'
   'FaultToleranceTest\.'
   'SoakTest\.'
