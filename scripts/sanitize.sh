@@ -31,6 +31,8 @@ slow=(cli_test format_check install_test
   'KidnapTest\.RelocalizesInAlmostAllTrials'
   'OdometryConsistencyTest\.NeesInsideChiSquareBandOnDefaultDrive'
   'OnlineMappingTest\.BackgroundSolveKeepsTheMapAtBatchAccuracyAlongTheDrive'
+  'LiveSystemTest\.OnCameraFramesWaitingForPerceptionThePosesAreLocalizesOwn'
+  'LiveSystemTest\.FramesFasterThanPerceptionAreDroppedAndTheCarIsStillTracked'
   'PerceptionSourceTest\.ReplacesObservationsByWhatTheCamerasSee'
   'ReportTest\.EveryFigureAgreesWithMetricsJson'
   'ReportTest\.OpensInHeadlessChromiumAndLinksPlotsAndMap'

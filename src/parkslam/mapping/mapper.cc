@@ -563,6 +563,12 @@ SemanticMap Mapper::MapOf(const MapState& state, const MapperOptions& options,
   return map;
 }
 
+SE2 Mapper::CurrentPose() const {
+  if (state_.keyframes.empty()) return SE2();
+  return state_.PoseOf(static_cast<int>(state_.keyframes.size()) - 1) *
+         ekf_->MotionSinceClone().T_clone_now;
+}
+
 Trajectory Mapper::KeyframeTrajectory() const {
   Trajectory trajectory;
   for (int k = 0; k < static_cast<int>(state_.keyframes.size()); ++k) {

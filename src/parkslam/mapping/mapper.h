@@ -88,6 +88,11 @@ class Mapper {
   // batch would give (Finish's final solves on a copy of the state, no
   // corner covariances). Costs a full solve.
   SemanticMap BatchMapSoFar(int min_observations) const;
+  // The car's pose at the newest event: the newest keyframe's, as the graph
+  // has it, moved on by the dead reckoning since; identity before the
+  // first keyframe. And the time it is at.
+  SE2 CurrentPose() const;
+  TimeNs current_time_ns() const { return ekf_->time_ns(); }
   // The keyframes' poses. On a long drive (MapperOptions::
   // retire_check_min_records) keyframes that no kept record names are
   // culled, so the trajectory there is sparser.

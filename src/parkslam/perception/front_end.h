@@ -149,6 +149,15 @@ class PerceptionFrontEnd {
   // size does not match its camera.
   PerceptionOutput Process(const CameraFrame& frame,
                            const std::vector<std::string>& excluded = {}) const;
+  // Its two halves, each into its part of *out (whose frames' times the
+  // caller sets): paper III-A, fusion, detection and ID reading into
+  // out->slots (and the top view, detection, IDs and their times); paper
+  // III-B, the tag camera's tags into out->tags. For a caller that wants
+  // the slots' pose before the tags are found (live/live_system.h).
+  void PerceiveSlots(const CameraFrame& frame, const std::vector<std::string>& excluded,
+                     PerceptionOutput* out) const;
+  void PerceiveTags(const CameraFrame& frame, const std::vector<std::string>& excluded,
+                    PerceptionOutput* out) const;
 
   const camera::TopViewFusion& fusion() const { return *fusion_; }
   // 0 on the car's footprint in the top view, 255 elsewhere.
@@ -164,13 +173,6 @@ class PerceptionFrontEnd {
   void MakeDetectors();
   // The car's footprint mask, and each fisheye's part of the top view.
   void MakeMasks();
-  // Paper III-A: fusion, detection, ID reading, into out->slots (and the
-  // top view, detection, IDs and their times).
-  void PerceiveSlots(const CameraFrame& frame, const std::vector<std::string>& excluded,
-                     PerceptionOutput* out) const;
-  // Paper III-B: tags in the tag camera, into out->tags.
-  void PerceiveTags(const CameraFrame& frame, const std::vector<std::string>& excluded,
-                    PerceptionOutput* out) const;
   PerceptionOptions options_;
   camera::CameraConfig tag_camera_;
   int tag_first_row_ = 0, tag_rows_ = 0;  // the searched band of the front image

@@ -1,0 +1,195 @@
+#include "parkslam/live/live_system.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "parkslam/common/trajectory.h"
+#include "parkslam/harness/live_cameras.h"
+#include "parkslam/harness/rendering_source.h"
+#include "parkslam/harness/short_drive_test_util.h"
+#include "parkslam/odometry/odometry_ekf.h"
+#include "parkslam/sensor/sensor_log.h"
+
+namespace parkslam::live {
+namespace {
+
+using harness::test_util::ShortDrive;
+
+const ShortDrive& LiveDrive() {
+  static const ShortDrive drive = harness::test_util::MakeShortDrive(4);
+  return drive;
+}
+
+LiveOptions Options() {
+  LiveOptions o;
+  o.odometry = odometry::EkfOptionsFromSpec(LiveDrive().scenario.sensors.odometry,
+                                            LiveDrive().scenario.vehicle);
+  return o;
+}
+
+// Estimates of one localizer fed `source` as `localize` feeds it.
+std::vector<localization::LocalizationEstimate> Reference(SensorSource& source,
+                                                          const SemanticMap& map,
+                                                          const SE2& start) {
+  localization::Localizer localizer(map, {}, Options().odometry);
+  localizer.SetPose(start, Eigen::Vector3d(0.5, 0.5, 0.1).cwiseAbs2().asDiagonal());
+  std::vector<localization::LocalizationEstimate> out;
+  while (const auto event = source.Next()) {
+    if (auto estimate = localizer.Process(*event)) out.push_back(*estimate);
+  }
+  return out;
+}
+
+void ExpectSamePoses(const std::vector<localization::LocalizationEstimate>& a,
+                     const std::vector<localization::LocalizationEstimate>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].t_ns, b[i].t_ns) << i;
+    EXPECT_LT((a[i].T_map_vehicle.translation() - b[i].T_map_vehicle.translation()).norm(), 1e-3)
+        << i;
+  }
+}
+
+TEST(LiveSystemTest, OnSlotAndTagFramesThePosesAreTheLocalizersOwn) {
+  const ShortDrive& d = LiveDrive();
+  const SemanticMap map = sim::ToSemanticMap(d.simulation.world);
+  const SE2 start = d.truth.front().T_map_vehicle;
+  SensorLogSource reference_source(d.simulation.log);
+  const auto reference = Reference(reference_source, map, start);
+  ASSERT_GT(reference.size(), 100u);
+
+  LiveSystem live(map, nullptr, Options(), start);
+  SensorLogSource source(d.simulation.log);
+  std::vector<localization::LocalizationEstimate> estimates;
+  EXPECT_FALSE(live.PredictedPose().has_value());
+  while (const auto event = source.Next()) {
+    live.Process(*event);
+    for (auto& e : live.TakeEstimates()) estimates.push_back(e);
+  }
+  live.Finish();
+  ExpectSamePoses(estimates, reference);
+  EXPECT_EQ(live.stats().estimates, static_cast<int>(reference.size()));
+  EXPECT_EQ(live.stats().latency_ms.size(), reference.size());
+  // The prediction runs ahead of the last estimate by the odometry since.
+  const std::optional<TimedPose> predicted = live.PredictedPose();
+  ASSERT_TRUE(predicted.has_value());
+  EXPECT_GE(predicted->t_ns, estimates.back().t_ns);
+  const std::optional<SE2> truth = PoseAt(d.truth, predicted->t_ns);
+  ASSERT_TRUE(truth.has_value());
+  EXPECT_LT((predicted->T_map_vehicle.translation() - truth->translation()).norm(), 0.1);
+  EXPECT_THROW(live.Process(CameraFrame{}), std::invalid_argument);
+}
+
+// On pixels, waiting for each frame's perception: the poses of `localize`
+// on the same rendered frames, and no frame dropped.
+TEST(LiveSystemTest, OnCameraFramesWaitingForPerceptionThePosesAreLocalizesOwn) {
+  const ShortDrive& d = LiveDrive();
+  const SemanticMap map = sim::ToSemanticMap(d.simulation.world);
+  const SE2 start = d.truth.front().T_map_vehicle;
+  harness::LiveCameras cameras(sim::BuildWorld(d.scenario.world), d.scenario.world, 4);
+  SensorLogSource log_a(d.simulation.log);
+  harness::RenderingSource rendered_a(log_a, cameras.renderer(), d.truth, cameras.cameras(), 2.0);
+  perception::PerceptionSource perceived(rendered_a, cameras.front_end());
+  const auto reference = Reference(perceived, map, start);
+  ASSERT_GT(reference.size(), 40u);
+
+  LiveOptions options = Options();
+  options.wait_for_perception = true;
+  LiveSystem live(map, &cameras.rig(), options, start);
+  SensorLogSource log_b(d.simulation.log);
+  harness::RenderingSource rendered_b(log_b, cameras.renderer(), d.truth, cameras.cameras(), 2.0);
+  std::vector<localization::LocalizationEstimate> estimates;
+  while (const auto event = rendered_b.Next()) {
+    // On pixels a car has no slot or tag frames but what its cameras see.
+    if (std::holds_alternative<SlotObservationFrame>(*event) ||
+        std::holds_alternative<TagObservationFrame>(*event)) {
+      continue;
+    }
+    live.Process(*event);
+    for (auto& e : live.TakeEstimates()) estimates.push_back(e);
+  }
+  live.Finish();
+  for (auto& e : live.TakeEstimates()) estimates.push_back(e);
+  ExpectSamePoses(estimates, reference);
+  EXPECT_EQ(live.stats().frames_dropped, 0);
+  EXPECT_EQ(live.stats().frames_perceived, live.stats().camera_frames);
+}
+
+// Frames faster than the perception, never waiting: the frames that waited
+// are dropped and counted, the estimates stay in time order and on the car.
+TEST(LiveSystemTest, FramesFasterThanPerceptionAreDroppedAndTheCarIsStillTracked) {
+  const ShortDrive& d = LiveDrive();
+  const SemanticMap map = sim::ToSemanticMap(d.simulation.world);
+  harness::LiveCameras cameras(sim::BuildWorld(d.scenario.world), d.scenario.world, 4);
+  SensorLogSource log(d.simulation.log);
+  harness::RenderingSource rendered(log, cameras.renderer(), d.truth, cameras.cameras(), 2.0);
+  std::vector<SensorEvent> events;
+  while (auto event = rendered.Next()) {
+    if (std::holds_alternative<SlotObservationFrame>(*event) ||
+        std::holds_alternative<TagObservationFrame>(*event)) {
+      continue;
+    }
+    events.push_back(std::move(*event));
+  }
+  LiveSystem live(map, &cameras.rig(), Options(), d.truth.front().T_map_vehicle);
+  std::vector<localization::LocalizationEstimate> estimates;
+  for (SensorEvent& event : events) {
+    const bool frame = std::holds_alternative<CameraFrame>(event);
+    live.Process(std::move(event));
+    // Three frame sets come within one perception (about 15 ms each).
+    if (frame) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    for (auto& e : live.TakeEstimates()) estimates.push_back(e);
+  }
+  live.Finish();
+  for (auto& e : live.TakeEstimates()) estimates.push_back(e);
+  const LiveStats& st = live.stats();
+  EXPECT_GT(st.frames_dropped, 0);
+  EXPECT_EQ(st.frames_perceived + st.frames_dropped, st.camera_frames);
+  ASSERT_GT(estimates.size(), 10u);
+  for (size_t i = 1; i < estimates.size(); ++i) EXPECT_LE(estimates[i - 1].t_ns, estimates[i].t_ns);
+  const localization::LocalizationEstimate& last = estimates.back();
+  const std::optional<SE2> truth = PoseAt(d.truth, last.t_ns);
+  ASSERT_TRUE(truth.has_value());
+  EXPECT_LT((last.T_map_vehicle.translation() - truth->translation()).norm(), 0.3);
+}
+
+// Mapping live: the map grows along the drive, and the pose and the map are
+// those of a mapper fed the same drive (waiting for the background solve,
+// as wait_for_perception asks).
+TEST(LiveSystemTest, MappingGrowsTheMapAlongTheDriveAsTheMappersOwn) {
+  const ShortDrive& d = LiveDrive();
+  LiveOptions options = Options();
+  options.wait_for_perception = true;
+  LiveSystem live(nullptr, options, d.truth.front().T_map_vehicle);
+  EXPECT_TRUE(live.mapping());
+  mapping::MapperOptions mapper_options;
+  mapper_options.mode = mapping::MappingMode::kOnline;
+  mapping::Mapper mapper(mapper_options, options.odometry, d.truth.front().T_map_vehicle);
+  SensorLogSource source(d.simulation.log);
+  size_t halfway_slots = 0;
+  const TimeNs halfway_ns = (d.truth.front().t_ns + d.truth.back().t_ns) / 2;
+  while (const auto event = source.Next()) {
+    live.Process(*event);
+    mapper.Process(*event);
+    if (halfway_slots == 0 && EventTime(*event) >= halfway_ns) {
+      halfway_slots = live.Map().slots.size();
+    }
+  }
+  const std::optional<TimedPose> predicted = live.PredictedPose();
+  ASSERT_TRUE(predicted.has_value());
+  EXPECT_EQ(predicted->t_ns, mapper.current_time_ns());
+  EXPECT_LT((predicted->T_map_vehicle.translation() - mapper.CurrentPose().translation()).norm(),
+            1e-9);
+  live.Finish();
+  mapper.Finish();
+  const size_t final_slots = live.Map().slots.size();
+  EXPECT_GE(halfway_slots, 1u);
+  EXPECT_GE(final_slots, halfway_slots + 5);
+  EXPECT_EQ(final_slots, mapper.Map().slots.size());
+  EXPECT_TRUE(live.TakeEstimates().empty());
+}
+
+}  // namespace
+}  // namespace parkslam::live
