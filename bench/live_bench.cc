@@ -115,6 +115,17 @@ int main(int argc, char** argv) {
   double sum_sq = 0.0, worst_m = 0.0;
   int estimates = 0;
   std::vector<localization::LocalizationEstimate> all;
+  auto score = [&](const std::vector<localization::LocalizationEstimate>& taken) {
+    for (const auto& e : taken) {
+      all.push_back(e);
+      const std::optional<SE2> at = PoseAt(truth, e.t_ns);
+      if (!at) continue;
+      const double error_m = (e.T_map_vehicle.translation() - at->translation()).norm();
+      sum_sq += error_m * error_m;
+      worst_m = std::max(worst_m, error_m);
+      ++estimates;
+    }
+  };
   while (const auto event = source->Next()) {
     const TimeNs t_ns = EventTime(*event);
     if (t_ns > end_ns) break;
@@ -126,26 +137,10 @@ int main(int argc, char** argv) {
     std::this_thread::sleep_until(wall0 + std::chrono::nanoseconds(static_cast<std::int64_t>(
                                               static_cast<double>(t_ns - t0_ns) / o.speed)));
     live.Process(*event);
-    for (const auto& e : live.TakeEstimates()) {
-      all.push_back(e);
-      const std::optional<SE2> at = PoseAt(truth, e.t_ns);
-      if (!at) continue;
-      const double error_m = (e.T_map_vehicle.translation() - at->translation()).norm();
-      sum_sq += error_m * error_m;
-      worst_m = std::max(worst_m, error_m);
-      ++estimates;
-    }
+    score(live.TakeEstimates());
   }
   live.Finish();
-  for (const auto& e : live.TakeEstimates()) {
-    all.push_back(e);
-    if (const std::optional<SE2> at = PoseAt(truth, e.t_ns)) {
-      const double error_m = (e.T_map_vehicle.translation() - at->translation()).norm();
-      sum_sq += error_m * error_m;
-      worst_m = std::max(worst_m, error_m);
-      ++estimates;
-    }
-  }
+  score(live.TakeEstimates());
   // The same drive through `localize`'s chain (the perception in the same
   // thread, event by event), as fast as it goes: the poses the live API
   // must give.
