@@ -1,6 +1,7 @@
-// Maps a row of three slots from a short straight drive, online, then
-// localizes a second drive on that map: the core's live use, fed event by
-// event as a car's software would, through the installed library alone.
+// Maps a row of three slots from a short straight drive, live, then
+// localizes a second drive on that map: the core's live API (live::
+// LiveSystem), fed event by event as a car's software would, through the
+// installed library alone.
 // Prints the map and the last pose; exits non-zero when either is off.
 
 #include <cmath>
@@ -10,8 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "parkslam/localization/localizer.h"
-#include "parkslam/mapping/mapper.h"
+#include "parkslam/live/live_system.h"
 
 namespace {
 
@@ -57,23 +57,25 @@ void Drive(TimeNs t0, const std::function<void(const SensorEvent&)>& feed) {
 }  // namespace
 
 int main() {
-  mapping::MapperOptions mapper_options;
-  mapper_options.mode = mapping::MappingMode::kOnline;
-  mapping::Mapper mapper(mapper_options, {}, SE2());
-  Drive(0, [&](const SensorEvent& e) { mapper.Process(e); });
-  mapper.Finish();
-  const SemanticMap map = mapper.Map();
+  // Mapping live, from a known start: the online mapper behind the live API.
+  live::LiveOptions options;
+  live::LiveSystem mapping(nullptr, options, SE2());
+  Drive(0, [&](const SensorEvent& e) { mapping.Process(e); });
+  mapping.Finish();
+  const SemanticMap map = mapping.Map();
   for (const MapSlot& slot : map.slots) {
     std::printf("slot %s at (%.2f, %.2f)\n", slot.id.c_str(), slot.corners_map[0].x(),
                 slot.corners_map[0].y());
   }
 
-  localization::Localizer localizer(map, {}, {});
-  localizer.SetPose(SE2(), Eigen::Matrix3d::Identity() * 0.01);
+  // Localizing live on that map: a pose at every camera frame.
+  live::LiveSystem localizing(map, nullptr, options, SE2());
   std::optional<SE2> last;
   Drive(100'000 * kMs, [&](const SensorEvent& e) {
-    if (const auto estimate = localizer.Process(e)) last = estimate->T_map_vehicle;
+    localizing.Process(e);
+    for (const auto& estimate : localizing.TakeEstimates()) last = estimate.T_map_vehicle;
   });
+  localizing.Finish();
   if (!last) {
     std::printf("no pose\n");
     return 1;
