@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_util.h"
 #include "parkslam/harness/live_cameras.h"
 #include "parkslam/harness/rendering_source.h"
 #include "parkslam/live/live_system.h"
@@ -45,11 +46,7 @@ struct BenchOptions {
   std::uint64_t seed = 501;  // the demo's second drive
 };
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
-}
+using parkslam::bench::Percentile;
 
 int ParseArgs(int argc, char** argv, BenchOptions* o) {
   for (int i = 1; i < argc; ++i) {

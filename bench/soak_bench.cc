@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/io/atomic_file.h"
@@ -58,11 +59,7 @@ double HeapInUseMb() {
   return static_cast<double>(info.uordblks + info.hblkhd) / 1e6;
 }
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
-}
+using parkslam::bench::Percentile;
 
 // One minute of drive in one phase.
 struct Minute {

@@ -336,17 +336,21 @@ std::vector<double> KeptClosureChi2(const PoseGraph& graph, const std::vector<bo
 // The information scale that makes the kept closures' chi2 fit chi-square(3):
 // their median onto its median (robust while fewer than half of them are
 // wrong), or their mean onto its mean 3 (the a-posteriori variance factor of
-// geodesy, which heavier tails widen). 0 with fewer than 10 kept closures.
+// geodesy, which heavier tails widen). 0 with fewer than 10 kept closures,
+// and where the scale would leave (1e-9, 1e9): a degenerate fit.
 double VarianceScale(std::vector<double> chi2, bool median) {
   constexpr double kMedianChi2Of3Dof = 2.3659738843753377;
   if (chi2.size() < 10) return 0.0;
+  double scale = 0.0;
   if (median) {
     std::nth_element(chi2.begin(), chi2.begin() + chi2.size() / 2, chi2.end());
-    return kMedianChi2Of3Dof / chi2[chi2.size() / 2];
+    scale = kMedianChi2Of3Dof / chi2[chi2.size() / 2];
+  } else {
+    double sum = 0.0;
+    for (double c : chi2) sum += c;
+    scale = 3.0 * static_cast<double>(chi2.size()) / sum;
   }
-  double sum = 0.0;
-  for (double c : chi2) sum += c;
-  return 3.0 * static_cast<double>(chi2.size()) / sum;
+  return scale > 1e-9 && scale < 1e9 ? scale : 0.0;
 }
 
 // Scales every information matrix of a copy of `graph` by `scale`.
@@ -376,7 +380,7 @@ SolveSummary SolveMixture(const SolveOptions& options, PoseGraph* graph) {
       if (options.calibrate_information) {
         const double kept_scale =
             VarianceScale(KeptClosureChi2(batch, summary.pose_edge_kept), false);
-        if (kept_scale > 1e-9 && kept_scale < 1e9) scale = kept_scale;
+        if (kept_scale > 0.0) scale = kept_scale;
       }
       PoseGraph incremental = ScaledInformation(*graph, scale);
       SolveSummary other = RunSchedule(options, options.incremental_step, &incremental);
@@ -403,7 +407,7 @@ SolveSummary SolveMixture(const SolveOptions& options, PoseGraph* graph) {
   for (const bool median : {true, false}) {
     for (int round = 0; round < (median ? 8 : 3); ++round) {
       const double scale = VarianceScale(KeptClosureChi2(*graph, summary.pose_edge_kept), median);
-      if (!(scale > 1e-9 && scale < 1e9)) break;
+      if (scale == 0.0) break;
       PoseGraph scaled = ScaledInformation(!median && round == 0 ? uncalibrated : *graph, scale);
       SolveSummary calibrated = RunSchedule(Batch(options), 0, &scaled);
       AddWork(summary, &calibrated);

@@ -1,0 +1,22 @@
+#ifndef PARKSLAM_BENCH_BENCH_UTIL_H_
+#define PARKSLAM_BENCH_BENCH_UTIL_H_
+
+// What the command-line benchmarks share.
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+namespace parkslam::bench {
+
+// The q-quantile of v (the element at rank q n, the largest for q = 1); 0
+// for none.
+inline double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+}
+
+}  // namespace parkslam::bench
+
+#endif  // PARKSLAM_BENCH_BENCH_UTIL_H_
