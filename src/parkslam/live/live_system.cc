@@ -202,7 +202,11 @@ void LiveSystem::Feed(const SensorEvent& event, const Pending& from) {
     (second ? stats_.complete_latency_ms : stats_.latency_ms).push_back(MsSince(from.arrived));
     ++stats_.estimates;
     last_estimate_.emplace(estimate->t_ns, estimate->T_map_vehicle);
-    estimates_.push_back(std::move(*estimate));
+    if (options_.on_estimate) {
+      options_.on_estimate(*estimate);
+    } else {
+      estimates_.push_back(std::move(*estimate));
+    }
   }
 }
 

@@ -26,6 +26,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -58,6 +59,11 @@ struct LiveOptions {
   // frame is dropped, and the mapper's background solve waits as in `map`.
   // A car: false.
   bool wait_for_perception = false;
+  // Localizing: called with each estimate the moment it is made, from the
+  // thread that made it (the caller's, or the perception's), with the
+  // system's lock held: it must be quick and must not call the system.
+  // When set, the estimates go to it alone, and TakeEstimates gives none.
+  std::function<void(const localization::LocalizationEstimate&)> on_estimate;
 };
 
 struct LiveStats {

@@ -82,6 +82,36 @@ TEST(LiveSystemTest, OnSlotAndTagFramesThePosesAreTheLocalizersOwn) {
   EXPECT_THROW(live.Process(CameraFrame{}), std::invalid_argument);
 }
 
+TEST(LiveSystemTest, AnEstimateCallbackGetsEveryEstimateAsItIsMade) {
+  const ShortDrive& d = LiveDrive();
+  const SemanticMap map = sim::ToSemanticMap(d.simulation.world);
+  const SE2 start = d.truth.front().T_map_vehicle;
+  SensorLogSource reference_source(d.simulation.log);
+  const auto reference = Reference(reference_source, map, start);
+
+  std::vector<localization::LocalizationEstimate> called;
+  LiveOptions options = Options();
+  options.on_estimate = [&called](const localization::LocalizationEstimate& e) {
+    called.push_back(e);
+  };
+  LiveSystem live(map, nullptr, options, start);
+  SensorLogSource source(d.simulation.log);
+  while (const auto event = source.Next()) {
+    const size_t before = called.size();
+    const bool frame = std::holds_alternative<SlotObservationFrame>(*event) ||
+                       std::holds_alternative<TagObservationFrame>(*event);
+    live.Process(*event);
+    // Slot and tag frames are the estimator's at once: the callback has
+    // run before Process returns.
+    if (frame) {
+      EXPECT_EQ(called.size(), before + 1);
+    }
+    EXPECT_TRUE(live.TakeEstimates().empty());
+  }
+  live.Finish();
+  ExpectSamePoses(called, reference);
+}
+
 // On pixels, waiting for each frame's perception: the poses of `localize`
 // on the same rendered frames, and no frame dropped.
 TEST(LiveSystemTest, OnCameraFramesWaitingForPerceptionThePosesAreLocalizesOwn) {
