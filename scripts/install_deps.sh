@@ -4,7 +4,10 @@
 # --with-browser also installs Chromium, which the report's browser test
 # needs (scripts/test.sh asks for it; the demo does not); --with-fuzzer
 # installs Clang and its libFuzzer runtime (scripts/fuzz.sh); --with-format
-# installs clang-format (the format_check test, scripts/check_format.sh).
+# installs clang-format (the format_check test, scripts/check_format.sh);
+# --with-ros installs ROS 1's libraries and tools for the node (ros/,
+# docs/ros.md: -DPARKSLAM_ROS=ON) and its test (rosmaster, roslaunch,
+# rosbag play and record, rosservice).
 # librosbag-storage-dev (ROS 1 bags, for import-rosbag) brings Boost and a
 # few ROS libraries with it; ccache makes rebuilds and CI's fresh clones
 # fast (scripts/compiler_cache.sh).
@@ -24,7 +27,12 @@ for option in "$@"; do
     --with-browser) packages+=(chromium) ;;
     --with-fuzzer) packages+=(clang libclang-rt-dev) ;;
     --with-format) packages+=(clang-format) ;;
-    *) echo "install_deps.sh: unknown option '$option' (--with-browser, --with-fuzzer, --with-format)" >&2; exit 2 ;;
+    --with-ros)
+      packages+=(libroscpp-dev libtf2-ros-dev libtopic-tools-dev libnav-msgs-dev libsensor-msgs-dev
+                 libvisualization-msgs-dev libstd-srvs-dev python3-rosmaster python3-roslaunch
+                 python3-rosbag python3-rosparam python3-rostopic python3-rosservice python3-std-srvs
+                 rospack-tools) ;;
+    *) echo "install_deps.sh: unknown option '$option' (--with-browser, --with-fuzzer, --with-format, --with-ros)" >&2; exit 2 ;;
   esac
 done
 
