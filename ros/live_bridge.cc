@@ -60,6 +60,7 @@ struct LiveBridge::Impl {
   std::atomic<std::int64_t> t0_ns{kUnset};
   std::map<std::string, io::ros1::MessageSpec> specs;  // by data type
   std::int64_t last_pose_ns = kUnset;
+  int frames_tracked = 0;  // with an estimate while tracking
 
   TimeNs ToDrive(std::int64_t stamp_ns) {
     std::int64_t unset = kUnset;
@@ -89,6 +90,7 @@ struct LiveBridge::Impl {
     p.second = last_pose_ns == e.t_ns;
     p.slots_used = e.slots.used;
     p.tags_used = e.tags.used;
+    if (!p.second) ++frames_tracked;
     last_pose_ns = e.t_ns;
     on_pose(p);
   }
@@ -287,10 +289,11 @@ std::string LiveBridge::Summary() const {
   char line[400];
   std::snprintf(line, sizeof(line),
                 "%d frame sets (%d images in none, %d out of order), %d perceived, %d dropped; "
-                "%d estimates; latency to a frame's first pose median %.2f ms, p99 %.2f ms",
+                "%d estimates, %d frames tracked; latency to a frame's first pose median %.2f ms, "
+                "p99 %.2f ms",
                 sets.sets, sets.images_unmatched, sets.images_out_of_order, st.frames_perceived,
-                st.frames_dropped, st.estimates, Percentile(st.latency_ms, 0.5),
-                Percentile(st.latency_ms, 0.99));
+                st.frames_dropped, st.estimates, impl_->frames_tracked,
+                Percentile(st.latency_ms, 0.5), Percentile(st.latency_ms, 0.99));
   return line;
 }
 
