@@ -30,7 +30,7 @@ expect() {
   pass
 }
 
-for cmd in simulate odometry eval-traj demo map eval-map render plan-from-map localize follow topview tags detect eval-detect make-training-set report check-dataset solve-graph make-graph; do
+for cmd in simulate odometry eval-traj demo map update-map eval-map render plan-from-map localize follow topview tags detect eval-detect make-training-set report check-dataset solve-graph make-graph; do
   expect 0 "Usage|usage" -- "$PARKSLAM" "$cmd" --help
 done
 expect 0 "0\.1\.0" -- "$PARKSLAM" --version
@@ -230,6 +230,27 @@ if "$PARKSLAM" import-rosbag --help > /dev/null 2>&1; then
 else
   echo "cli_test: built without rosbag_storage, import-rosbag not tested"
 fi
+
+# update-map: the small lot mapped, then changed (slots moved and
+# repainted, tags moved, one taken down) and driven again.
+small="$(dirname "$0")/../../config/worlds/small.yaml"
+changes="--set world.changes.seed=1 --set world.changes.moved_slot_share=0.1
+  --set world.changes.repainted_slot_share=0.1 --set world.changes.moved_tags=2
+  --set world.changes.removed_tags=1"
+"$PARKSLAM" simulate --world "$small" --seed 2 --out "$tmp/u1" > /dev/null 2>&1
+# shellcheck disable=SC2086
+"$PARKSLAM" simulate --world "$small" --seed 3 $changes --out "$tmp/u2" > /dev/null 2>&1
+"$PARKSLAM" map "$tmp/u1" --out "$tmp/u1_map.json" > /dev/null 2>&1
+expect 0 "slots: 18 confirmed, 2 moved, 2 repainted, 0 added" -- "$PARKSLAM" update-map \
+  --map "$tmp/u1_map.json" "$tmp/u2" --out "$tmp/u_map.json" --label second-drive
+expect 0 "0 duplicate" -- "$PARKSLAM" eval-map --map "$tmp/u_map.json" --truth "$tmp/u2/groundtruth/map.json"
+expect 0 "observed corners 0\.0[0-4][0-9] m" -- "$PARKSLAM" eval-map --map "$tmp/u_map.json" \
+  --truth "$tmp/u2/groundtruth/map.json"
+grep -q '"last_confirmed": "second-drive"' "$tmp/u_map.json" && pass || fail "update-map stamped nothing"
+expect nonzero "agree on where the new drive" -- "$PARKSLAM" update-map --map "$tmp/u1_map.json" \
+  "$tmp/d" --out "$tmp/u_bad.json"
+expect nonzero "changes.moved_slot_share" -- "$PARKSLAM" simulate --set world.changes.moved_slot_share=2 \
+  --out "$tmp/x"
 
 # --config and --dump-config: the algorithm options from one file.
 expect 0 "^mapper:" -- "$PARKSLAM" map --dump-config

@@ -26,6 +26,7 @@ void AddOdometryCommand(CLI::App& app);
 void AddEvalTrajCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddMapCommand(CLI::App& app);
+void AddUpdateMapCommand(CLI::App& app);
 void AddEvalMapCommand(CLI::App& app);
 void AddRenderCommand(CLI::App& app);
 void AddPlanFromMapCommand(CLI::App& app);

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   parkslam::app::AddOdometryCommand(app);
   parkslam::app::AddEvalTrajCommand(app);
   parkslam::app::AddMapCommand(app);
+  parkslam::app::AddUpdateMapCommand(app);
   parkslam::app::AddEvalMapCommand(app);
   parkslam::app::AddRenderCommand(app);
   parkslam::app::AddPlanFromMapCommand(app);

@@ -195,26 +195,28 @@ nlohmann::json MapMetricsToJson(const eval::MapMetrics& m) {
           {"temporary_id_share", m.temporary_id_share},
           {"tags_true", m.tags_true},
           {"tags_matched", m.tags_matched},
-          {"tag_rmse_m", m.tag_rmse_m}};
+          {"tag_rmse_m", m.tag_rmse_m},
+          {"tags_not_in_truth", m.tags_not_in_truth}};
 }
 
 std::string DescribeMapMetrics(const eval::MapMetrics& m) {
   char text[768];
-  std::snprintf(
-      text, sizeof text,
-      "slots: %d of %d matched (%.1f %%), %d missed, %d spurious, %d duplicate\n"
-      "slot corner RMSE %.3f m (max %.3f m): observed corners %.3f m (max %.3f m, "
-      "%.1f %% inside 2 sigma, %d), unobserved %.3f m (max %.3f m, %.1f %% inside 2 "
-      "sigma, %d)\n"
-      "ID accuracy %.1f %% (%d read from worn paint), temporary IDs %.1f %%\n"
-      "tags: %d of %d matched, RMSE %.3f m",
-      m.slots_matched, m.slots_true,
-      m.slots_true > 0 ? 100.0 * m.slots_matched / m.slots_true : 0.0, m.slots_missed,
-      m.slots_spurious, m.slots_duplicate, m.slot_corner_rmse_m, m.slot_corner_max_m,
-      m.observed_corners.rmse_m, m.observed_corners.max_m, 100.0 * m.observed_corners.within_2sigma,
-      m.observed_corners.count, m.unobserved_corners.rmse_m, m.unobserved_corners.max_m,
-      100.0 * m.unobserved_corners.within_2sigma, m.unobserved_corners.count, 100.0 * m.id_accuracy,
-      m.ids_worn_read, 100.0 * m.temporary_id_share, m.tags_matched, m.tags_true, m.tag_rmse_m);
+  std::snprintf(text, sizeof text,
+                "slots: %d of %d matched (%.1f %%), %d missed, %d spurious, %d duplicate\n"
+                "slot corner RMSE %.3f m (max %.3f m): observed corners %.3f m (max %.3f m, "
+                "%.1f %% inside 2 sigma, %d), unobserved %.3f m (max %.3f m, %.1f %% inside 2 "
+                "sigma, %d)\n"
+                "ID accuracy %.1f %% (%d read from worn paint), temporary IDs %.1f %%\n"
+                "tags: %d of %d matched, RMSE %.3f m; %d in the map not in the lot",
+                m.slots_matched, m.slots_true,
+                m.slots_true > 0 ? 100.0 * m.slots_matched / m.slots_true : 0.0, m.slots_missed,
+                m.slots_spurious, m.slots_duplicate, m.slot_corner_rmse_m, m.slot_corner_max_m,
+                m.observed_corners.rmse_m, m.observed_corners.max_m,
+                100.0 * m.observed_corners.within_2sigma, m.observed_corners.count,
+                m.unobserved_corners.rmse_m, m.unobserved_corners.max_m,
+                100.0 * m.unobserved_corners.within_2sigma, m.unobserved_corners.count,
+                100.0 * m.id_accuracy, m.ids_worn_read, 100.0 * m.temporary_id_share,
+                m.tags_matched, m.tags_true, m.tag_rmse_m, m.tags_not_in_truth);
   return text;
 }
 

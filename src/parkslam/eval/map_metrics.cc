@@ -260,6 +260,11 @@ void AddTagMetrics(const SemanticMap& map, const SemanticMap& truth, MapMetrics*
     map_tags_by_id[map.tags[i].tag_id].push_back(i);
   }
   metrics->tags_true = static_cast<int>(truth.tags.size());
+  for (const auto& [id, indices] : map_tags_by_id) {
+    const bool in_truth = std::any_of(truth.tags.begin(), truth.tags.end(),
+                                      [id = id](const MapTag& t) { return t.tag_id == id; });
+    if (!in_truth) metrics->tags_not_in_truth += static_cast<int>(indices.size());
+  }
   double squared_sum = 0.0;
   for (const MapTag& truth_tag : truth.tags) {
     const auto it = map_tags_by_id.find(truth_tag.tag_id);

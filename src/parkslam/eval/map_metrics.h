@@ -75,6 +75,8 @@ struct MapMetrics {
   int tags_true = 0;
   int tags_matched = 0;
   double tag_rmse_m = 0.0;
+  // Map tags with a number no truth tag has (a tag taken down, still mapped).
+  int tags_not_in_truth = 0;
   // The alignment used: aligned map point = T_truth_map * map point
   // (identity when !align or when no alignment could be found).
   SE2 T_truth_map;

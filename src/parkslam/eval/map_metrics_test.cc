@@ -125,6 +125,7 @@ TEST(EvaluateMapTest, TruthAgainstItselfMatchesEverything) {
   EXPECT_EQ(m.tags_true, 6);
   EXPECT_EQ(m.tags_matched, 6);
   EXPECT_NEAR(m.tag_rmse_m, 0.0, 1e-9);
+  EXPECT_EQ(m.tags_not_in_truth, 0);
   ExpectIdentity(m.T_truth_map);
 }
 
@@ -413,6 +414,16 @@ TEST(EvaluateMapTest, EmptyMapMissesEverythingWithoutNan) {
   EXPECT_EQ(m.tags_matched, 0);
   EXPECT_EQ(m.tag_rmse_m, 0.0);
   ExpectIdentity(m.T_truth_map);
+}
+
+TEST(EvaluateMapTest, CountsMapTagsTheLotNoLongerHas) {
+  SemanticMap truth = MakeLot();
+  const SemanticMap map = truth;
+  truth.tags.erase(truth.tags.begin() + 2);  // taken down since the map was made
+  const MapMetrics m = EvaluateMap(map, truth);
+  EXPECT_EQ(m.tags_true, 5);
+  EXPECT_EQ(m.tags_matched, 5);
+  EXPECT_EQ(m.tags_not_in_truth, 1);
 }
 
 TEST(EvaluateMapTest, EmptyTruthMakesEveryMapSlotSpurious) {

@@ -204,10 +204,17 @@ void JsonReader::FailType(const Json& j, const JsonPath& path, const char* expec
 
 void JsonReader::ExpectObject(const Json& j, const JsonPath& path,
                               std::initializer_list<const char*> keys) const {
+  ExpectObject(j, path, keys, {});
+}
+
+void JsonReader::ExpectObject(const Json& j, const JsonPath& path,
+                              std::initializer_list<const char*> keys,
+                              std::initializer_list<const char*> optional_keys) const {
   if (!j.is_object()) FailType(j, path, "an object");
   for (const auto& item : j.items()) {
-    const bool known =
-        std::any_of(keys.begin(), keys.end(), [&](const char* key) { return item.key() == key; });
+    const auto is = [&](const char* key) { return item.key() == key; };
+    const bool known = std::any_of(keys.begin(), keys.end(), is) ||
+                       std::any_of(optional_keys.begin(), optional_keys.end(), is);
     if (!known) Fail(path.Key(item.key().c_str()), "unknown key");
   }
   for (const char* key : keys) {

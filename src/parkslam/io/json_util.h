@@ -51,6 +51,9 @@ class JsonReader {
   // `j` must be an object with exactly `keys`, no more and no fewer.
   void ExpectObject(const Json& j, const JsonPath& path,
                     std::initializer_list<const char*> keys) const;
+  // The same, with keys that may also be left out.
+  void ExpectObject(const Json& j, const JsonPath& path, std::initializer_list<const char*> keys,
+                    std::initializer_list<const char*> optional_keys) const;
   void ExpectArray(const Json& j, const JsonPath& path) const;
   // An array of exactly `size` elements; `what` names them ("points").
   void ExpectArray(const Json& j, const JsonPath& path, std::size_t size, const char* what) const;

@@ -35,23 +35,27 @@ Json SlotJson(const MapSlot& slot) {
     observed.push_back(slot.corner_observed[c]);
     sigmas.push_back(Rounded(slot.corner_sigma_m[c], kFineScale));
   }
-  return Json{{"id", slot.id},
-              {"temporary", slot.temporary},
-              {"id_legible", slot.id_legible},
-              {"kind", ToString(slot.kind)},
-              {"corners", corners},
-              {"corner_observed", observed},
-              {"corner_sigma_m", sigmas},
-              {"observations", slot.observation_count}};
+  Json j{{"id", slot.id},
+         {"temporary", slot.temporary},
+         {"id_legible", slot.id_legible},
+         {"kind", ToString(slot.kind)},
+         {"corners", corners},
+         {"corner_observed", observed},
+         {"corner_sigma_m", sigmas},
+         {"observations", slot.observation_count}};
+  if (!slot.last_confirmed.empty()) j["last_confirmed"] = slot.last_confirmed;
+  return j;
 }
 
 Json TagJson(const MapTag& tag) {
-  return Json{{"id", tag.tag_id},
-              {"x", Rounded(tag.p_map.x(), kLengthScale)},
-              {"y", Rounded(tag.p_map.y(), kLengthScale)},
-              {"yaw", Rounded(tag.yaw_map_rad, kFineScale)},
-              {"size_m", Rounded(tag.size_m, kLengthScale)},
-              {"obstacle", tag.obstacle_index}};
+  Json j{{"id", tag.tag_id},
+         {"x", Rounded(tag.p_map.x(), kLengthScale)},
+         {"y", Rounded(tag.p_map.y(), kLengthScale)},
+         {"yaw", Rounded(tag.yaw_map_rad, kFineScale)},
+         {"size_m", Rounded(tag.size_m, kLengthScale)},
+         {"obstacle", tag.obstacle_index}};
+  if (!tag.last_confirmed.empty()) j["last_confirmed"] = tag.last_confirmed;
+  return j;
 }
 
 Json ObstacleJson(const MapObstacle& obstacle) {
@@ -130,7 +134,8 @@ std::map<std::string, std::string> ReadMetadata(const Json& j, const JsonReader&
 MapSlot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path) {
   r.ExpectObject(j, path,
                  {"id", "temporary", "id_legible", "kind", "corners", "corner_observed",
-                  "corner_sigma_m", "observations"});
+                  "corner_sigma_m", "observations"},
+                 {"last_confirmed"});
   MapSlot slot;
   slot.id = r.String(j["id"], path.Key("id"));
   slot.temporary = r.Bool(j["temporary"], path.Key("temporary"));
@@ -161,12 +166,15 @@ MapSlot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path) {
   const JsonPath count = path.Key("observations");
   slot.observation_count = r.Int(j["observations"], count);
   if (slot.observation_count < 0) r.Fail(count, "must not be negative");
+  if (j.contains("last_confirmed")) {
+    slot.last_confirmed = r.String(j["last_confirmed"], path.Key("last_confirmed"));
+  }
   return slot;
 }
 
 MapTag ReadTag(const Json& j, const JsonReader& r, const JsonPath& path,
                std::size_t obstacle_count) {
-  r.ExpectObject(j, path, {"id", "x", "y", "yaw", "size_m", "obstacle"});
+  r.ExpectObject(j, path, {"id", "x", "y", "yaw", "size_m", "obstacle"}, {"last_confirmed"});
   MapTag tag;
   const JsonPath id = path.Key("id");
   tag.tag_id = r.Int(j["id"], id);
@@ -185,6 +193,9 @@ MapTag ReadTag(const Json& j, const JsonReader& r, const JsonPath& path,
   if (tag.obstacle_index < -1 || tag.obstacle_index >= static_cast<std::int64_t>(obstacle_count)) {
     r.Fail(obstacle, "index " + std::to_string(tag.obstacle_index) + " out of range (" +
                          std::to_string(obstacle_count) + " obstacles; -1 for none)");
+  }
+  if (j.contains("last_confirmed")) {
+    tag.last_confirmed = r.String(j["last_confirmed"], path.Key("last_confirmed"));
   }
   return tag;
 }

@@ -33,6 +33,7 @@ SemanticMap SampleMap() {
   b.corner_observed = {true, true, false, true};
   b.corner_sigma_m = {0.05, 0.06, 0.25, 0.125};
   b.observation_count = 17;
+  b.last_confirmed = "drive 2";
   MapSlot c;  // no painted ID, worn
   c.id = "";
   c.id_legible = false;
@@ -46,9 +47,9 @@ SemanticMap SampleMap() {
                     {Eigen::Vector2d(10.2, 0.0), Eigen::Vector2d(10.8, 0.0),
                      Eigen::Vector2d(10.8, 0.6), Eigen::Vector2d(10.2, 0.6)}},
                    {ObstacleKind::kWall, {Eigen::Vector2d(0, 0), Eigen::Vector2d(82, 0)}}};
-  map.tags = {{7, Eigen::Vector2d(10.5, 0.3), 1.570796, 0.488, 0},
-              {12, Eigen::Vector2d(40.0, 0.01), -3.141593, 0.3, 1},
-              {13, Eigen::Vector2d(-20.0, 9.0), 0.0, 0.488, -1}};
+  map.tags = {{7, Eigen::Vector2d(10.5, 0.3), 1.570796, 0.488, 0, {}},
+              {12, Eigen::Vector2d(40.0, 0.01), -3.141593, 0.3, 1, "drive 2"},
+              {13, Eigen::Vector2d(-20.0, 9.0), 0.0, 0.488, -1, {}}};
   return map;
 }
 
@@ -67,6 +68,7 @@ void ExpectMapsEqual(const SemanticMap& a, const SemanticMap& b) {
       EXPECT_NEAR(a.slots[i].corner_sigma_m[k], b.slots[i].corner_sigma_m[k], 1e-12);
     }
     EXPECT_EQ(a.slots[i].observation_count, b.slots[i].observation_count);
+    EXPECT_EQ(a.slots[i].last_confirmed, b.slots[i].last_confirmed);
   }
   ASSERT_EQ(a.tags.size(), b.tags.size());
   for (std::size_t i = 0; i < a.tags.size(); ++i) {
@@ -75,6 +77,7 @@ void ExpectMapsEqual(const SemanticMap& a, const SemanticMap& b) {
     EXPECT_NEAR(a.tags[i].yaw_map_rad, b.tags[i].yaw_map_rad, 1e-12);
     EXPECT_NEAR(a.tags[i].size_m, b.tags[i].size_m, 1e-12);
     EXPECT_EQ(a.tags[i].obstacle_index, b.tags[i].obstacle_index);
+    EXPECT_EQ(a.tags[i].last_confirmed, b.tags[i].last_confirmed);
   }
   ASSERT_EQ(a.obstacles.size(), b.obstacles.size());
   for (std::size_t i = 0; i < a.obstacles.size(); ++i) {
@@ -91,6 +94,17 @@ TEST(MapJsonTest, JsonRoundTripKeepsEveryField) {
   ExpectMapsEqual(MapFromJson(MapToJson(map), "mem"), map);
 }
 
+TEST(MapJsonTest, WritesLastConfirmedOnlyWhereThereIsOne) {
+  const nlohmann::json j = MapToJson(SampleMap());
+  EXPECT_FALSE(j["slots"][0].contains("last_confirmed"));
+  EXPECT_EQ(j["slots"][1]["last_confirmed"], "drive 2");
+  EXPECT_FALSE(j["tags"][0].contains("last_confirmed"));
+  EXPECT_EQ(j["tags"][1]["last_confirmed"], "drive 2");
+  nlohmann::json bad = j;
+  bad["tags"][1]["last_confirmed"] = 3;
+  EXPECT_THROW(MapFromJson(bad, "mem"), IoError);
+}
+
 TEST(MapJsonTest, FileRoundTripKeepsEveryField) {
   const TempDir dir;
   const SemanticMap map = SampleMap();
@@ -100,7 +114,7 @@ TEST(MapJsonTest, FileRoundTripKeepsEveryField) {
 
 TEST(MapJsonTest, RoundsLengthsToMillimetresAndAnglesToMicroradians) {
   SemanticMap map;
-  map.tags = {{1, Eigen::Vector2d(1.23449, -0.0004), 0.12345649, 0.4881, -1}};
+  map.tags = {{1, Eigen::Vector2d(1.23449, -0.0004), 0.12345649, 0.4881, -1, {}}};
   const SemanticMap read = MapFromJson(MapToJson(map), "mem");
   EXPECT_DOUBLE_EQ(read.tags[0].p_map.x(), 1.234);
   EXPECT_DOUBLE_EQ(read.tags[0].p_map.y(), 0.0);

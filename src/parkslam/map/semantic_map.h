@@ -38,6 +38,9 @@ struct MapSlot {
   // Standard deviation of each corner (isotropic), metres; 0 in ground truth.
   std::array<double, kSlotCorners> corner_sigma_m{0.0, 0.0, 0.0, 0.0};
   int observation_count = 0;
+  // When a drive last saw it where the map has it: that drive's label
+  // (mapping/map_update.h); empty in a map that was never updated.
+  std::string last_confirmed;
 };
 
 enum class ObstacleKind { kPillar, kWall };
@@ -60,6 +63,8 @@ struct MapTag {
   // Index into SemanticMap::obstacles of the pillar or wall it hangs on, or
   // -1 when unknown.
   int obstacle_index = -1;
+  // As MapSlot::last_confirmed.
+  std::string last_confirmed;
 };
 
 struct SemanticMap {

@@ -557,8 +557,12 @@ SemanticMap Mapper::MapOf(const MapState& state, const MapperOptions& options,
     const Eigen::Vector2d p(tag.pose[0], tag.pose[1]);
     const Eigen::Vector2d along(-std::sin(tag.pose[2]), std::cos(tag.pose[2]));
     map.obstacles.push_back({ObstacleKind::kWall, {p - 0.5 * along, p + 0.5 * along}});
-    map.tags.push_back({tag.tag_id, p, tag.pose[2], options.tag_size_m,
-                        static_cast<int>(map.obstacles.size()) - 1});
+    map.tags.push_back({tag.tag_id,
+                        p,
+                        tag.pose[2],
+                        options.tag_size_m,
+                        static_cast<int>(map.obstacles.size()) - 1,
+                        {}});
   }
   return map;
 }

@@ -36,6 +36,17 @@ void CheckWorld(const WorldConfig& w, FieldChecker& c) {
   c.Require(std::isfinite(w.parked_share) && w.parked_share <= 1.0, "world.parked_share",
             "must be at most 1 (negative: drawn from 0.3-0.7)");
   c.Require(w.seed >= 0, "world.seed", "must be non-negative");
+  c.Require(w.changes.seed >= 0, "world.changes.seed", "must be non-negative");
+  c.Rate(w.changes.moved_slot_share, "world.changes.moved_slot_share");
+  c.Rate(w.changes.repainted_slot_share, "world.changes.repainted_slot_share");
+  c.Require(w.changes.moved_slot_share + w.changes.repainted_slot_share <= 1.0,
+            "world.changes.repainted_slot_share",
+            "with moved_slot_share, must be at most 1 (a slot changes once)");
+  c.InRange(w.changes.moved_slot_shift_m, 0.1, 3.0, "world.changes.moved_slot_shift_m", "m");
+  c.Require(w.changes.moved_tags >= 0 && w.changes.moved_tags <= 1000, "world.changes.moved_tags",
+            "must be in [0, 1000]");
+  c.Require(w.changes.removed_tags >= 0 && w.changes.removed_tags <= 1000,
+            "world.changes.removed_tags", "must be in [0, 1000]");
   CheckRegion(w.hall, "world.hall", c);
   c.InRange(w.hall.max_x_m - w.hall.min_x_m, kMinHallSide_m, kMaxHallSide_m, "world.hall",
             "m (max_x_m - min_x_m)");

@@ -87,6 +87,38 @@ struct SlotVariationConfig {
   }
 };
 
+// How the lot changed since an earlier drive (docs/simulator.md, "A lot
+// that changed"): laid over the built world, with a seed of their own, so
+// that two drives of one lot, one with changes and one without, see the
+// same lot but for them. Slots are chosen at random among those with a
+// painted ID; a moved slot is painted anew moved_slot_shift_m towards its
+// aisle (its separating lines stay where its neighbours' are); a repainted
+// slot gets a number the lot has nowhere else. A moved tag goes along its
+// wall (3-6 m) or to the next face of its pillar; a removed tag is gone.
+struct WorldChangesConfig {
+  int seed = 1;
+  double moved_slot_share = 0.0;
+  double moved_slot_shift_m = 0.5;
+  double repainted_slot_share = 0.0;
+  int moved_tags = 0;
+  int removed_tags = 0;
+
+  bool any() const {
+    return moved_slot_share > 0.0 || repainted_slot_share > 0.0 || moved_tags > 0 ||
+           removed_tags > 0;
+  }
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("seed", seed);
+    v("moved_slot_share", moved_slot_share);
+    v("moved_slot_shift_m", moved_slot_shift_m);
+    v("repainted_slot_share", repainted_slot_share);
+    v("moved_tags", moved_tags);
+    v("removed_tags", removed_tags);
+  }
+};
+
 struct WorldConfig {
   std::string name = "default";
   // Decides which painted IDs are missing or worn: the lot stays the same
@@ -124,6 +156,8 @@ struct WorldConfig {
   // and the keys above that generate a lot (rows, corridor, pillar size,
   // tags, ID rates) play no part. Left out of the YAML when not set.
   std::optional<WorldPlan> plan;
+  // Changes since an earlier drive of the same lot (none by default).
+  WorldChangesConfig changes;
 
   template <typename V>
   void VisitFields(V& v) {
@@ -147,6 +181,7 @@ struct WorldConfig {
     v("look_seed", look_seed);
     v("parked_share", parked_share);
     v("plan", plan);
+    v("changes", changes);
   }
 
   bool IsValid(std::string* error) const;

@@ -214,6 +214,100 @@ bool SegmentHitsSquare(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
   return true;
 }
 
+constexpr std::uint64_t kChangesStreamTag = 0xc4a9;
+
+// The distinct indices [0, n) in an order drawn from rng.
+std::vector<std::size_t> Shuffled(std::size_t n, Random& rng) {
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.Index(i)]);
+  return order;
+}
+
+bool TagNear(const World& world, std::size_t skip, const Eigen::Vector2d& p, double radius_m) {
+  for (std::size_t i = 0; i < world.tags.size(); ++i) {
+    if (i != skip && (world.tags[i].p_map - p).norm() < radius_m) return true;
+  }
+  return false;
+}
+
+// A tag to another place on its mount: along its wall by 3-6 m (either
+// way, kept 0.5 m inside the wall), or to the next free face of its pillar.
+void MoveTag(std::size_t index, Random& rng, World* world) {
+  WorldTag& tag = world->tags[index];
+  if (tag.on_pillar) {
+    const WorldPillar& pillar = world->pillars[tag.mount_index];
+    for (const double turn : {M_PI / 2, -M_PI / 2, M_PI}) {
+      const double yaw = NormalizeAngle(tag.normal_yaw_rad + turn);
+      const Eigen::Vector2d normal(std::cos(yaw), std::sin(yaw));
+      const Eigen::Vector2d p = pillar.center_map + pillar.half_size_m * normal;
+      if (TagNear(*world, index, p, 0.3)) continue;
+      tag.p_map = p;
+      tag.normal_yaw_rad = yaw;
+      return;
+    }
+    return;
+  }
+  const WorldWall& wall = world->walls[tag.mount_index];
+  const double length_m = (wall.b_map - wall.a_map).norm();
+  const Eigen::Vector2d along = (wall.b_map - wall.a_map) / length_m;
+  const double at_m = (tag.p_map - wall.a_map).dot(along);
+  const double step_m = rng.Uniform(3.0, 6.0);
+  const double first = rng.Bernoulli(0.5) ? 1.0 : -1.0;
+  for (const double sign : {first, -first}) {
+    const double to_m = at_m + sign * step_m;
+    if (to_m < 0.5 || to_m > length_m - 0.5) continue;
+    const Eigen::Vector2d p = tag.p_map + along * (to_m - at_m);
+    if (TagNear(*world, index, p, 1.0)) continue;
+    tag.p_map = p;
+    return;
+  }
+}
+
+// WorldChangesConfig, laid over the built world.
+void ApplyChanges(const WorldChangesConfig& changes, World* world) {
+  if (!changes.any()) return;
+  Random rng = Random::Derive(static_cast<std::uint64_t>(changes.seed), kChangesStreamTag);
+  std::vector<std::size_t> named;
+  int highest_id = 0;
+  for (std::size_t i = 0; i < world->slots.size(); ++i) {
+    const std::string& id = world->slots[i].painted_id;
+    if (id.empty()) continue;
+    named.push_back(i);
+    if (id.find_first_not_of("0123456789") == std::string::npos && id.size() < 9) {
+      highest_id = std::max(highest_id, std::stoi(id));
+    }
+  }
+  const std::vector<std::size_t> order = Shuffled(named.size(), rng);
+  const auto count = [&](double share) {
+    return static_cast<std::size_t>(std::llround(share * static_cast<double>(named.size())));
+  };
+  const std::size_t moved = std::min(order.size(), count(changes.moved_slot_share));
+  const std::size_t repainted = std::min(order.size() - moved, count(changes.repainted_slot_share));
+  for (std::size_t k = 0; k < moved; ++k) {
+    WorldSlot& slot = world->slots[named[order[k]]];
+    // Towards the aisle: against the direction from the entrance to the back.
+    const Eigen::Vector2d depth =
+        ((slot.corners_map[3] - slot.corners_map[0]) + (slot.corners_map[2] - slot.corners_map[1]))
+            .normalized();
+    for (Eigen::Vector2d& c : slot.corners_map) c -= changes.moved_slot_shift_m * depth;
+  }
+  for (std::size_t k = moved; k < moved + repainted; ++k) {
+    WorldSlot& slot = world->slots[named[order[k]]];
+    slot.painted_id = std::to_string(++highest_id);
+    slot.id_legible = true;
+  }
+  const std::vector<std::size_t> tags = Shuffled(world->tags.size(), rng);
+  const std::size_t removed = std::min(tags.size(), static_cast<std::size_t>(changes.removed_tags));
+  const std::size_t moved_tags =
+      std::min(tags.size() - removed, static_cast<std::size_t>(changes.moved_tags));
+  for (std::size_t k = removed; k < removed + moved_tags; ++k) MoveTag(tags[k], rng, world);
+  std::vector<std::size_t> gone(tags.begin(), tags.begin() + static_cast<std::ptrdiff_t>(removed));
+  std::sort(gone.rbegin(), gone.rend());
+  for (const std::size_t i : gone)
+    world->tags.erase(world->tags.begin() + static_cast<std::ptrdiff_t>(i));
+}
+
 }  // namespace
 
 World BuildWorld(const WorldConfig& config) {
@@ -223,7 +317,11 @@ World BuildWorld(const WorldConfig& config) {
 World BuildWorld(const WorldConfig& config, std::uint64_t seed) {
   std::string error;
   if (!config.IsValid(&error)) throw std::invalid_argument(error);
-  if (config.plan) return BuildWorldFromPlan(*config.plan, config.name, config.hall);
+  if (config.plan) {
+    World world = BuildWorldFromPlan(*config.plan, config.name, config.hall);
+    ApplyChanges(config.changes, &world);
+    return world;
+  }
 
   World world;
   world.name = config.name;
@@ -241,6 +339,7 @@ World BuildWorld(const WorldConfig& config, std::uint64_t seed) {
   if (config.corridor) {
     world.floor_area_m2 += config.corridor_length_m * config.corridor_width_m;
   }
+  ApplyChanges(config.changes, &world);
   return world;
 }
 
@@ -279,8 +378,12 @@ SemanticMap ToSemanticMap(const World& world) {
   }
   const int wall_count = static_cast<int>(world.walls.size());
   for (const WorldTag& tag : world.tags) {
-    map.tags.push_back({tag.tag_id, tag.p_map, tag.normal_yaw_rad, tag.size_m,
-                        tag.on_pillar ? wall_count + tag.mount_index : tag.mount_index});
+    map.tags.push_back({tag.tag_id,
+                        tag.p_map,
+                        tag.normal_yaw_rad,
+                        tag.size_m,
+                        tag.on_pillar ? wall_count + tag.mount_index : tag.mount_index,
+                        {}});
   }
   return map;
 }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -206,6 +207,82 @@ TEST(WorldTest, GroundTruthMapKeepsSlotOrderAndTagMounts) {
     ASSERT_GE(tag.obstacle_index, 0);
     ASSERT_LT(tag.obstacle_index, static_cast<int>(map.obstacles.size()));
   }
+}
+
+}  // namespace
+}  // namespace parkslam::sim
+
+namespace parkslam::sim {
+namespace {
+
+TEST(WorldChangesTest, MovesAndRepaintsTheShareOfSlotsAndMovesAndRemovesTags) {
+  WorldConfig config = DefaultScenario().world;
+  const World before = BuildWorld(config, 1);
+  config.changes.moved_slot_share = 0.05;
+  config.changes.repainted_slot_share = 0.05;
+  config.changes.moved_tags = 2;
+  config.changes.removed_tags = 1;
+  const World after = BuildWorld(config, 1);
+  ASSERT_EQ(after.slots.size(), before.slots.size());
+  int named = 0, moved = 0, repainted = 0;
+  std::set<std::string> ids;
+  for (size_t i = 0; i < before.slots.size(); ++i) {
+    const WorldSlot& a = before.slots[i];
+    const WorldSlot& b = after.slots[i];
+    named += a.painted_id.empty() ? 0 : 1;
+    if (!b.painted_id.empty()) {
+      EXPECT_TRUE(ids.insert(b.painted_id).second) << b.painted_id;
+    }
+    const double shift_m = (b.corners_map[0] - a.corners_map[0]).norm();
+    if (a.painted_id != b.painted_id) {
+      ++repainted;
+      EXPECT_LT(shift_m, 1e-12);  // repainted where it was
+      EXPECT_FALSE(a.painted_id.empty());
+      continue;
+    }
+    if (shift_m < 1e-12) continue;
+    ++moved;
+    // Towards the aisle: the entrance moves away from the back.
+    const Eigen::Vector2d depth = a.corners_map[3] - a.corners_map[0];
+    EXPECT_NEAR(shift_m, 0.5, 1e-9);
+    EXPECT_LT((b.corners_map[0] - a.corners_map[0]).dot(depth), 0.0);
+    for (int k = 1; k < 4; ++k) {
+      EXPECT_NEAR((b.corners_map[k] - a.corners_map[k]).norm(), 0.5, 1e-9);
+    }
+  }
+  EXPECT_EQ(moved, static_cast<int>(std::lround(0.05 * named)));
+  EXPECT_EQ(repainted, static_cast<int>(std::lround(0.05 * named)));
+
+  ASSERT_EQ(after.tags.size(), before.tags.size() - 1);
+  int tags_moved = 0;
+  for (const WorldTag& b : after.tags) {
+    const auto a = std::find_if(before.tags.begin(), before.tags.end(),
+                                [&](const WorldTag& t) { return t.tag_id == b.tag_id; });
+    ASSERT_NE(a, before.tags.end());
+    if ((a->p_map - b.p_map).norm() > 1e-9) {
+      ++tags_moved;
+      EXPECT_EQ(a->mount_index, b.mount_index);  // on the same wall or pillar
+    }
+  }
+  EXPECT_EQ(tags_moved, 2);
+  // The changes have their own seed: the same lot changes the same way.
+  const World again = BuildWorld(config, 1);
+  for (size_t i = 0; i < after.slots.size(); ++i) {
+    EXPECT_EQ(again.slots[i].painted_id, after.slots[i].painted_id);
+  }
+}
+
+TEST(WorldChangesTest, RejectsSharesBeyondOne) {
+  WorldConfig config = DefaultScenario().world;
+  config.changes.moved_slot_share = 0.6;
+  config.changes.repainted_slot_share = 0.6;
+  std::string error;
+  EXPECT_FALSE(config.IsValid(&error));
+  EXPECT_NE(error.find("world.changes.repainted_slot_share"), std::string::npos) << error;
+  config.changes.repainted_slot_share = 0.0;
+  config.changes.removed_tags = -1;
+  EXPECT_FALSE(config.IsValid(&error));
+  EXPECT_NE(error.find("world.changes.removed_tags"), std::string::npos) << error;
 }
 
 }  // namespace

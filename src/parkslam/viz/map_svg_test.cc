@@ -56,7 +56,8 @@ SemanticMap MakeLot(int slot_count) {
       map.tags.push_back({.tag_id = i,
                           .p_map = Eigen::Vector2d(x, y + 5.1),
                           .yaw_map_rad = -kPi / 2,
-                          .obstacle_index = static_cast<int>(map.obstacles.size()) - 1});
+                          .obstacle_index = static_cast<int>(map.obstacles.size()) - 1,
+                          .last_confirmed = {}});
     }
   }
   map.obstacles.push_back({ObstacleKind::kWall, {{-5.0, -8.0}, {55.0, -8.0}}});
