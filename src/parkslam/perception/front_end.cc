@@ -226,10 +226,24 @@ PerceptionOutput PerceptionFrontEnd::Process(const CameraFrame& frame,
 void PerceptionFrontEnd::PerceiveSlots(const CameraFrame& frame,
                                        const std::vector<std::string>& excluded,
                                        PerceptionOutput* out) const {
+  cv::Mat mask = footprint_mask_;
+  if (const ImagePlane* given = ImageOf(frame, kTopViewCamera)) {
+    // Fused elsewhere, in this front end's geometry.
+    if (given->width != footprint_mask_.cols || given->height != footprint_mask_.rows) {
+      throw std::invalid_argument(
+          std::string("front end: the frame's ") + kTopViewCamera + " is " +
+          std::to_string(given->width) + " x " + std::to_string(given->height) +
+          " px, and the top view here is " + std::to_string(footprint_mask_.cols) + " x " +
+          std::to_string(footprint_mask_.rows) + " (front_end.top_view.size_px)");
+    }
+    if (IsExcluded(excluded, kTopViewCamera)) return;
+    out->top_view = camera::AsMat(*given).clone();
+    DetectAndRead(mask, out);
+    return;
+  }
   // A left-out fisheye is fused as black (what no camera sees) and its part
   // of the top view masked.
   std::vector<cv::Mat> fisheyes;
-  cv::Mat mask = footprint_mask_;
   std::size_t left_out = 0;
   for (std::size_t c = 0; c < options_.fisheye_cameras.size(); ++c) {
     const std::string& name = options_.fisheye_cameras[c];
@@ -244,10 +258,14 @@ void PerceptionFrontEnd::PerceiveSlots(const CameraFrame& frame,
     mask.setTo(0, camera_regions_[c]);
   }
   if (fisheyes.size() != options_.fisheye_cameras.size() || left_out >= fisheyes.size()) return;
-  Clock::time_point start = Clock::now();
+  const Clock::time_point start = Clock::now();
   out->top_view = fusion_->Fuse(fisheyes);
   out->timing.fusion_ms = MsSince(start);
-  start = Clock::now();
+  DetectAndRead(mask, out);
+}
+
+void PerceptionFrontEnd::DetectAndRead(const cv::Mat& mask, PerceptionOutput* out) const {
+  Clock::time_point start = Clock::now();
   out->detection = learned_detector_ != nullptr ? learned_detector_->Detect(out->top_view, mask)
                                                 : slot_detector_->Detect(out->top_view, mask);
   out->timing.slots_ms = MsSince(start);

@@ -134,6 +134,9 @@ struct PerceptionOutput {
   PerceptionTiming timing;
 };
 
+// The name under which a frame brings a top view fused elsewhere.
+inline constexpr char kTopViewCamera[] = "top_view";
+
 class PerceptionFrontEnd {
  public:
   // `rig` must hold the fisheye cameras and the tag camera (a pinhole).
@@ -142,7 +145,12 @@ class PerceptionFrontEnd {
   ~PerceptionFrontEnd();
 
   // Runs every stage on one frame set. Cameras the frame lacks are skipped
-  // with their stage (no top view without all four fisheyes). Cameras named
+  // with their stage (no top view without all four fisheyes). A frame may
+  // bring the top view itself instead of the fisheyes, as the image of a
+  // camera named kTopViewCamera, in the front end's top-view geometry
+  // (options.top_view: size_px square, the vehicle where fusion puts it):
+  // a car whose surround-view unit fuses its own. The rig still names the
+  // fisheyes (their calibration gives the car's footprint mask). Cameras named
   // in `excluded` (failed: perception/camera_health.h) are left out: a
   // fisheye's part of the top view is black and masked, the tag camera's
   // tags are not looked for. Throws std::invalid_argument when an image's
@@ -171,6 +179,9 @@ class PerceptionFrontEnd {
   // The slot detector and ID reader (classical or learned) at the top
   // view's scale, and the tag detector.
   void MakeDetectors();
+  // Paper III-A on out->top_view: slots detected (outside `mask`'s zeros),
+  // their IDs read, both into out.
+  void DetectAndRead(const cv::Mat& mask, PerceptionOutput* out) const;
   // The car's footprint mask, and each fisheye's part of the top view.
   void MakeMasks();
   PerceptionOptions options_;

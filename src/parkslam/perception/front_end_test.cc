@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "parkslam/camera/image_plane.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/harness/rendering_source.h"
 #include "parkslam/render/renderer.h"
@@ -107,6 +108,35 @@ TEST(PerceptionFrontEndTest, LearnedSlotsInTheAisleLandOnTheTruth) {
     }
   }
   EXPECT_GE(with_id, 4);
+}
+
+// A top view fused elsewhere (here: by this front end's own fusion) in
+// place of the fisheyes gives the very slots; a wrong size is refused.
+TEST(PerceptionFrontEndTest, ATopViewGivenInPlaceOfTheFisheyesGivesTheSameSlots) {
+  const PerceptionFrontEnd& front_end = FrontEnd();
+  const CameraFrame fisheyes = RenderCameraFrame(Renderer(), SE2(30.0, 9.1, 0.0), 0, kCameras);
+  const PerceptionOutput from_fisheyes = front_end.Process(fisheyes);
+  ASSERT_GE(from_fisheyes.slots.slots.size(), 4u);
+  CameraFrame given;
+  given.t_ns = fisheyes.t_ns;
+  given.cameras = {kTopViewCamera, "front_mono"};
+  given.images = {camera::ToImagePlane(from_fisheyes.top_view), fisheyes.images.back()};
+  ASSERT_EQ(fisheyes.cameras.back(), "front_mono");
+  const PerceptionOutput from_top_view = front_end.Process(given);
+  ASSERT_EQ(from_top_view.slots.slots.size(), from_fisheyes.slots.slots.size());
+  for (size_t k = 0; k < from_top_view.slots.slots.size(); ++k) {
+    for (int c = 0; c < kSlotCorners; ++c) {
+      EXPECT_LT((from_top_view.slots.slots[k].corners_vehicle[c] -
+                 from_fisheyes.slots.slots[k].corners_vehicle[c])
+                    .norm(),
+                1e-9);
+    }
+    EXPECT_EQ(from_top_view.slots.slots[k].id.best(), from_fisheyes.slots.slots[k].id.best());
+  }
+  EXPECT_EQ(from_top_view.tags.tags.size(), from_fisheyes.tags.tags.size());
+  CameraFrame wrong = given;
+  wrong.images[0] = camera::ToImagePlane(cv::Mat::zeros(300, 300, CV_8UC1));
+  EXPECT_THROW(front_end.Process(wrong), std::invalid_argument);
 }
 
 // At the corridor's start the front camera sees tags: each lies where the
