@@ -51,9 +51,11 @@ void Run(const Options& o) {
       "%d landmarks named alike: x %.3f m, y %.3f m, yaw %.4f rad\n",
       drive_map.slots.size(), drive_map.tags.size(), old_map.slots.size(), old_map.tags.size(),
       r.alignment_inliers, r.alignment_pairs, r.T_old_new.x(), r.T_old_new.y(), r.T_old_new.yaw());
-  std::printf("slots: %d confirmed, %d moved, %d repainted, %d added, %d not seen (kept)\n",
-              r.slots_confirmed, r.slots_moved, r.slots_repainted, r.slots_added,
-              r.slots_unconfirmed);
+  std::printf(
+      "slots: %d confirmed, %d moved, %d repainted, %d added, %d not seen (kept), %d sightings at "
+      "odds with themselves or doubled (left out)\n",
+      r.slots_confirmed, r.slots_moved, r.slots_repainted, r.slots_added, r.slots_unconfirmed,
+      r.slots_disputed);
   std::printf("tags: %d confirmed, %d moved, %d added, %d removed, %d not seen (kept)\n",
               r.tags_confirmed, r.tags_moved, r.tags_added, r.tags_removed, r.tags_unconfirmed);
   std::printf("updated map (%zu slots, %zu tags, confirmed as '%s') written to %s in %.1f s\n",

@@ -76,23 +76,36 @@ double EntranceYaw(const MapSlot& slot) {
   return std::atan2(d.y(), d.x());
 }
 
-// The mean distance of the corners the new drive saw (all four when it saw
-// none), old slot against new.
-double SeenCornerDistance(const MapSlot& old_slot, const MapSlot& new_slot) {
-  double sum = 0.0;
-  int n = 0;
-  for (int k = 0; k < kSlotCorners; ++k) {
-    if (!new_slot.corner_observed[k]) continue;
-    sum += (old_slot.corners_map[k] - new_slot.corners_map[k]).norm();
-    ++n;
-  }
-  if (n == 0) {
-    for (int k = 0; k < kSlotCorners; ++k) {
-      sum += (old_slot.corners_map[k] - new_slot.corners_map[k]).norm();
+// What the new drive's sighting says of an old slot, by its entrance
+// corners (those it saw; the back ones are mostly guesses): both within
+// same_place_m, the slot is where it was; both moved alike (by more than
+// same_place_m, and within same_place_m of each other), it moved; else the
+// sighting disagrees with itself (one corner put on a neighbour's line, as
+// a detector does next to a slot painted anew) and says nothing.
+enum class Sighting { kInPlace, kMoved, kDisputed };
+
+Sighting Judge(const MapSlot& old_slot, const MapSlot& new_slot, double same_place_m) {
+  std::vector<Eigen::Vector2d> moves;
+  for (int k = 0; k < 2; ++k) {
+    if (new_slot.corner_observed[k]) {
+      moves.push_back(new_slot.corners_map[k] - old_slot.corners_map[k]);
     }
-    n = kSlotCorners;
   }
-  return sum / n;
+  if (moves.empty()) {
+    // Nothing seen of the entrance: the slot's middle alone.
+    const double d = (EntranceMid(new_slot) - EntranceMid(old_slot)).norm();
+    return d <= same_place_m ? Sighting::kInPlace : Sighting::kDisputed;
+  }
+  bool all_in_place = true, all_moved = true;
+  for (const Eigen::Vector2d& m : moves) {
+    all_in_place = all_in_place && m.norm() <= same_place_m;
+    all_moved = all_moved && m.norm() > same_place_m;
+  }
+  if (all_in_place) return Sighting::kInPlace;
+  if (all_moved && moves.size() == 2 && (moves[0] - moves[1]).norm() <= same_place_m) {
+    return Sighting::kMoved;
+  }
+  return Sighting::kDisputed;
 }
 
 // Confirmed in place: the old geometry stays, but for corners the old map
@@ -286,12 +299,13 @@ SemanticMap UpdateMap(const SemanticMap& old_map, const SemanticMap& new_map,
   SemanticMap out = old_map;
   std::vector<bool> old_taken(out.slots.size(), false);
   std::vector<int> match(seen.slots.size(), -1);
-  // The old slot (not yet taken) that the new slot covers, or -1.
-  const auto covered = [&](const MapSlot& s) {
+  // The old slot (not yet taken, unless any_slot) that the new slot
+  // covers, or -1.
+  const auto covered = [&](const MapSlot& s, bool any_slot = false) {
     int found = -1;
     double best_m = o.same_slot_m;
-    for (std::size_t i = 0; i < out.slots.size(); ++i) {
-      if (old_taken[i]) continue;
+    for (std::size_t i = 0; i < old_map.slots.size(); ++i) {
+      if (old_taken[i] && !any_slot) continue;
       const double d = (EntranceMid(out.slots[i]) - EntranceMid(s)).norm();
       if (d >= best_m ||
           std::abs(AngleDiff(EntranceYaw(out.slots[i]), EntranceYaw(s))) > o.same_slot_angle_rad) {
@@ -333,6 +347,12 @@ SemanticMap UpdateMap(const SemanticMap& old_map, const SemanticMap& new_map,
   for (std::size_t n = 0; n < seen.slots.size(); ++n) {
     const MapSlot& s = seen.slots[n];
     if (match[n] < 0) {
+      // Over an old slot another sighting has taken already: the new map
+      // saw one slot twice (a detection straddling two).
+      if (covered(s, true) >= 0) {
+        ++r.slots_disputed;
+        continue;
+      }
       MapSlot added = s;
       if (added.id.empty() || added.temporary || id_used.contains(added.id)) {
         added.id = "t" + std::to_string(++next_temporary);
@@ -356,12 +376,18 @@ SemanticMap UpdateMap(const SemanticMap& old_map, const SemanticMap& new_map,
       id_used[slot.id] = match[n];
       ++r.slots_repainted;
     }
-    if (SeenCornerDistance(slot, s) <= o.same_place_m) {
-      Confirm(s, o.label, &slot);
-      ++r.slots_confirmed;
-    } else {
-      Replace(s, o.label, &slot);
-      ++r.slots_moved;
+    switch (Judge(slot, s, o.same_place_m)) {
+      case Sighting::kInPlace:
+        Confirm(s, o.label, &slot);
+        ++r.slots_confirmed;
+        break;
+      case Sighting::kMoved:
+        Replace(s, o.label, &slot);
+        ++r.slots_moved;
+        break;
+      case Sighting::kDisputed:
+        ++r.slots_disputed;  // kept as it was
+        break;
     }
   }
   for (std::size_t i = 0; i < old_map.slots.size(); ++i) r.slots_unconfirmed += old_seen[i] ? 0 : 1;

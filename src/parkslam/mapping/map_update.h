@@ -16,14 +16,15 @@
 //    squares fit on the points of the agreeing pairs refines it. Changed
 //    landmarks disagree and are left out.
 // 2. Slots, new onto old. A new slot with the painted ID of an old one is
-//    that slot: where its seen corners lie within same_place_m of the old
-//    ones it is confirmed (the old geometry kept, but for corners the old
-//    map only guessed and the new drive saw); farther, it moved (the new
-//    geometry replaces the old). A new slot with no such ID that covers an
-//    old slot (entrance midpoints within same_slot_m, alike in direction)
-//    is that slot repainted: a new painted ID replaces the old one; an
-//    unread one keeps it; the geometry as above. Any other new slot is
-//    added (a temporary ID renumbered past the old ones).
+//    that slot: where its seen entrance corners lie within same_place_m of
+//    the old ones it is confirmed (the old geometry kept, but for corners
+//    the old map only guessed and the new drive saw); where both moved
+//    alike, it moved (the new geometry replaces the old); where they
+//    disagree (one corner put on a neighbour's line, as a detector does
+//    beside a slot painted anew), the old slot is kept as it was. A new slot with no such ID that
+//    covers an old slot (entrance midpoints within same_slot_m, alike in direction) is that slot
+//    repainted: a new painted ID replaces the old one; an unread one keeps it; the geometry as
+//    above. Any other new slot is added (a temporary ID renumbered past the old ones).
 // 3. Tags: the same number within same_place_m confirmed, farther moved.
 //    An old tag the new drive does not have is removed when that drive had
 //    it in the front camera's view (from camera_forward_m ahead of the
@@ -71,6 +72,7 @@ struct MapUpdateReport {
   int slots_moved = 0;
   int slots_repainted = 0;  // a new painted ID, or a first one for a temporary ID
   int slots_added = 0;
+  int slots_disputed = 0;     // seen, but the sighting disagreed with itself: kept
   int slots_unconfirmed = 0;  // old slots the drive did not see
   int tags_confirmed = 0, tags_moved = 0, tags_added = 0, tags_removed = 0;
   int tags_unconfirmed = 0;

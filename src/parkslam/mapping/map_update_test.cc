@@ -138,6 +138,17 @@ TEST(MapUpdateTest, AMisreadIdDoesNotMoveAnotherSlotOntoThisOne) {
   EXPECT_EQ(out.slots[2].id, "3");  // the ID is another slot's: not renamed
 }
 
+TEST(MapUpdateTest, ASightingAtOddsWithItselfKeepsTheSlot) {
+  const SemanticMap old_map = Lot();
+  SemanticMap now = old_map;
+  now.slots[4].corners_map[0].y() += 0.5;  // one entrance corner on a neighbour's line
+  MapUpdateReport r;
+  const SemanticMap out = UpdateMap(old_map, now, Drive(), {}, &r);
+  EXPECT_EQ(r.slots_disputed, 1);
+  EXPECT_EQ(r.slots_moved, 0);
+  EXPECT_NEAR(out.slots[4].corners_map[0].y(), 0.0, 1e-9);
+}
+
 TEST(MapUpdateTest, RefusesADriveOfAnotherLot) {
   SemanticMap other = Lot();
   for (MapSlot& s : other.slots) s.id = "x" + s.id;
