@@ -1,5 +1,7 @@
 #include "parkslam/live/live_system.h"
 
+#include <algorithm>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -134,7 +136,10 @@ void LiveSystem::Process(SensorEvent event) {
       }
       ++stats_.camera_frames;
       const std::uint64_t number = next_frame_++;
-      pending_.push_back({std::nullopt, number, arrived, false});
+      // Its place goes before the odometry held back that is newer than it.
+      const TimeNs t_ns = frame->t_ns;
+      pending_.insert(options_.reorder_window_s > 0.0 ? PlaceFor(t_ns) : pending_.end(),
+                      {std::nullopt, number, arrived, false, t_ns});
       std::optional<std::uint64_t> dropped;
       {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -149,7 +154,19 @@ void LiveSystem::Process(SensorEvent event) {
       }
       if (options_.wait_for_perception) wait_for = number;
     } else {
-      pending_.push_back({std::move(event), 0, arrived, false});
+      if (IsOdometry(event)) {
+        // In time order among the odometry held back (with a window; else
+        // at the end, as it came).
+        const TimeNs t_ns = EventTime(event);
+        newest_odometry_ns_ = std::max(newest_odometry_ns_, t_ns);
+        pending_.insert(options_.reorder_window_s > 0.0 ? PlaceFor(t_ns) : pending_.end(),
+                        {std::move(event), 0, arrived, false, t_ns});
+      } else {
+        // A slot or tag frame of the caller's, as a camera frame's place.
+        const TimeNs t_ns = EventTime(event);
+        pending_.insert(options_.reorder_window_s > 0.0 ? PlaceFor(t_ns) : pending_.end(),
+                        {std::move(event), 0, arrived, false, t_ns});
+      }
       Drain();
     }
   }
@@ -167,15 +184,37 @@ void LiveSystem::Resolve(std::uint64_t frame, std::optional<SensorEvent> event, 
     const Clock::time_point arrived = it->arrived;
     // The frame's slot frame, then its tag frame (of the same time), go in
     // before its place, as a recording's stream gives them.
-    if (event) it = std::next(pending_.insert(it, {std::move(event), 0, arrived, true}));
+    const TimeNs t_ns = it->t_ns;
+    if (event) it = std::next(pending_.insert(it, {std::move(event), 0, arrived, true, t_ns}));
     if (!keep_place) pending_.erase(it);
     break;
   }
   Drain();
 }
 
+std::deque<LiveSystem::Pending>::iterator LiveSystem::PlaceFor(TimeNs t_ns) {
+  auto place = pending_.end();
+  while (place != pending_.begin()) {
+    const auto before = std::prev(place);
+    if (before->t_ns <= t_ns) break;
+    place = before;
+  }
+  return place;
+}
+
+bool LiveSystem::Ready(std::deque<Pending>::const_iterator it) const {
+  if (!it->event) return false;  // a frame still being perceived
+  if (!IsOdometry(*it->event) || options_.reorder_window_s <= 0.0 || finishing_) return true;
+  // Held back for frames that may still arrive, unless one behind it needs it.
+  if (EventTime(*it->event) <= newest_odometry_ns_ - FromSeconds(options_.reorder_window_s)) {
+    return true;
+  }
+  return std::any_of(std::next(it), pending_.cend(),
+                     [](const Pending& p) { return !p.event || !IsOdometry(*p.event); });
+}
+
 void LiveSystem::Drain() {
-  while (!pending_.empty() && pending_.front().event) {
+  while (!pending_.empty() && Ready(pending_.cbegin())) {
     Pending next = std::move(pending_.front());
     pending_.pop_front();
     Feed(*next.event, next);
@@ -245,6 +284,11 @@ SemanticMap LiveSystem::Map() const {
   return mapper_ ? mapper_->Map() : map_;
 }
 
+Trajectory LiveSystem::KeyframeTrajectory() const {
+  std::lock_guard<std::mutex> state(state_mutex_);
+  return mapper_ ? mapper_->KeyframeTrajectory() : Trajectory{};
+}
+
 void LiveSystem::Finish() {
   {
     std::unique_lock<std::mutex> lock(mutex_);
@@ -252,6 +296,7 @@ void LiveSystem::Finish() {
   }
   RethrowPerceptionError();
   std::lock_guard<std::mutex> state(state_mutex_);
+  finishing_ = true;  // nothing more will come: the held odometry goes in
   Drain();
   if (mapper_) mapper_->Finish();
 }

@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -59,6 +60,13 @@ struct LiveOptions {
   // frame is dropped, and the mapper's background solve waits as in `map`.
   // A car: false.
   bool wait_for_perception = false;
+  // Odometry waits this long (of its own time, behind the newest odometry)
+  // before it goes to the estimator, unless a camera frame after it needs
+  // it, so that a camera frame set that arrives up to this late (its last
+  // camera's image after odometry newer than its time, as separate
+  // transports deliver them) still goes in in time order; the prediction
+  // takes every odometry event at once. 0: each event in arrival order.
+  double reorder_window_s = 0.0;
   // Localizing: called with each estimate the moment it is made, from the
   // thread that made it (the caller's, or the perception's), with the
   // system's lock held: it must be quick and must not call the system.
@@ -110,6 +118,9 @@ class LiveSystem {
   // Mapping: the map as it stands (Finish: the final one). Localizing: the
   // map it localizes on.
   SemanticMap Map() const;
+  // Mapping: the keyframes' poses as they stand (what mapping::UpdateMap
+  // takes with the map); localizing: none.
+  Trajectory KeyframeTrajectory() const;
   // Ends the drive: waits for the perception of the frames received, feeds
   // what they found, and (mapping) finishes the map.
   void Finish();
@@ -126,6 +137,7 @@ class LiveSystem {
     std::uint64_t frame = 0;  // the camera frame's number when a place
     Clock::time_point arrived;
     bool perceived = false;  // found in a camera frame by the perception
+    TimeNs t_ns = 0;         // the event's time, or the camera frame's
   };
   struct Common {};  // the part both constructors share
   LiveSystem(Common, const camera::CameraRig* rig, const LiveOptions& options);
@@ -138,6 +150,11 @@ class LiveSystem {
   // Feeds the estimator what is ready from the front of the queue. Under
   // state_mutex_, as everything below it.
   void Drain();
+  // Whether the pending event may go to the estimator now (reorder_window_s).
+  bool Ready(std::deque<Pending>::const_iterator it) const;
+  // Where an event of time t_ns goes in the queue (reorder_window_s):
+  // before what waits there that is newer than it.
+  std::deque<Pending>::iterator PlaceFor(TimeNs t_ns);
   void Feed(const SensorEvent& event, const Pending& from);
   // Drops the dead reckoning's poses older than the estimator's newest but
   // the last one before it.
@@ -161,6 +178,8 @@ class LiveSystem {
   std::deque<std::pair<TimeNs, SE2>> ahead_track_;
   std::optional<std::pair<TimeNs, SE2>> last_estimate_;  // localizing
   std::deque<Pending> pending_;
+  TimeNs newest_odometry_ns_ = std::numeric_limits<TimeNs>::min();
+  bool finishing_ = false;
   std::vector<localization::LocalizationEstimate> estimates_;
   LiveStats stats_;
   std::uint64_t next_frame_ = 1;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <deque>
 #include <thread>
 
 #include "parkslam/common/trajectory.h"
@@ -112,6 +113,55 @@ TEST(LiveSystemTest, AnEstimateCallbackGetsEveryEstimateAsItIsMade) {
   ExpectSamePoses(called, reference);
 }
 
+// Slot and tag frames that come behind a few odometry events newer than
+// them (as from transports of their own): with a reorder window the
+// estimator still takes them in time order, and gives localize's poses;
+// without one its dead reckoning rejects them.
+TEST(LiveSystemTest, AReorderWindowTakesFramesThatCameLateInTimeOrder) {
+  const ShortDrive& d = LiveDrive();
+  const SemanticMap map = sim::ToSemanticMap(d.simulation.world);
+  const SE2 start = d.truth.front().T_map_vehicle;
+  SensorLogSource reference_source(d.simulation.log);
+  const auto reference = Reference(reference_source, map, start);
+  // The stream with every slot and tag frame after the next 3 odometry events.
+  std::vector<SensorEvent> late;
+  std::deque<SensorEvent> frames;
+  int since = 0;
+  SensorLogSource source(d.simulation.log);
+  while (const auto event = source.Next()) {
+    const bool frame = std::holds_alternative<SlotObservationFrame>(*event) ||
+                       std::holds_alternative<TagObservationFrame>(*event);
+    if (frame) {
+      frames.push_back(*event);
+      since = 0;
+      continue;
+    }
+    late.push_back(*event);
+    if (++since == 3) {
+      for (auto& f : frames) late.push_back(std::move(f));
+      frames.clear();
+    }
+  }
+  for (auto& f : frames) late.push_back(std::move(f));
+  for (const double window_s : {0.0, 0.1}) {
+    LiveOptions options = Options();
+    options.reorder_window_s = window_s;
+    LiveSystem live(map, nullptr, options, start);
+    std::vector<localization::LocalizationEstimate> estimates;
+    for (const SensorEvent& event : late) {
+      live.Process(event);
+      for (auto& e : live.TakeEstimates()) estimates.push_back(e);
+    }
+    live.Finish();
+    for (auto& e : live.TakeEstimates()) estimates.push_back(e);
+    if (window_s > 0.0) {
+      ExpectSamePoses(estimates, reference);
+    } else {
+      EXPECT_LT(estimates.size(), reference.size() / 2);  // most came too late
+    }
+  }
+}
+
 // On pixels, waiting for each frame's perception: the poses of `localize`
 // on the same rendered frames, and no frame dropped.
 TEST(LiveSystemTest, OnCameraFramesWaitingForPerceptionThePosesAreLocalizesOwn) {
@@ -219,6 +269,9 @@ TEST(LiveSystemTest, MappingGrowsTheMapAlongTheDriveAsTheMappersOwn) {
   EXPECT_GE(final_slots, halfway_slots + 5);
   EXPECT_EQ(final_slots, mapper.Map().slots.size());
   EXPECT_TRUE(live.TakeEstimates().empty());
+  const Trajectory keyframes = live.KeyframeTrajectory();
+  ASSERT_EQ(keyframes.size(), mapper.KeyframeTrajectory().size());
+  EXPECT_EQ(keyframes.back().t_ns, mapper.KeyframeTrajectory().back().t_ns);
 }
 
 }  // namespace
