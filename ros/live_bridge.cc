@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
+#include <deque>
 #include <limits>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
@@ -18,6 +20,7 @@
 #include "parkslam/io/ros1_message.h"
 #include "parkslam/live/frame_set_assembler.h"
 #include "parkslam/live/live_system.h"
+#include "parkslam/mapping/map_update.h"
 #include "parkslam/odometry/odometry_ekf.h"
 #include "parkslam/rosbag/rosbag_import.h"
 
@@ -81,16 +84,19 @@ struct LiveBridge::Impl {
     return p;
   }
 
+  // Every estimate once the car was first localized: tracking, or lost
+  // (the dead reckoning from the last fix, its covariance growing).
   void OnEstimate(const localization::LocalizationEstimate& e) {
-    if (e.state != localization::LocalizerState::kTracking || !on_pose) return;
+    if (e.state == localization::LocalizerState::kUninitialized || !on_pose) return;
     BridgePose p = Pose(e.t_ns, e.T_map_vehicle);
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) p.covariance[3 * r + c] = e.covariance(r, c);
     }
     p.second = last_pose_ns == e.t_ns;
+    p.tracking = e.state == localization::LocalizerState::kTracking;
     p.slots_used = e.slots.used;
     p.tags_used = e.tags.used;
-    if (!p.second) ++frames_tracked;
+    if (!p.second && p.tracking) ++frames_tracked;
     last_pose_ns = e.t_ns;
     on_pose(p);
   }
@@ -144,9 +150,16 @@ LiveBridge::LiveBridge(const BridgeOptions& options, std::function<void(const Br
   live.mapper = algorithm.mapper;
   live.odometry = odometry::EkfOptionsFromSpec(m.topics.odometry_spec, m.topics.vehicle);
   live.wait_for_perception = options.wait_for_perception;
+  // Each camera and each sensor has a topic, and so a connection, of its
+  // own: a frame set is complete at its last image, which may come after
+  // odometry newer than the set; the estimator takes the odometry a
+  // quarter of a second late (or as soon as a frame after it needs it).
+  live.reorder_window_s = 0.25;
   std::optional<SE2> start;
   if (!options.init.empty()) start = ParseInit(options.init);
   if (options.mapping) {
+    // A map to update from this drive (mapping/map_update.h).
+    if (!options.map.empty()) m.map = io::ReadMap(options.map);
     m.system = std::make_unique<live::LiveSystem>(&m.rig, live, start);
   } else {
     m.map = io::ReadMap(options.map);
@@ -170,10 +183,12 @@ BridgeScalarTopic LiveBridge::steering() const {
 
 std::string LiveBridge::Describe() const {
   const Impl& m = *impl_;
-  std::string s = m.options.mapping ? "mapping"
-                                    : "localizing on " + m.options.map + " (" +
-                                          std::to_string(m.map.slots.size()) + " slots, " +
-                                          std::to_string(m.map.tags.size()) + " tags)";
+  std::string s = m.options.mapping ? "mapping" : "localizing on " + m.options.map;
+  if (!m.options.map.empty()) {
+    s += (m.options.mapping ? ", to update " + m.options.map : std::string()) + " (" +
+         std::to_string(m.map.slots.size()) + " slots, " + std::to_string(m.map.tags.size()) +
+         " tags)";
+  }
   s += "; cameras";
   for (const auto& [name, topic] : m.cameras) s += " " + name + " (" + topic + ")";
   s += "; IMU " + m.topics.imu + "; wheel speed " + m.topics.wheel_speed.topic + "." +
@@ -277,8 +292,34 @@ BridgeMap LiveBridge::Map() const {
   return out;
 }
 
-void LiveBridge::SaveMap(const std::string& path) const {
-  io::WriteMap(path, impl_->system->Map());
+std::string LiveBridge::SaveMap(const std::string& path) const {
+  const Impl& m = *impl_;
+  if (m.options.map.empty()) {
+    io::WriteMap(path, m.system->Map());
+    return "";
+  }
+  // The stored map updated from this drive's map as it stands.
+  mapping::MapUpdateOptions update;
+  update.label = m.options.label;
+  if (update.label.empty()) {
+    // The drive's first stamp, as a UTC date and time.
+    const std::time_t first_s = static_cast<std::time_t>(m.t0_ns.load() / 1'000'000'000);
+    std::tm utc{};
+    gmtime_r(&first_s, &utc);
+    char text[32];
+    std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
+    update.label = text;
+  }
+  mapping::MapUpdateReport r;
+  io::WriteMap(
+      path, mapping::UpdateMap(m.map, m.system->Map(), m.system->KeyframeTrajectory(), update, &r));
+  char line[300];
+  std::snprintf(line, sizeof(line),
+                "%s updated: slots %d confirmed, %d moved, %d repainted, %d added; tags %d "
+                "confirmed, %d moved, %d added, %d removed",
+                m.options.map.c_str(), r.slots_confirmed, r.slots_moved, r.slots_repainted,
+                r.slots_added, r.tags_confirmed, r.tags_moved, r.tags_added, r.tags_removed);
+  return line;
 }
 
 void LiveBridge::Finish() { impl_->system->Finish(); }

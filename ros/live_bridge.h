@@ -25,7 +25,10 @@ namespace parkslam::ros_node {
 
 struct BridgeOptions {
   bool mapping = false;
-  std::string map;      // localizing: the map JSON
+  // Localizing: the map JSON; mapping: a map to update from this drive
+  // (mapping/map_update.h), or none.
+  std::string map;
+  std::string label;    // mapping onto a map: the update's (default: the first stamp)
   std::string topics;   // topics.yaml (import-rosbag's)
   std::string rig;      // instead of topics.yaml's rig, when given
   std::string options;  // algorithm options YAML, when given
@@ -33,14 +36,15 @@ struct BridgeOptions {
   bool wait_for_perception = false;
 };
 
-// A pose at a camera frame (localizing: the estimate; mapping: the
-// prediction), in the map frame; covariance of (x, y, yaw), row-major,
+// A pose at a camera frame (localizing: the estimate, from the first fix
+// on; mapping: the prediction), in the map frame; covariance of (x, y, yaw), row-major,
 // zero where none is known.
 struct BridgePose {
   std::int64_t t_ns = 0;
   double x_m = 0.0, y_m = 0.0, yaw_rad = 0.0;
   std::array<double, 9> covariance{};
-  bool second = false;  // a frame's second estimate (its tags'), same time
+  bool second = false;   // a frame's second estimate (its tags'), same time
+  bool tracking = true;  // false: lost, the dead reckoning since the last fix
   int slots_used = 0, tags_used = 0;
 };
 
@@ -104,8 +108,9 @@ class LiveBridge {
   // The pose at the newest odometry (live::LiveSystem::PredictedPose).
   std::optional<BridgePose> Predicted() const;
   BridgeMap Map() const;
-  // Writes the map as it stands, atomically. Throws std::runtime_error.
-  void SaveMap(const std::string& path) const;
+  // Writes the map as it stands, atomically; mapping onto a map, that map
+  // updated from it (and returns what changed). Throws std::runtime_error.
+  std::string SaveMap(const std::string& path) const;
   // Waits for the frames received and (mapping) finishes the map.
   void Finish();
   // Frame sets, perceived, dropped, latency.

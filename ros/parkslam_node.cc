@@ -4,15 +4,19 @@
 // CompressedImage, the IMU's sensor_msgs/Imu, wheel speed and steering from
 // any message with the field named), and publishes
 //   ~odom (nav_msgs/Odometry)      the pose in `map_frame` at every camera
-//                                  frame, with its covariance;
+//                                  frame from the first fix on, with its
+//                                  covariance;
+//   ~state (std_msgs/String, latched) tracking or lost, when it changes;
 //   tf map_frame -> base_frame     the same pose;
 //   ~map (visualization_msgs/MarkerArray, latched) the map: at the start
 //                                  when localizing, every
 //                                  publish_map_every_s when mapping;
 // and offers ~save_map (std_srvs/Trigger) to write the map now (mapping).
 //
-// Parameters (private): mode (localize | map), map (localizing: map JSON),
-// map_out (mapping: written at ~save_map and at shutdown), topics
+// Parameters (private): mode (localize | map), map (localizing: map JSON;
+// mapping: a map to update from this drive, mapping/map_update.h), label
+// (the update's, default the drive's first stamp), map_out (mapping:
+// written at ~save_map and at shutdown), topics
 // (topics.yaml), rig (instead of topics.yaml's), options (algorithm options
 // YAML, `parkslam map --dump-config`), init ("x,y,yaw": a known start; else
 // localizing globally, and mapping from the origin), map_frame (map),
@@ -31,6 +35,7 @@
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
+#include <std_msgs/String.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <topic_tools/shape_shifter.h>
@@ -66,6 +71,7 @@ NodeOptions ReadParameters(const ros::NodeHandle& pnh) {
   BridgeOptions& b = o.bridge;
   b.mapping = mode == "map";
   pnh.param<std::string>("map", b.map, "");
+  pnh.param<std::string>("label", b.label, "");
   pnh.param<std::string>("topics", b.topics, "");
   pnh.param<std::string>("rig", b.rig, "");
   pnh.param<std::string>("options", b.options, "");
@@ -94,7 +100,17 @@ class Node {
   Node(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeOptions& o) : o_(o) {
     odom_ = pnh.advertise<nav_msgs::Odometry>("odom", 50);
     markers_ = pnh.advertise<visualization_msgs::MarkerArray>("map", 1, /*latch=*/true);
+    state_ = pnh.advertise<std_msgs::String>("state", 1, /*latch=*/true);
     bridge_ = std::make_unique<LiveBridge>(o.bridge, [this](const BridgePose& p) {
+      // ~state when it changes: tracking, or lost (the pose is then the
+      // dead reckoning since the last fix, its covariance growing).
+      const char* state = p.tracking ? "tracking" : "lost";
+      if (state != state_sent_) {
+        std_msgs::String m;
+        m.data = state;
+        state_.publish(m);
+        state_sent_ = state;
+      }
       // A frame's first estimate (its slots') goes out at once, on ~odom
       // and tf; its second (its tags') on ~odom alone, where a tag moved it.
       if (p.second && p.tags_used == 0) return;
@@ -229,8 +245,11 @@ class Node {
 
   bool SaveMap() {
     try {
-      bridge_->SaveMap(o_.map_out);
-      ROS_INFO("parkslam: map written to %s", o_.map_out.c_str());
+      const std::string changes = bridge_->SaveMap(o_.map_out);
+      // On stdout too: after the spin, at shutdown, rosconsole is gone.
+      std::printf("parkslam: map written to %s%s%s\n", o_.map_out.c_str(),
+                  changes.empty() ? "" : "; ", changes.c_str());
+      std::fflush(stdout);
       return true;
     } catch (const std::exception& e) {
       ROS_ERROR("parkslam: %s", e.what());
@@ -248,7 +267,8 @@ class Node {
   std::vector<std::uint8_t> bytes_;
   std::int64_t last_predicted_ns_ = 0;
   int published_ = 0;  // under the bridge's lock, or in the spin's thread when mapping
-  ros::Publisher odom_, markers_;
+  ros::Publisher odom_, markers_, state_;
+  const char* state_sent_ = nullptr;  // under the bridge's lock
   ros::ServiceServer save_;
   ros::WallTimer map_timer_;
   tf2_ros::TransformBroadcaster tf_;
@@ -268,9 +288,10 @@ int main(int argc, char** argv) {
           "parkslam_node: the live system as a ROS 1 node (docs/ros.md)\n"
           "  rosrun parkslam parkslam_node _topics:=topics.yaml _map:=map.json\n"
           "  rosrun parkslam parkslam_node _mode:=map _topics:=topics.yaml _map_out:=map.json\n"
-          "Parameters (private): mode (localize | map), map, map_out, topics, rig, options,\n"
+          "Parameters (private): mode (localize | map), map (mapping: one to update), label,\n"
+          "map_out, topics, rig, options,\n"
           "init (x,y,yaw), map_frame (map), base_frame (base_link), publish_map_every_s (2),\n"
-          "wait_for_perception (false). Publishes ~odom, tf and ~map; serves ~save_map.\n");
+          "wait_for_perception (false). Publishes ~odom, ~state, tf and ~map; serves ~save_map.\n");
       return 0;
     }
   }

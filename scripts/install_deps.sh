@@ -29,9 +29,10 @@ for option in "$@"; do
     --with-format) packages+=(clang-format) ;;
     --with-ros)
       packages+=(libroscpp-dev libtf2-ros-dev libtopic-tools-dev libnav-msgs-dev libsensor-msgs-dev
+                 libstd-msgs-dev libgeometry-msgs-dev
                  libvisualization-msgs-dev libstd-srvs-dev python3-rosmaster python3-roslaunch
                  python3-rosbag python3-rosparam python3-rostopic python3-rosservice python3-std-srvs
-                 rospack-tools) ;;
+                 python3-std-msgs rospack-tools) ;;
     *) echo "install_deps.sh: unknown option '$option' (--with-browser, --with-fuzzer, --with-format, --with-ros)" >&2; exit 2 ;;
   esac
 done
