@@ -8,12 +8,17 @@
 //
 //   parkslam_live_bench [--seconds 60] [--speed 1] [--rate-hz 5] [--no-images]
 //                       [--global-start] [--seed 501]
+//                       [--system-core N --camera-core M]
 //
 // Seed 501 is the demo's second drive (the one it localizes); the start is
 // the true one unless --global-start (the demo's).
 //
 // On one core: taskset -c 0 parkslam_live_bench (the renderer then shares
-// the core with the perception; a car's cameras do not).
+// the core with the perception; a car's cameras do not). --system-core N
+// --camera-core M: the live system (its perception thread too) on core N,
+// the renderer that stands in for the cameras, and the replay, on core M.
+
+#include <sched.h>
 
 #include <algorithm>
 #include <chrono>
@@ -44,7 +49,16 @@ struct BenchOptions {
   bool images = true;
   bool global_start = false;
   std::uint64_t seed = 501;  // the demo's second drive
+  int system_core = -1, camera_core = -1;
 };
+
+// Pins the calling thread (and the threads it starts later) to one core.
+bool PinTo(int core) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(core, &set);
+  return sched_setaffinity(0, sizeof(set), &set) == 0;
+}
 
 using parkslam::bench::Percentile;
 
@@ -63,10 +77,15 @@ int ParseArgs(int argc, char** argv, BenchOptions* o) {
       o->images = false;
     } else if (a == "--global-start") {
       o->global_start = true;
+    } else if (a == "--system-core" && i + 1 < argc) {
+      o->system_core = std::atoi(argv[++i]);
+    } else if (a == "--camera-core" && i + 1 < argc) {
+      o->camera_core = std::atoi(argv[++i]);
     } else {
       std::fprintf(stderr,
                    "usage: parkslam_live_bench [--seconds 60] [--speed 1] [--rate-hz 5] "
-                   "[--no-images] [--global-start] [--seed 501]\n");
+                   "[--no-images] [--global-start] [--seed 501] [--system-core N "
+                   "--camera-core M]\n");
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
@@ -103,7 +122,16 @@ int main(int argc, char** argv) {
   }
   std::optional<SE2> start;
   if (!o.global_start) start = truth.front().T_map_vehicle;
+  // The live system's perception thread takes the affinity its creator has.
+  if (o.system_core >= 0 && !PinTo(o.system_core)) {
+    std::fprintf(stderr, "parkslam_live_bench: cannot pin to core %d\n", o.system_core);
+    return 2;
+  }
   live::LiveSystem live(map, o.images ? &cameras->rig() : nullptr, options, start);
+  if (o.camera_core >= 0 && !PinTo(o.camera_core)) {
+    std::fprintf(stderr, "parkslam_live_bench: cannot pin to core %d\n", o.camera_core);
+    return 2;
+  }
 
   using Clock = std::chrono::steady_clock;
   const TimeNs t0_ns = truth.front().t_ns;
