@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <deque>
 #include <limits>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
@@ -63,7 +62,9 @@ struct LiveBridge::Impl {
   std::atomic<std::int64_t> t0_ns{kUnset};
   std::map<std::string, io::ros1::MessageSpec> specs;  // by data type
   std::int64_t last_pose_ns = kUnset;
-  int frames_tracked = 0;  // with an estimate while tracking
+  // With an estimate while tracking; counted by whichever thread made the
+  // estimate, read by the caller's.
+  std::atomic<int> frames_tracked{0};
 
   TimeNs ToDrive(std::int64_t stamp_ns) {
     std::int64_t unset = kUnset;
@@ -333,7 +334,7 @@ std::string LiveBridge::Summary() const {
                 "%d estimates, %d frames tracked; latency to a frame's first pose median %.2f ms, "
                 "p99 %.2f ms",
                 sets.sets, sets.images_unmatched, sets.images_out_of_order, st.frames_perceived,
-                st.frames_dropped, st.estimates, impl_->frames_tracked,
+                st.frames_dropped, st.estimates, impl_->frames_tracked.load(),
                 Percentile(st.latency_ms, 0.5), Percentile(st.latency_ms, 0.99));
   return line;
 }
