@@ -29,7 +29,7 @@
 #include <thread>
 #include <vector>
 
-#include "bench_util.h"
+#include "parkslam/common/percentile.h"
 #include "parkslam/harness/live_cameras.h"
 #include "parkslam/harness/rendering_source.h"
 #include "parkslam/live/live_system.h"
@@ -59,8 +59,6 @@ bool PinTo(int core) {
   CPU_SET(core, &set);
   return sched_setaffinity(0, sizeof(set), &set) == 0;
 }
-
-using parkslam::bench::Percentile;
 
 int ParseArgs(int argc, char** argv, BenchOptions* o) {
   for (int i = 1; i < argc; ++i) {

@@ -30,7 +30,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_util.h"
+#include "parkslam/common/percentile.h"
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/harness/dead_reckoning.h"
 #include "parkslam/io/atomic_file.h"
@@ -58,8 +58,6 @@ double HeapInUseMb() {
   const struct mallinfo2 info = ::mallinfo2();
   return static_cast<double>(info.uordblks + info.hblkhd) / 1e6;
 }
-
-using parkslam::bench::Percentile;
 
 // One minute of drive in one phase.
 struct Minute {

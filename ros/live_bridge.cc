@@ -9,12 +9,13 @@
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 #include <stdexcept>
 
 #include "parkslam/camera/image_plane.h"
+#include "parkslam/common/percentile.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/options_yaml.h"
+#include "parkslam/io/pose_text.h"
 #include "parkslam/io/rig_yaml.h"
 #include "parkslam/io/ros1_message.h"
 #include "parkslam/live/frame_set_assembler.h"
@@ -27,24 +28,6 @@ namespace parkslam::ros_node {
 namespace {
 
 constexpr std::int64_t kUnset = std::numeric_limits<std::int64_t>::min();
-
-// "x,y,yaw" (metres, radians).
-SE2 ParseInit(const std::string& text) {
-  std::stringstream in(text);
-  double v[3];
-  char comma = 0;
-  if (!(in >> v[0] >> comma >> v[1] >> comma >> v[2]) || !in.eof() ||
-      !std::isfinite(v[0] + v[1] + v[2])) {
-    throw std::runtime_error("~init: '" + text + "' is not x,y,yaw");
-  }
-  return SE2(v[0], v[1], v[2]);
-}
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
-}
 
 }  // namespace
 
@@ -157,7 +140,13 @@ LiveBridge::LiveBridge(const BridgeOptions& options, std::function<void(const Br
   // quarter of a second late (or as soon as a frame after it needs it).
   live.reorder_window_s = 0.25;
   std::optional<SE2> start;
-  if (!options.init.empty()) start = ParseInit(options.init);
+  if (!options.init.empty()) {
+    try {
+      start = io::ParsePose(options.init, "~init");
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(e.what());
+    }
+  }
   if (options.mapping) {
     // A map to update from this drive (mapping/map_update.h).
     if (!options.map.empty()) m.map = io::ReadMap(options.map);

@@ -11,6 +11,7 @@
 #include "parkslam/harness/fault_injection.h"
 #include "parkslam/harness/sensor_stream.h"
 #include "parkslam/io/output_guard.h"
+#include "parkslam/io/pose_text.h"
 #include "parkslam/options/algorithm_options.h"
 #include "parkslam/perception/front_end.h"
 #include "parkslam/sim/scenario_config.h"
@@ -117,8 +118,8 @@ void AddPixelOptions(CLI::App* command, PixelOptions* options);
 // would mix with the new one's).
 void PrepareDatasetFolder(const std::string& out, bool force);
 
-// Parses "x,y,yaw" (metres, metres, radians).
-SE2 ParsePose(const std::string& text, const std::string& option_name);
+// "x,y,yaw" (metres, metres, radians), as io/pose_text.h reads it.
+using io::ParsePose;
 
 }  // namespace parkslam::app
 

@@ -53,12 +53,28 @@ void ExpectSamePoses(const std::vector<localization::LocalizationEstimate>& a,
   }
 }
 
+// The lot's map, the true start, and the estimates of a localizer fed the
+// drive's slot and tag frames as `localize` feeds them.
+struct FramesReference {
+  SemanticMap map;
+  SE2 start;
+  std::vector<localization::LocalizationEstimate> reference;
+};
+
+const FramesReference& OnFrames() {
+  static const FramesReference r = [] {
+    const ShortDrive& d = LiveDrive();
+    FramesReference out{sim::ToSemanticMap(d.simulation.world), d.truth.front().T_map_vehicle, {}};
+    SensorLogSource source(d.simulation.log);
+    out.reference = Reference(source, out.map, out.start);
+    return out;
+  }();
+  return r;
+}
+
 TEST(LiveSystemTest, OnSlotAndTagFramesThePosesAreTheLocalizersOwn) {
   const ShortDrive& d = LiveDrive();
-  const SemanticMap map = sim::ToSemanticMap(d.simulation.world);
-  const SE2 start = d.truth.front().T_map_vehicle;
-  SensorLogSource reference_source(d.simulation.log);
-  const auto reference = Reference(reference_source, map, start);
+  const auto& [map, start, reference] = OnFrames();
   ASSERT_GT(reference.size(), 100u);
 
   LiveSystem live(map, nullptr, Options(), start);
@@ -85,10 +101,7 @@ TEST(LiveSystemTest, OnSlotAndTagFramesThePosesAreTheLocalizersOwn) {
 
 TEST(LiveSystemTest, AnEstimateCallbackGetsEveryEstimateAsItIsMade) {
   const ShortDrive& d = LiveDrive();
-  const SemanticMap map = sim::ToSemanticMap(d.simulation.world);
-  const SE2 start = d.truth.front().T_map_vehicle;
-  SensorLogSource reference_source(d.simulation.log);
-  const auto reference = Reference(reference_source, map, start);
+  const auto& [map, start, reference] = OnFrames();
 
   std::vector<localization::LocalizationEstimate> called;
   LiveOptions options = Options();
@@ -119,10 +132,7 @@ TEST(LiveSystemTest, AnEstimateCallbackGetsEveryEstimateAsItIsMade) {
 // without one its dead reckoning rejects them.
 TEST(LiveSystemTest, AReorderWindowTakesFramesThatCameLateInTimeOrder) {
   const ShortDrive& d = LiveDrive();
-  const SemanticMap map = sim::ToSemanticMap(d.simulation.world);
-  const SE2 start = d.truth.front().T_map_vehicle;
-  SensorLogSource reference_source(d.simulation.log);
-  const auto reference = Reference(reference_source, map, start);
+  const auto& [map, start, reference] = OnFrames();
   // The stream with every slot and tag frame after the next 3 odometry events.
   std::vector<SensorEvent> late;
   std::deque<SensorEvent> frames;

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "parkslam/common/alignment.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/common/field_checker.h"
 
@@ -32,22 +33,11 @@ std::vector<PointPair> TagPoints(const MapTag& old_tag, const MapTag& new_tag) {
 }
 
 // The rigid transform taking the new points onto the old in least squares
-// (2D Procrustes: the rotation from the cross-covariance of the centred
-// points, then the translation between the centroids).
+// (common/alignment.h).
 SE2 FitRigid(const std::vector<PointPair>& pairs) {
-  Eigen::Vector2d mean_old = Eigen::Vector2d::Zero(), mean_new = Eigen::Vector2d::Zero();
-  for (const PointPair& p : pairs) mean_old += p.p_old, mean_new += p.p_new;
-  mean_old /= static_cast<double>(pairs.size());
-  mean_new /= static_cast<double>(pairs.size());
-  double sxx = 0.0, sxy = 0.0;  // sum of dot and cross products
-  for (const PointPair& p : pairs) {
-    const Eigen::Vector2d a = p.p_new - mean_new, b = p.p_old - mean_old;
-    sxx += a.dot(b);
-    sxy += a.x() * b.y() - a.y() * b.x();
-  }
-  const double yaw = std::atan2(sxy, sxx);
-  const SE2 rotation(0.0, 0.0, yaw);
-  return SE2(mean_old - rotation * mean_new, yaw);
+  std::vector<Eigen::Vector2d> p_new, p_old;
+  for (const PointPair& p : pairs) p_new.push_back(p.p_new), p_old.push_back(p.p_old);
+  return AlignPointSets(p_new, p_old);
 }
 
 int Agreeing(const SE2& T_old_new, const std::vector<LandmarkPair>& pairs, double inlier_m,

@@ -1,13 +1,13 @@
-#ifndef PARKSLAM_BENCH_BENCH_UTIL_H_
-#define PARKSLAM_BENCH_BENCH_UTIL_H_
+#ifndef PARKSLAM_COMMON_PERCENTILE_H_
+#define PARKSLAM_COMMON_PERCENTILE_H_
 
-// What the command-line benchmarks share.
+// The quantiles that timing summaries quote (benchmarks, the live node).
 
 #include <algorithm>
 #include <cstddef>
 #include <vector>
 
-namespace parkslam::bench {
+namespace parkslam {
 
 // The q-quantile of v (the element at rank q n, the largest for q = 1); 0
 // for none.
@@ -17,6 +17,6 @@ inline double Percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
 }
 
-}  // namespace parkslam::bench
+}  // namespace parkslam
 
-#endif  // PARKSLAM_BENCH_BENCH_UTIL_H_
+#endif  // PARKSLAM_COMMON_PERCENTILE_H_
