@@ -185,6 +185,7 @@ SE2 LocalizeSecondDrive(const Options& o, const sim::ScenarioConfig& scenario,
   localization::LocalizationRun run;
   {
     harness::SensorStream stream(second, {frames, perception, {}});
+    stream.SearchTagsFor(localizer);
     run = localization::RunLocalization(stream.source(), &localizer);
   }
   const std::vector<localization::LocalizationEstimate>& estimates = run.estimates;

@@ -92,6 +92,7 @@ void Run(const Options& o) {
     throw std::runtime_error(o.dataset + ": --log needs the dataset's ground truth");
   }
   harness::SensorStream stream(dataset, o.pixels.Stream(o.dataset, config.front_end));
+  stream.SearchTagsFor(localizer);
   SensorSource& source = stream.source();
   const DriveSpan span = SpanOf(dataset.log);
   Progress progress("  localizing", span.TotalTenths());

@@ -11,6 +11,7 @@
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/image_folder.h"
 #include "parkslam/io/rig_yaml.h"
+#include "parkslam/live/live_system.h"
 
 namespace parkslam::harness {
 namespace {
@@ -60,6 +61,7 @@ struct SensorStream::Pixels {
   std::unique_ptr<perception::PerceptionFrontEnd> front_end;  // recorded images only
   std::unique_ptr<SensorSource> frames;                       // rendered or recorded
   std::unique_ptr<perception::PerceptionSource> perception;
+  const perception::PerceptionFrontEnd* front_end_in_use = nullptr;
 };
 
 SensorStream::SensorStream(const io::Dataset& dataset, const StreamOptions& options)
@@ -103,6 +105,7 @@ SensorStream::SensorStream(const StreamInputs& in, const StreamOptions& options)
   // ones.
   pixels_->perception = std::make_unique<perception::PerceptionSource>(
       WithFaults(*pixels_->frames, fault_seed, options.faults), *front_end);
+  pixels_->front_end_in_use = front_end;
 }
 
 SensorStream::~SensorStream() = default;
@@ -126,6 +129,14 @@ const InjectedFaults* SensorStream::injected() const {
 
 const perception::PerceptionSource* SensorStream::perception() const {
   return pixels_ ? pixels_->perception.get() : nullptr;
+}
+
+void SensorStream::SearchTagsFor(const localization::Localizer& localizer) {
+  if (!pixels_) return;
+  const perception::PerceptionFrontEnd* front_end = pixels_->front_end_in_use;
+  pixels_->perception->SearchTagsIn([front_end, &localizer](TimeNs t_ns) {
+    return live::MapTagWindows(*front_end, localizer, t_ns);
+  });
 }
 
 std::string SensorStream::DescribeFaults() const {

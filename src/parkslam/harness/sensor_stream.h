@@ -19,6 +19,7 @@
 
 #include "parkslam/common/trajectory.h"
 #include "parkslam/harness/fault_injection.h"
+#include "parkslam/localization/localizer.h"
 #include "parkslam/perception/front_end.h"
 #include "parkslam/sensor/sensor_log.h"
 #include "parkslam/sim/scenario_config.h"
@@ -90,6 +91,11 @@ class SensorStream {
   const InjectedFaults* injected() const;
   // The front end's running totals on pixels; null on observations.
   const perception::PerceptionSource* perception() const;
+  // On pixels, while `localizer` (fed from source()) tracks, each frame's
+  // tags are looked for only where its map has them
+  // (perception::TagWindowOptions), as the live API does; nothing changes
+  // on observations. The localizer must outlive the stream's use.
+  void SearchTagsFor(const localization::Localizer& localizer);
 
  private:
   struct Pixels;

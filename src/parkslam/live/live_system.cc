@@ -21,6 +21,14 @@ double MsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+std::optional<std::vector<perception::TagWindow>> MapTagWindows(
+    const perception::PerceptionFrontEnd& front_end, const localization::Localizer& localizer,
+    TimeNs t_ns) {
+  const auto tracked = localizer.TrackedAt(t_ns);
+  if (!tracked) return std::nullopt;
+  return front_end.TagWindows(localizer.map().tags, tracked->first, tracked->second);
+}
+
 LiveSystem::LiveSystem(Common, const camera::CameraRig* rig, const LiveOptions& options)
     : options_(options), rig_(rig), ahead_(options.odometry) {}
 
@@ -86,10 +94,18 @@ void LiveSystem::PerceptionLoop() {
         std::lock_guard<std::mutex> state(state_mutex_);
         Resolve(number, SensorEvent(std::move(out.slots)), true);
       }
-      front_end_->PerceiveTags(frame, excluded, &out);
+      // While the localizer tracks, the tags are looked for where the map
+      // has them, from the pose the slots just gave.
+      std::optional<std::vector<perception::TagWindow>> windows;
+      if (localizer_) {
+        std::lock_guard<std::mutex> state(state_mutex_);
+        windows = MapTagWindows(*front_end_, *localizer_, frame.t_ns);
+      }
+      front_end_->PerceiveTags(frame, excluded, &out, windows ? &*windows : nullptr);
       const double perception_ms = MsSince(start);
       std::lock_guard<std::mutex> state(state_mutex_);
       stats_.perception_ms.push_back(perception_ms);
+      stats_.tag_searches_in_windows += windows.has_value();
       ++stats_.frames_perceived;
       Resolve(number, SensorEvent(std::move(out.tags)), false);
     } catch (...) {

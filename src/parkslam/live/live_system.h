@@ -79,6 +79,9 @@ struct LiveStats {
   int frames_perceived = 0;  // their slots and tags reached the estimator
   int frames_dropped = 0;    // still waiting when a newer frame came
   int estimates = 0;
+  // Frames whose tags were looked for only in windows around the map's
+  // tags (MapTagWindows), not in the whole band.
+  int tag_searches_in_windows = 0;
   // Per camera frame: from the Process call that brought it to its first
   // pose (its slots': the top view's perception, the queue and the
   // estimator), ms; and to its second (its tags' too). Per slot or tag
@@ -89,6 +92,15 @@ struct LiveStats {
   // health and the front end), ms.
   std::vector<double> perception_ms;
 };
+
+// Where `front_end` looks for the tags of the camera frame at t_ns, once
+// `localizer` has taken that frame's slots: while it tracks, the windows
+// around its map's tags as that pose puts them
+// (perception::TagWindowOptions); else nothing, the whole band. LiveSystem
+// does so, and harness::SensorStream for `localize`'s chain on pixels.
+std::optional<std::vector<perception::TagWindow>> MapTagWindows(
+    const perception::PerceptionFrontEnd& front_end, const localization::Localizer& localizer,
+    TimeNs t_ns);
 
 class LiveSystem {
  public:

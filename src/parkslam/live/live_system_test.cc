@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <deque>
+#include <functional>
 #include <thread>
 
 #include "parkslam/common/trajectory.h"
@@ -30,12 +31,14 @@ LiveOptions Options() {
   return o;
 }
 
-// Estimates of one localizer fed `source` as `localize` feeds it.
-std::vector<localization::LocalizationEstimate> Reference(SensorSource& source,
-                                                          const SemanticMap& map,
-                                                          const SE2& start) {
+// Estimates of one localizer fed `source` as `localize` feeds it; `before`
+// sees the localizer first (to let a front end look for tags as it tracks).
+std::vector<localization::LocalizationEstimate> Reference(
+    SensorSource& source, const SemanticMap& map, const SE2& start,
+    const std::function<void(const localization::Localizer&)>& before = {}) {
   localization::Localizer localizer(map, {}, Options().odometry);
   localizer.SetPose(start, Eigen::Vector3d(0.5, 0.5, 0.1).cwiseAbs2().asDiagonal());
+  if (before) before(localizer);
   std::vector<localization::LocalizationEstimate> out;
   while (const auto event = source.Next()) {
     if (auto estimate = localizer.Process(*event)) out.push_back(*estimate);
@@ -182,7 +185,11 @@ TEST(LiveSystemTest, OnCameraFramesWaitingForPerceptionThePosesAreLocalizesOwn) 
   SensorLogSource log_a(d.simulation.log);
   harness::RenderingSource rendered_a(log_a, cameras.renderer(), d.truth, cameras.cameras(), 2.0);
   perception::PerceptionSource perceived(rendered_a, cameras.front_end());
-  const auto reference = Reference(perceived, map, start);
+  // As localize's chain: the tags looked for where the map has them.
+  const auto reference = Reference(perceived, map, start, [&](const localization::Localizer& l) {
+    perceived.SearchTagsIn(
+        [&](TimeNs t_ns) { return MapTagWindows(cameras.front_end(), l, t_ns); });
+  });
   ASSERT_GT(reference.size(), 40u);
 
   LiveOptions options = Options();
@@ -205,6 +212,15 @@ TEST(LiveSystemTest, OnCameraFramesWaitingForPerceptionThePosesAreLocalizesOwn) 
   ExpectSamePoses(estimates, reference);
   EXPECT_EQ(live.stats().frames_dropped, 0);
   EXPECT_EQ(live.stats().frames_perceived, live.stats().camera_frames);
+  // The tags were found in windows, and used, on both sides alike.
+  const auto tags_used = [](const std::vector<localization::LocalizationEstimate>& e) {
+    int n = 0;
+    for (const auto& x : e) n += x.tags.used;
+    return n;
+  };
+  EXPECT_GT(tags_used(reference), 5);
+  EXPECT_EQ(tags_used(estimates), tags_used(reference));
+  EXPECT_GT(live.stats().tag_searches_in_windows, live.stats().camera_frames / 2);
 }
 
 // Frames faster than the perception, never waiting: the frames that waited

@@ -108,6 +108,11 @@ void Localizer::SetPose(const SE2& T_map_vehicle, const Eigen::Matrix3d& covaria
   map_position_var_ = 0.0;
 }
 
+std::optional<std::pair<SE2, Eigen::Matrix3d>> Localizer::TrackedAt(TimeNs t_ns) const {
+  if (state_ != LocalizerState::kTracking || last_frame_ns_ != t_ns) return std::nullopt;
+  return std::make_pair(pose(), P_);
+}
+
 SE2 Localizer::PredictedPose() const {
   if (!odometry_->initialized()) return pose();
   return pose() * odometry_->MotionSinceClone().T_clone_now;

@@ -151,6 +151,12 @@ class Localizer {
   // The filter's covariance, against the map's landmarks (without the
   // map's own error that LocalizationEstimate::covariance adds).
   const Eigen::Matrix3d& covariance() const { return P_; }
+  // The pose and that covariance at the camera frame of time t_ns, while
+  // tracking and when that frame was the last one in; nothing otherwise.
+  // For a front end that looks for the frame's tags where the map has them
+  // (perception::TagWindowOptions).
+  std::optional<std::pair<SE2, Eigen::Matrix3d>> TrackedAt(TimeNs t_ns) const;
+  const SemanticMap& map() const { return map_; }
 
  private:
   struct BufferedFrame {

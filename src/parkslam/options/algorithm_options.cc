@@ -43,6 +43,7 @@ bool AlgorithmOptions::IsValid(std::string* error) const {
   c.Part(learned_slots, "front_end.learned_slots");
   c.Part(learned_ids, "front_end.learned_ids");
   c.Part(front_end.tags, "front_end.tags");
+  c.Part(front_end.tag_windows, "front_end.tag_windows");
   c.Part(mapper, "mapper");
   c.Part(localizer, "localizer");
   c.Part(follower, "follower");

@@ -4,14 +4,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
+#include <Eigen/Cholesky>
 #include <opencv2/imgproc.hpp>
 
 #include "parkslam/camera/image_plane.h"
 #include "parkslam/common/angles.h"
 #include "parkslam/common/enum_names.h"
+#include "parkslam/common/field_checker.h"
 
 namespace parkslam::perception {
 namespace {
@@ -43,6 +46,15 @@ DetectorKind ParseDetectorKind(const std::string& text) {
 }
 
 std::string DefaultModelDir() { return PARKSLAM_MODEL_DIR; }
+
+bool TagWindowOptions::IsValid(std::string* error) const {
+  FieldChecker c(error);
+  c.InRange(sigmas, 0.0, 10.0, "sigmas", "");
+  c.InRange(margin_px, 0.0, 1000.0, "margin_px", "px");
+  c.InRange(min_decimated_px, 1.0, 1000.0, "min_decimated_px", "px");
+  c.InRange(max_band_share, 0.0, 1.0, "max_band_share", "");
+  return c.ok();
+}
 
 PerceptionFrontEnd::PerceptionFrontEnd(const camera::CameraRig& rig,
                                        const PerceptionOptions& options)
@@ -309,7 +321,8 @@ void PerceptionFrontEnd::DetectAndRead(const cv::Mat& mask, PerceptionOutput* ou
 
 void PerceptionFrontEnd::PerceiveTags(const CameraFrame& frame,
                                       const std::vector<std::string>& excluded,
-                                      PerceptionOutput* out) const {
+                                      PerceptionOutput* out,
+                                      const std::vector<TagWindow>* windows) const {
   if (IsExcluded(excluded, options_.tag_camera)) return;
   const ImagePlane* plane = ImageOf(frame, options_.tag_camera);
   if (plane == nullptr) return;
@@ -321,16 +334,167 @@ void PerceptionFrontEnd::PerceiveTags(const CameraFrame& frame,
                                 ", the camera " + std::to_string(tag_camera_.intrinsics.width) +
                                 "x" + std::to_string(tag_camera_.intrinsics.height));
   }
-  const std::vector<DetectedTag> tags = tag_detector_->Detect(
-      image.rowRange(tag_first_row_, tag_first_row_ + tag_rows_), &tag_band_intrinsics_);
+  std::vector<DetectedTag> tags;
+  if (windows == nullptr) {
+    tags = tag_detector_->Detect(image.rowRange(tag_first_row_, tag_first_row_ + tag_rows_),
+                                 &tag_band_intrinsics_);
+  } else {
+    const cv::Rect whole(0, 0, image.cols, image.rows);
+    std::vector<bool> from_own_window;
+    for (const TagWindow& window : *windows) {
+      const cv::Rect w = window.rect & whole;
+      if (w.empty()) continue;
+      // The window as a camera of its own: the principal point moves.
+      camera::CameraIntrinsics k = tag_camera_.intrinsics;
+      k.width = w.width;
+      k.height = w.height;
+      k.cx -= w.x;
+      k.cy -= w.y;
+      for (DetectedTag& t :
+           tag_detector_->Detect(image(w), &k, static_cast<float>(window.decimate))) {
+        const Eigen::Vector2d offset(w.x, w.y);
+        for (Eigen::Vector2d& c : t.corners_px) c += offset;
+        t.center_px += offset;
+        // A tag found twice is kept once, from the window made for it.
+        const bool own = t.tag_id == window.tag_id;
+        const auto seen = std::find_if(tags.begin(), tags.end(),
+                                       [&](const DetectedTag& d) { return d.tag_id == t.tag_id; });
+        if (seen == tags.end()) {
+          tags.push_back(t);
+          from_own_window.push_back(own);
+        } else if (own && !from_own_window[static_cast<size_t>(seen - tags.begin())]) {
+          *seen = t;
+          from_own_window[static_cast<size_t>(seen - tags.begin())] = true;
+        }
+      }
+    }
+  }
   out->timing.tags_ms = MsSince(start);
   for (const DetectedTag& t : tags) {
     if (t.has_pose) out->tags.tags.push_back(TagObservationOf(t, tag_camera_, options_));
   }
 }
 
+std::optional<std::vector<TagWindow>> PerceptionFrontEnd::TagWindows(
+    const std::vector<MapTag>& tags, const SE2& T_map_vehicle,
+    const Eigen::Matrix3d& covariance) const {
+  const TagWindowOptions& o = options_.tag_windows;
+  if (!o.enabled) return std::nullopt;
+  // The poses the windows must hold: the estimate and its sigma points,
+  // x +- sigmas L e_i with P = L L^T (x, y, yaw).
+  if (!covariance.allFinite()) return std::nullopt;
+  const Eigen::LLT<Eigen::Matrix3d> llt(covariance);
+  if (llt.info() != Eigen::Success) return std::nullopt;
+  const Eigen::Matrix3d L = llt.matrixL();
+  std::vector<SE2> poses{T_map_vehicle};
+  for (int i = 0; i < 3; ++i) {
+    for (const double sign : {-1.0, 1.0}) {
+      const Eigen::Vector3d d = sign * o.sigmas * L.col(i);
+      poses.emplace_back(T_map_vehicle.x() + d.x(), T_map_vehicle.y() + d.y(),
+                         T_map_vehicle.yaw() + d.z());
+    }
+  }
+  const camera::CameraIntrinsics& k = tag_camera_.intrinsics;
+  const Eigen::Isometry3d T_camera_vehicle = tag_camera_.T_vehicle_camera.inverse();
+  const Eigen::Vector2d camera_vehicle = tag_camera_.T_vehicle_camera.translation().head<2>();
+  const double mid_height_m = 0.5 * (options_.tag_min_height_m + options_.tag_max_height_m);
+  const int fine = std::max(1, static_cast<int>(std::lround(options_.tags.quad_decimate)));
+  const cv::Rect band(0, tag_first_row_, k.width, tag_rows_);
+  const auto cost = [](const TagWindow& w) {
+    return static_cast<double>(w.rect.area()) / (w.decimate * w.decimate);
+  };
+  std::vector<TagWindow> windows;
+  for (const MapTag& tag : tags) {
+    // In view at the estimate: in range, facing the camera.
+    const Eigen::Vector2d camera_map = T_map_vehicle * camera_vehicle;
+    const Eigen::Vector2d to_camera = camera_map - tag.p_map;
+    const Eigen::Vector2d normal(std::cos(tag.yaw_map_rad), std::sin(tag.yaw_map_rad));
+    if (to_camera.norm() >= options_.tags.max_range_m || normal.dot(to_camera) <= 0.0) continue;
+    // The tag's two vertical edges, at the heights a tag can have, from
+    // every pose; and its height in pixels from the farthest.
+    const Eigen::Vector2d along(-normal.y(), normal.x());
+    double u_min = std::numeric_limits<double>::infinity(), u_max = -u_min;
+    double v_min = u_min, v_max = -u_min;
+    double farthest_m = 0.0;
+    int ahead = 0;
+    for (const SE2& T : poses) {
+      const SE2 T_vehicle_map = T.inverse();
+      const Eigen::Vector2d centre = T_vehicle_map * tag.p_map;
+      farthest_m =
+          std::max(farthest_m,
+                   (T_camera_vehicle * Eigen::Vector3d(centre.x(), centre.y(), mid_height_m)).z());
+      for (const double side : {-0.5, 0.5}) {
+        const Eigen::Vector2d p = T_vehicle_map * (tag.p_map + side * tag.size_m * along);
+        for (const double z : {options_.tag_min_height_m, options_.tag_max_height_m}) {
+          const Eigen::Vector3d c = T_camera_vehicle * Eigen::Vector3d(p.x(), p.y(), z);
+          if (c.z() < 0.2) continue;
+          ++ahead;
+          const double u = k.cx + k.fx * c.x() / c.z(), v = k.cy + k.fy * c.y() / c.z();
+          u_min = std::min(u_min, u);
+          u_max = std::max(u_max, u);
+          v_min = std::min(v_min, v);
+          v_max = std::max(v_max, v);
+        }
+      }
+    }
+    if (ahead == 0) continue;
+    // Grown by the margin, aligned to 8 pixels (the coarsest decimation),
+    // inside the band.
+    const double big = 1e6;
+    const auto down = [&](double x) {
+      return static_cast<int>(std::floor(std::clamp(x, -big, big) / 8.0)) * 8;
+    };
+    const auto up = [&](double x) {
+      return static_cast<int>(std::ceil(std::clamp(x, -big, big) / 8.0)) * 8;
+    };
+    const double m = o.margin_px;
+    const int x0 = down(u_min - m), x1 = up(u_max + m), y0 = down(v_min - m), y1 = up(v_max + m);
+    TagWindow window;
+    window.rect = cv::Rect(x0, y0, x1 - x0, y1 - y0) & band;
+    window.tag_id = tag.tag_id;
+    if (window.rect.empty()) continue;
+    // The coarsest decimation that keeps the tag min_decimated_px high.
+    const double tag_px = farthest_m > 0.2 ? k.fy * tag.size_m / farthest_m : 0.0;
+    window.decimate = fine;
+    while (window.decimate * 2 <= 8 && tag_px / (window.decimate * 2) >= o.min_decimated_px) {
+      window.decimate *= 2;
+    }
+    windows.push_back(window);
+  }
+  // Overlapping windows become their bounding box where that costs no
+  // more than searching both, until none can.
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (size_t i = 0; i < windows.size() && !merged; ++i) {
+      for (size_t j = i + 1; j < windows.size(); ++j) {
+        if ((windows[i].rect & windows[j].rect).empty()) continue;
+        TagWindow both;
+        both.rect = windows[i].rect | windows[j].rect;
+        both.decimate = std::min(windows[i].decimate, windows[j].decimate);
+        if (cost(both) > cost(windows[i]) + cost(windows[j])) continue;
+        windows[i] = both;
+        windows.erase(windows.begin() + static_cast<std::ptrdiff_t>(j));
+        merged = true;
+        break;
+      }
+    }
+  }
+  double total = 0.0;
+  for (const TagWindow& w : windows) total += cost(w);
+  if (total > o.max_band_share * band.area() / (fine * fine)) return std::nullopt;
+  return windows;
+}
+
 PerceptionSource::PerceptionSource(SensorSource& inner, const PerceptionFrontEnd& front_end)
     : inner_(inner), front_end_(front_end) {}
+
+void PerceptionSource::Count(const PerceptionTiming& timing) {
+  total_timing_.fusion_ms += timing.fusion_ms;
+  total_timing_.slots_ms += timing.slots_ms;
+  total_timing_.ids_ms += timing.ids_ms;
+  total_timing_.tags_ms += timing.tags_ms;
+  max_frame_ms_ = std::max(max_frame_ms_, timing.total_ms());
+}
 
 std::optional<SensorEvent> PerceptionSource::Next() {
   if (pending_tags_) {
@@ -338,25 +502,40 @@ std::optional<SensorEvent> PerceptionSource::Next() {
     pending_tags_.reset();
     return event;
   }
+  if (pending_frame_) {
+    // The slots have been taken: the tags, where the consumer expects them.
+    PendingFrame p = std::move(*pending_frame_);
+    pending_frame_.reset();
+    const std::optional<std::vector<TagWindow>> windows = tag_windows_(p.frame.t_ns);
+    front_end_.PerceiveTags(p.frame, p.excluded, &p.out, windows ? &*windows : nullptr);
+    Count(p.out.timing);
+    return SensorEvent(std::move(p.out.tags));
+  }
   while (std::optional<SensorEvent> event = inner_.Next()) {
     if (std::holds_alternative<SlotObservationFrame>(*event) ||
         std::holds_alternative<TagObservationFrame>(*event)) {
       continue;  // only what the cameras see
     }
-    if (const auto* frame = std::get_if<CameraFrame>(&*event)) {
+    if (auto* frame = std::get_if<CameraFrame>(&*event)) {
       // Black or frozen cameras are left out while they are so.
       const std::vector<CameraHealth> health = health_.Check(*frame);
       std::vector<std::string> excluded;
       for (std::size_t k = 0; k < health.size(); ++k) {
         if (health[k] != CameraHealth::kOk) excluded.push_back(frame->cameras[k]);
       }
-      PerceptionOutput out = front_end_.Process(*frame, excluded);
       ++frames_processed_;
-      total_timing_.fusion_ms += out.timing.fusion_ms;
-      total_timing_.slots_ms += out.timing.slots_ms;
-      total_timing_.ids_ms += out.timing.ids_ms;
-      total_timing_.tags_ms += out.timing.tags_ms;
-      max_frame_ms_ = std::max(max_frame_ms_, out.timing.total_ms());
+      if (tag_windows_) {
+        PendingFrame p;
+        p.out.slots.t_ns = p.out.tags.t_ns = frame->t_ns;
+        front_end_.PerceiveSlots(*frame, excluded, &p.out);
+        SensorEvent slots(std::move(p.out.slots));
+        p.frame = std::move(*frame);
+        p.excluded = std::move(excluded);
+        pending_frame_ = std::move(p);
+        return slots;
+      }
+      PerceptionOutput out = front_end_.Process(*frame, excluded);
+      Count(out.timing);
       pending_tags_ = std::move(out.tags);
       return SensorEvent(std::move(out.slots));
     }

@@ -8,6 +8,7 @@
 // PnP checked by the direct angle.
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,6 +18,8 @@
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/camera/camera_names.h"
 #include "parkslam/camera/top_view.h"
+#include "parkslam/common/se2.h"
+#include "parkslam/map/semantic_map.h"
 #include "parkslam/perception/camera_health.h"
 #include "parkslam/perception/learned_slot_detector.h"
 #include "parkslam/perception/learned_slot_id_reader.h"
@@ -41,6 +44,47 @@ DetectorKind ParseDetectorKind(const std::string& text);
 
 // The folder of the committed networks (models/ in the source tree).
 std::string DefaultModelDir();
+
+// Where the tags of a map are looked for while the car is localized on it
+// (active search, as MonoSLAM's): each map tag the predicted pose puts in
+// the tag camera's view is searched in a window around its projection,
+// grown by the pose's uncertainty; the rest of the image is not searched.
+struct TagWindowOptions {
+  // Off: the whole band of rows is searched at every frame, also on a map.
+  bool enabled = true;
+  // The window holds the tag's projection from every pose within this many
+  // sigmas of the estimate (the covariance's sigma points).
+  double sigmas = 3.0;
+  // Pixels around that, for the tag's unknown height and PnP's margin.
+  int margin_px = 32;
+  // A window whose tag is this many pixels high at the decimation the
+  // detector uses is searched at a coarser one (2, 4 or 8), as long as the
+  // tag stays at least this high there: a near tag needs no fine search.
+  double min_decimated_px = 24.0;
+  // Windows that together cost more than this share of the band's search
+  // (area over decimation squared): the band is searched whole (a
+  // windowed search would save little).
+  double max_band_share = 0.5;
+
+  bool IsValid(std::string* error) const;
+
+  template <typename V>
+  void VisitFields(V& v) {
+    v("enabled", enabled);
+    v("sigmas", sigmas);
+    v("margin_px", margin_px);
+    v("min_decimated_px", min_decimated_px);
+    v("max_band_share", max_band_share);
+  }
+};
+
+// A part of the tag camera's image to look for tags in, at its own
+// decimation.
+struct TagWindow {
+  cv::Rect rect;     // pixels of the tag camera's image
+  int decimate = 2;  // libapriltag's quad_decimate there
+  int tag_id = -1;   // the map tag it was made for; -1 for a merged one
+};
 
 struct PerceptionOptions {
   // The rig's cameras: four fisheyes fused into the top view (in this
@@ -78,6 +122,7 @@ struct PerceptionOptions {
   double tag_min_height_m = 1.0;
   double tag_max_height_m = 1.7;
   double tag_min_range_m = 1.5;
+  TagWindowOptions tag_windows;
   // Uncertainty handed to the mapper with each detection: a slot corner
   // (grows with its distance from the top view's centre), a tag's range
   // (grows with range) and bearing.
@@ -108,6 +153,7 @@ struct PerceptionOptions {
     v("tag_min_height_m", tag_min_height_m);
     v("tag_max_height_m", tag_max_height_m);
     v("tag_min_range_m", tag_min_range_m);
+    v("tag_windows", tag_windows);
     v("corner_sigma_m", corner_sigma_m);
     v("corner_sigma_per_m", corner_sigma_per_m);
     v("tag_range_sigma_m", tag_range_sigma_m);
@@ -164,8 +210,22 @@ class PerceptionFrontEnd {
   // the slots' pose before the tags are found (live/live_system.h).
   void PerceiveSlots(const CameraFrame& frame, const std::vector<std::string>& excluded,
                      PerceptionOutput* out) const;
+  // With `windows` (as TagWindows gives them), only they are searched, and
+  // a tag found in two is kept once (from the window made for it); without,
+  // the band of rows where tags can be.
   void PerceiveTags(const CameraFrame& frame, const std::vector<std::string>& excluded,
-                    PerceptionOutput* out) const;
+                    PerceptionOutput* out, const std::vector<TagWindow>* windows = nullptr) const;
+
+  // Where the tag camera sees `tags` from T_map_vehicle, uncertain by
+  // `covariance` (x, y, yaw): one window per tag in view within the tag
+  // detector's range, aligned to 8 pixels, at the coarsest decimation its
+  // size allows; overlapping ones merged where that costs no more. Nothing
+  // (search the band) when options.tag_windows is off or the windows
+  // would cost more than its max_band_share; an empty list when no tag is
+  // in view.
+  std::optional<std::vector<TagWindow>> TagWindows(const std::vector<MapTag>& tags,
+                                                   const SE2& T_map_vehicle,
+                                                   const Eigen::Matrix3d& covariance) const;
 
   const camera::TopViewFusion& fusion() const { return *fusion_; }
   // 0 on the car's footprint in the top view, 255 elsewhere.
@@ -205,8 +265,16 @@ class PerceptionFrontEnd {
 // images are black or frozen are left out of the frames they fail in.
 class PerceptionSource final : public SensorSource {
  public:
+  // The windows in which a frame's tags are looked for, asked with the
+  // frame's time once its slot frame has been taken (the consumer has
+  // seen the slots); nothing searches the band.
+  using TagWindowsFn = std::function<std::optional<std::vector<TagWindow>>(TimeNs t_ns)>;
+
   PerceptionSource(SensorSource& inner, const PerceptionFrontEnd& front_end);
   std::optional<SensorEvent> Next() override;
+  // From now on each frame's tags are perceived only when the event after
+  // its slot frame is asked for, in the windows `windows` gives.
+  void SearchTagsIn(TagWindowsFn windows) { tag_windows_ = std::move(windows); }
 
   int frames_processed() const { return frames_processed_; }
   // Sum and maximum of the per-frame stage times.
@@ -216,10 +284,20 @@ class PerceptionSource final : public SensorSource {
   const CameraHealthMonitor& camera_health() const { return health_; }
 
  private:
+  void Count(const PerceptionTiming& timing);
+
   SensorSource& inner_;
   CameraHealthMonitor health_;
   const PerceptionFrontEnd& front_end_;
   std::optional<SensorEvent> pending_tags_;
+  // With tag_windows_: the frame whose tags are still to be perceived.
+  struct PendingFrame {
+    CameraFrame frame;
+    std::vector<std::string> excluded;
+    PerceptionOutput out;
+  };
+  std::optional<PendingFrame> pending_frame_;
+  TagWindowsFn tag_windows_;
   int frames_processed_ = 0;
   PerceptionTiming total_timing_;
   double max_frame_ms_ = 0.0;

@@ -168,6 +168,66 @@ TEST(PerceptionFrontEndTest, TagsLandOnTheTruthAndFaceTheRightWay) {
   EXPECT_GE(seen, 3);
 }
 
+// Looked for only where the map has them, from the true pose: the tags of
+// the whole band, in the same place within a centimetre (a near tag is
+// found on a coarser image), for a fraction of the band's search. A pose
+// too uncertain for windows, or the option off, searches the band; from a
+// place whose view holds no tag, nothing is searched.
+TEST(PerceptionFrontEndTest, TagWindowsFindTheBandsTagsWhereTheMapHasThem) {
+  const SemanticMap map = sim::ToSemanticMap(DefaultLot().world);
+  const Eigen::Matrix3d P = Eigen::Vector3d(0.1, 0.1, 0.02).cwiseAbs2().asDiagonal();
+  const camera::CameraRig rig = camera::DefaultRig();
+  const auto mono = std::find_if(rig.cameras.begin(), rig.cameras.end(),
+                                 [](const auto& c) { return c.name == camera::kTagCameraName; });
+  ASSERT_NE(mono, rig.cameras.end());
+  const camera::CameraIntrinsics& k = mono->intrinsics;
+  int compared = 0, coarse = 0;
+  for (double x : {-37.0, -30.0, -20.0}) {
+    const SE2 T_map_vehicle(x, 9.1, 0.0);
+    const CameraFrame frame = RenderCameraFrame(Renderer(), T_map_vehicle, 0, kCameras);
+    PerceptionOutput band, windowed;
+    FrontEnd().PerceiveTags(frame, {}, &band);
+    const std::optional<std::vector<TagWindow>> windows =
+        FrontEnd().TagWindows(map.tags, T_map_vehicle, P);
+    ASSERT_TRUE(windows.has_value()) << x;
+    FrontEnd().PerceiveTags(frame, {}, &windowed, &*windows);
+    double cost = 0.0;
+    for (const TagWindow& w : *windows) {
+      cost += static_cast<double>(w.rect.area()) / (w.decimate * w.decimate);
+      EXPECT_EQ(w.rect.x % 8, 0);
+      EXPECT_EQ(w.rect.width % 8, 0);
+      coarse += w.decimate > 2;
+    }
+    // Against the band's search at decimation 2 (a band under half the image).
+    EXPECT_LT(cost, 0.5 * k.width * k.height / 2 / 4) << x;
+    ASSERT_EQ(windowed.tags.tags.size(), band.tags.tags.size()) << x;
+    for (const TagObservation& b : band.tags.tags) {
+      const auto same = std::find_if(windowed.tags.tags.begin(), windowed.tags.tags.end(),
+                                     [&](const TagObservation& w) { return w.tag_id == b.tag_id; });
+      ASSERT_NE(same, windowed.tags.tags.end()) << "tag " << b.tag_id;
+      EXPECT_LT((same->p_vehicle - b.p_vehicle).norm(), 0.01) << "tag " << b.tag_id;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 3);
+  EXPECT_GE(coarse, 1);
+  const SE2 near_tags(-30.0, 9.1, 0.0);
+  EXPECT_FALSE(
+      FrontEnd()
+          .TagWindows(map.tags, near_tags, Eigen::Vector3d(3.0, 3.0, 0.5).cwiseAbs2().asDiagonal())
+          .has_value());
+  PerceptionOptions off;
+  off.detector = DetectorKind::kClassical;
+  off.tag_windows.enabled = false;
+  EXPECT_FALSE(
+      PerceptionFrontEnd(camera::DefaultRig(), off).TagWindows(map.tags, near_tags, P).has_value());
+  // Far outside the lot, looking away from it.
+  const std::optional<std::vector<TagWindow>> none =
+      FrontEnd().TagWindows(map.tags, SE2(-500.0, 9.1, M_PI), P);
+  ASSERT_TRUE(none.has_value());
+  EXPECT_TRUE(none->empty());
+}
+
 // The stream on pixels: camera frames become slot and tag frames at their
 // time; the simulator's own detections are dropped.
 TEST(PerceptionSourceTest, ReplacesObservationsByWhatTheCamerasSee) {

@@ -46,7 +46,8 @@ TagDetector::TagDetector(const TagDetectorOptions& options)
 TagDetector::~TagDetector() = default;
 
 std::vector<DetectedTag> TagDetector::Detect(const cv::Mat& grey,
-                                             const camera::CameraIntrinsics* intrinsics) const {
+                                             const camera::CameraIntrinsics* intrinsics,
+                                             float quad_decimate) const {
   if (grey.type() != CV_8UC1)
     throw std::invalid_argument("tag detector: expected an 8-bit grey image");
   if (intrinsics != nullptr &&
@@ -59,6 +60,7 @@ std::vector<DetectedTag> TagDetector::Detect(const cv::Mat& grey,
   cv::Mat contiguous = grey.isContinuous() ? grey : grey.clone();
   image_u8_t image{contiguous.cols, contiguous.rows, static_cast<int32_t>(contiguous.step),
                    contiguous.data};
+  impl_->detector->quad_decimate = quad_decimate > 0.0f ? quad_decimate : options_.quad_decimate;
   zarray_t* detections = apriltag_detector_detect(impl_->detector, &image);
   std::vector<DetectedTag> tags;
   for (int i = 0; i < zarray_size(detections); ++i) {

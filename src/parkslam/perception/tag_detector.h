@@ -74,8 +74,12 @@ class TagDetector {
   // tags whose pose fails the direct-angle check or lies at max_range_m or
   // beyond are dropped. Throws std::invalid_argument for an image that is
   // not 8-bit grey or does not match the intrinsics' size.
+  // quad_decimate > 0 detects at that decimation instead of the options'
+  // (a large tag is found as well on a coarser image, for a fraction of
+  // the time; its corners are refined on the full image either way).
   std::vector<DetectedTag> Detect(const cv::Mat& grey,
-                                  const camera::CameraIntrinsics* intrinsics = nullptr) const;
+                                  const camera::CameraIntrinsics* intrinsics = nullptr,
+                                  float quad_decimate = 0.0f) const;
 
  private:
   struct Impl;
