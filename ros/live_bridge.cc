@@ -139,20 +139,21 @@ LiveBridge::LiveBridge(const BridgeOptions& options, std::function<void(const Br
   // odometry newer than the set; the estimator takes the odometry a
   // quarter of a second late (or as soon as a frame after it needs it).
   live.reorder_window_s = 0.25;
+  // The stored map: to localize on, or to update from this drive
+  // (mapping/map_update.h). ~init may name its entrance.
+  if (!options.mapping || !options.map.empty()) m.map = io::ReadMap(options.map);
   std::optional<SE2> start;
   if (!options.init.empty()) {
     try {
-      start = io::ParsePose(options.init, "~init");
+      start = io::ParseStartPose(options.init, m.map, "~init",
+                                 options.map.empty() ? "the new map" : options.map);
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(e.what());
     }
   }
   if (options.mapping) {
-    // A map to update from this drive (mapping/map_update.h).
-    if (!options.map.empty()) m.map = io::ReadMap(options.map);
     m.system = std::make_unique<live::LiveSystem>(&m.rig, live, start);
   } else {
-    m.map = io::ReadMap(options.map);
     live.on_estimate = [&m](const localization::LocalizationEstimate& e) { m.OnEstimate(e); };
     m.system = std::make_unique<live::LiveSystem>(m.map, &m.rig, live, start);
   }

@@ -18,8 +18,9 @@
 // (the update's, default the drive's first stamp), map_out (mapping:
 // written at ~save_map and at shutdown), topics
 // (topics.yaml), rig (instead of topics.yaml's), options (algorithm options
-// YAML, `parkslam map --dump-config`), init ("x,y,yaw": a known start; else
-// localizing globally, and mapping from the origin), map_frame (map),
+// YAML, `parkslam map --dump-config`), init ("x,y,yaw" or "entrance", the
+// map's: a known start; else localizing globally, and mapping from the
+// origin), map_frame (map),
 // base_frame (base_link), publish_map_every_s (2), wait_for_perception
 // (false; true: every frame perceived, as `localize` does, for a replay).
 //
@@ -290,7 +291,8 @@ int main(int argc, char** argv) {
           "  rosrun parkslam parkslam_node _mode:=map _topics:=topics.yaml _map_out:=map.json\n"
           "Parameters (private): mode (localize | map), map (mapping: one to update), label,\n"
           "map_out, topics, rig, options,\n"
-          "init (x,y,yaw), map_frame (map), base_frame (base_link), publish_map_every_s (2),\n"
+          "init (x,y,yaw or entrance), map_frame (map), base_frame (base_link), "
+          "publish_map_every_s (2),\n"
           "wait_for_perception (false). Publishes ~odom, ~state, tf and ~map; serves ~save_map.\n");
       return 0;
     }

@@ -82,6 +82,10 @@ expect nonzero 'far.json: slots\[0\]\.corners\[0\]\[0\]: 1e\+308 is beyond the p
 expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --global
 expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0
 expect nonzero "excludes|--global" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0 --global
+# The mapper's map keeps where its drive began; the ground truth has no entrance.
+grep -q '"entrance"' "$tmp/m.json" && pass || fail "the mapper's map has no entrance"
+expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init entrance
+expect nonzero "--init entrance: .*map.json has no entrance" -- "$PARKSLAM" localize --map "$tmp/d/groundtruth/map.json" "$tmp/d" --out "$tmp/l2.tum" --init entrance
 expect nonzero "badmap.json" -- "$PARKSLAM" localize --map "$tmp/badmap.json" "$tmp/d" --out "$tmp/l2.tum"
 expect nonzero "overflow.json: tags\[0\]\.x: invalid JSON" -- "$PARKSLAM" localize --map "$tmp/overflow.json" "$tmp/d" --out "$tmp/l2.tum"
 expect 0 '"repeat_std_m"' -- "$PARKSLAM" follow --map "$tmp/m.json" --runs 2 --speed-kmh 10 --set route.laps=0 --out "$tmp/f" --json

@@ -104,6 +104,7 @@ struct Options {
   std::string detector;  // --detector; empty: the configuration's front_end.detector
   int perception_frames = 24;
   bool no_report = false;
+  std::string start = "global";  // the second drive's: global or entrance
   ConfigOptions config;
 };
 
@@ -168,8 +169,10 @@ Evaluation Evaluate(const io::Dataset& dataset, const Trajectory& odometry_traje
   return e;
 }
 
-// A second drive (seed + 500) localized on the map from a global start;
-// writes second_drive/, second_drive_localized.tum and localization.csv.
+// A second drive (seed + 500) localized on the map from a global start, or
+// from the map's entrance (where its drive began, and the second drive
+// begins: the route's start); writes second_drive/,
+// second_drive_localized.tum and localization.csv.
 // Returns the map's pose in the lot (from the truth).
 SE2 LocalizeSecondDrive(const Options& o, const sim::ScenarioConfig& scenario,
                         const AlgorithmOptions& config, const SemanticMap& map,
@@ -182,6 +185,12 @@ SE2 LocalizeSecondDrive(const Options& o, const sim::ScenarioConfig& scenario,
   localization::Localizer localizer(
       map, config.localizer,
       odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle));
+  if (o.start == "entrance") {
+    // As `localize --init entrance`.
+    localizer.SetPose(io::ParseStartPose("entrance", map, "--start", "the map"),
+                      Eigen::Vector3d(0.5, 0.5, 0.1).cwiseAbs2().asDiagonal());
+  }
+  (*metrics)["localization"]["start"] = o.start;
   localization::LocalizationRun run;
   {
     harness::SensorStream stream(second, {frames, perception, {}});
@@ -341,8 +350,8 @@ void Run(const Options& o) {
   const int steps = 7 + (o.consistency_runs > 0) + (o.follow_runs > 0) + (o.perception_frames > 0) +
                     !o.no_report - 1;
   int step = 0;
-  auto header = [&](const char* what) {
-    std::fprintf(stderr, "[%d/%d] %s\n", ++step, steps, what);
+  auto header = [&](const std::string& what) {
+    std::fprintf(stderr, "[%d/%d] %s\n", ++step, steps, what.c_str());
   };
 
   header("simulating the drive");
@@ -369,7 +378,7 @@ void Run(const Options& o) {
   const Evaluation evaluation =
       Evaluate(dataset, odometry_trajectory, mapped_trajectory, map, perception, out, &metrics);
 
-  header("localizing a second drive on the map (global start)");
+  header("localizing a second drive on the map (" + o.start + " start)");
   const SE2 T_world_map = LocalizeSecondDrive(o, scenario, config, map, evaluation.truth_map,
                                               frames, perception, &metrics);
 
@@ -442,6 +451,10 @@ void AddDemoCommand(CLI::App& app) {
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
   cmd->add_flag("--no-report", options->no_report, "Do not write report.html");
+  cmd->add_option("--start", options->start,
+                  "The second drive's start: global (an unknown pose, localized globally) or "
+                  "entrance (the map's entrance, where its drive and the second one begin)")
+      ->check(CLI::IsMember({"global", "entrance"}));
   AddDetectorOption(cmd, &options->detector);
   AddConfigOptions(cmd, &options->config);
   AddScenarioOptions(cmd, &options->scenario);

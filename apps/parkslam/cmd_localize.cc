@@ -86,7 +86,8 @@ void Run(const Options& o) {
       map, config.localizer, odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle));
   if (!o.init.empty()) {
     const Eigen::Vector3d sigma(0.5, 0.5, 0.1);
-    localizer.SetPose(ParsePose(o.init, "--init"), sigma.cwiseAbs2().asDiagonal());
+    localizer.SetPose(io::ParseStartPose(o.init, map, "--init", o.map),
+                      sigma.cwiseAbs2().asDiagonal());
   }
   if (!o.log.empty() && (dataset.groundtruth_trajectory.empty() || !dataset.groundtruth_map)) {
     throw std::runtime_error(o.dataset + ": --log needs the dataset's ground truth");
@@ -140,7 +141,9 @@ void AddLocalizeCommand(CLI::App& app) {
                   "back within 0.5 m of the truth within 5 s of driving (needs ground truth)")
       ->check(CLI::Range(0, 10000));
   auto* init = cmd->add_option("--init", options->init,
-                               "Known start pose x,y,yaw in the map frame (metres, radians)");
+                               "Known start pose x,y,yaw in the map frame (metres, radians), or "
+                               "'entrance': where the map's own drive began (a car that starts "
+                               "its drives at the lot's entrance)");
   auto* global = cmd->add_flag("--global", options->global,
                                "Start with an unknown pose and localize globally (the default "
                                "without --init)");

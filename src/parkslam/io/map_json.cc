@@ -66,30 +66,12 @@ Json ObstacleJson(const MapObstacle& obstacle) {
 
 // Keys in the order a reader expects them; the rest follow sorted.
 const std::vector<std::string>& KeyOrder() {
-  static const std::vector<std::string> order = {"format",
-                                                 "version",
-                                                 "frame",
-                                                 "units",
-                                                 "length",
-                                                 "angle",
-                                                 "metadata",
-                                                 "slots",
-                                                 "tags",
-                                                 "obstacles",
-                                                 "id",
-                                                 "temporary",
-                                                 "id_legible",
-                                                 "kind",
-                                                 "corners",
-                                                 "corner_observed",
-                                                 "corner_sigma_m",
-                                                 "observations",
-                                                 "x",
-                                                 "y",
-                                                 "yaw",
-                                                 "size_m",
-                                                 "obstacle",
-                                                 "points"};
+  static const std::vector<std::string> order = {
+      "format",       "version",    "frame", "units",   "length",          "angle",
+      "metadata",     "entrance",   "slots", "tags",    "obstacles",       "id",
+      "temporary",    "id_legible", "kind",  "corners", "corner_observed", "corner_sigma_m",
+      "observations", "x",          "y",     "yaw",     "size_m",          "obstacle",
+      "points"};
   return order;
 }
 
@@ -109,7 +91,8 @@ void CheckHeader(const Json& json, const JsonReader& r, const JsonPath& root) {
                         std::to_string(kMapFormatVersion) + ")");
   }
   r.ExpectObject(json, root,
-                 {"format", "version", "frame", "units", "metadata", "slots", "tags", "obstacles"});
+                 {"format", "version", "frame", "units", "metadata", "slots", "tags", "obstacles"},
+                 {"entrance"});
   const JsonPath frame = root.Key("frame");
   if (r.String(json["frame"], frame) != "map") r.Fail(frame, "expected 'map'");
   const JsonPath units = root.Key("units");
@@ -247,14 +230,19 @@ nlohmann::json MapToJson(const SemanticMap& map) {
   }
   Json metadata = Json::object();
   for (const auto& [key, value] : map.metadata) metadata[key] = value;
-  return Json{{"format", kMapFormatName},
-              {"version", kMapFormatVersion},
-              {"frame", "map"},
-              {"units", {{"length", "m"}, {"angle", "rad"}}},
-              {"metadata", metadata},
-              {"slots", slots},
-              {"tags", tags},
-              {"obstacles", obstacles}};
+  Json json{{"format", kMapFormatName},
+            {"version", kMapFormatVersion},
+            {"frame", "map"},
+            {"units", {{"length", "m"}, {"angle", "rad"}}},
+            {"metadata", metadata},
+            {"slots", slots},
+            {"tags", tags},
+            {"obstacles", obstacles}};
+  if (map.entrance) {
+    json["entrance"] = {
+        {"x", map.entrance->x()}, {"y", map.entrance->y()}, {"yaw", map.entrance->yaw()}};
+  }
+  return json;
 }
 
 SemanticMap MapFromJson(const nlohmann::json& json, const std::string& source_name) {
@@ -263,6 +251,14 @@ SemanticMap MapFromJson(const nlohmann::json& json, const std::string& source_na
   CheckHeader(json, r, root);
   SemanticMap map;
   map.metadata = ReadMetadata(json["metadata"], r, root.Key("metadata"));
+  if (json.contains("entrance")) {
+    const JsonPath entrance = root.Key("entrance");
+    const Json& e = json["entrance"];
+    r.ExpectObject(e, entrance, {"x", "y", "yaw"});
+    map.entrance = SE2(r.BoundedNumber(e["x"], entrance.Key("x"), kMaxCoordinate_m, "m"),
+                       r.BoundedNumber(e["y"], entrance.Key("y"), kMaxCoordinate_m, "m"),
+                       r.BoundedNumber(e["yaw"], entrance.Key("yaw"), kMaxAngle_rad, "rad"));
+  }
 
   const JsonPath obstacles = root.Key("obstacles");
   r.ExpectArray(json["obstacles"], obstacles);

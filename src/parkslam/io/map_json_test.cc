@@ -105,6 +105,27 @@ TEST(MapJsonTest, WritesLastConfirmedOnlyWhereThereIsOne) {
   EXPECT_THROW(MapFromJson(bad, "mem"), IoError);
 }
 
+// Where the map's drive began: written only where there is one, read back
+// to the rounding of the format, refused by field where it is malformed.
+TEST(MapJsonTest, KeepsTheEntranceWhereThereIsOne) {
+  SemanticMap map = SampleMap();
+  EXPECT_FALSE(MapToJson(map).contains("entrance"));
+  EXPECT_FALSE(MapFromJson(MapToJson(map), "mem").entrance.has_value());
+  map.entrance = SE2(-8.0, 12.5, 0.0123);
+  const nlohmann::json j = MapToJson(map);
+  const SemanticMap read = MapFromJson(j, "mem");
+  ASSERT_TRUE(read.entrance.has_value());
+  EXPECT_NEAR((read.entrance->translation() - map.entrance->translation()).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(read.entrance->yaw(), 0.0123, 1e-9);
+  nlohmann::json missing = j;
+  missing["entrance"].erase("yaw");
+  EXPECT_EQ(ErrorOf([&] { MapFromJson(missing, "map.json"); }),
+            "map.json: entrance.yaw: missing key");
+  nlohmann::json far = j;
+  far["entrance"]["x"] = 1e9;
+  EXPECT_THAT(ErrorOf([&] { MapFromJson(far, "map.json"); }), HasSubstr("entrance.x"));
+}
+
 TEST(MapJsonTest, FileRoundTripKeepsEveryField) {
   const TempDir dir;
   const SemanticMap map = SampleMap();

@@ -46,4 +46,15 @@ SE2 ParsePose(const std::string& text, const std::string& name) {
   return SE2(values[0], values[1], values[2]);
 }
 
+SE2 ParseStartPose(const std::string& text, const SemanticMap& map, const std::string& name,
+                   const std::string& map_name) {
+  if (text != "entrance") return ParsePose(text, name);
+  if (!map.entrance) {
+    throw std::invalid_argument(name + " entrance: " + map_name +
+                                " has no entrance (a map made before maps kept where their "
+                                "drive began); give x,y,yaw");
+  }
+  return *map.entrance;
+}
+
 }  // namespace parkslam::io

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "parkslam/common/lot_constants.h"
+#include "parkslam/common/se2.h"
 #include "parkslam/sensor/sensor_data.h"
 
 namespace parkslam {
@@ -73,6 +74,10 @@ struct SemanticMap {
   std::vector<MapSlot> slots;
   std::vector<MapTag> tags;
   std::vector<MapObstacle> obstacles;
+  // Where the drive that made the map began (its first keyframe), in the
+  // map frame: the lot's entrance, for a car that starts its drives there
+  // (`localize --init entrance`). Absent in maps made otherwise.
+  std::optional<SE2> entrance;
 };
 
 }  // namespace parkslam

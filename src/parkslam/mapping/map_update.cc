@@ -287,6 +287,9 @@ SemanticMap UpdateMap(const SemanticMap& old_map, const SemanticMap& new_map,
 
   // 2. Slots. Matches by painted ID first, then by place among the rest.
   SemanticMap out = old_map;
+  // The old map's entrance stands (its frame is kept); a map without one
+  // takes the new drive's.
+  if (!out.entrance && new_map.entrance) out.entrance = T_old_new * *new_map.entrance;
   std::vector<bool> old_taken(out.slots.size(), false);
   std::vector<int> match(seen.slots.size(), -1);
   // The old slot (not yet taken, unless any_slot) that the new slot

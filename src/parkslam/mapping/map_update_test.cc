@@ -110,6 +110,24 @@ TEST(MapUpdateTest, KeepsWhatHoldsReplacesWhatChangedAndRemovesAGoneTag) {
   EXPECT_EQ(out.tags[1].obstacle_index, 0);  // still on its wall
 }
 
+// The old map's entrance stands (its frame is kept); a map without one
+// takes the new drive's, moved into the old frame.
+TEST(MapUpdateTest, KeepsTheOldEntranceOrTakesTheNewDrives) {
+  const SE2 T_new_old(3.0, -2.0, 0.4);
+  SemanticMap new_map = InFrame(T_new_old, Lot());
+  new_map.entrance = T_new_old * SE2(-1.0, 3.0, 0.1);
+  const Trajectory drive = Transformed(T_new_old, Drive());
+  SemanticMap old_map = Lot();
+  const SemanticMap taken = UpdateMap(old_map, new_map, drive, {}, nullptr);
+  ASSERT_TRUE(taken.entrance.has_value());
+  EXPECT_LT((taken.entrance->translation() - Eigen::Vector2d(-1.0, 3.0)).norm(), 1e-9);
+  EXPECT_NEAR(taken.entrance->yaw(), 0.1, 1e-9);
+  old_map.entrance = SE2(-2.0, 3.0, 0.0);
+  const SemanticMap kept = UpdateMap(old_map, new_map, drive, {}, nullptr);
+  ASSERT_TRUE(kept.entrance.has_value());
+  EXPECT_NEAR(kept.entrance->x(), -2.0, 1e-12);
+}
+
 TEST(MapUpdateTest, ATagNeverInViewIsKept) {
   const SemanticMap old_map = Lot();
   SemanticMap now = old_map;

@@ -514,6 +514,7 @@ SemanticMap Mapper::MapOf(const MapState& state, const MapperOptions& options,
   map.metadata["source"] = "parkslam mapper";
   map.metadata["robust"] = options.robust == RobustMode::kMaxMixture ? "maxmix" : "none";
   map.metadata["mode"] = options.mode == MappingMode::kBatch ? "batch" : "online";
+  if (!state.keyframes.empty()) map.entrance = state.PoseOf(0);
   for (size_t index = 0; index < state.slots.size(); ++index) {
     const SlotLandmark& slot = state.slots[index];
     if (!slot.alive || slot.observations < min_observations) continue;

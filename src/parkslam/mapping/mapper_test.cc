@@ -111,6 +111,10 @@ TEST(MapperTest, TwoSlotsWithCorrectIdsAreMappedOnce) {
   EXPECT_FALSE(a->temporary);
   EXPECT_LT((a->corners_map[2] - slots[0].corners_map[2]).norm(), 0.05);
   EXPECT_EQ(FindNear(map, slots[1].corners_map[0])->id, "39");
+  // Where the drive began (its first keyframe, at the first frame 5 cm on).
+  ASSERT_TRUE(map.entrance.has_value());
+  EXPECT_LT((map.entrance->translation() - Eigen::Vector2d(0.05, 0.0)).norm(), 0.02);
+  EXPECT_LT(std::abs(map.entrance->yaw()), 1e-3);
 }
 
 TEST(MapperTest, FirstReadingWrongThenCorrected) {
