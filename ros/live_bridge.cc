@@ -155,7 +155,9 @@ LiveBridge::LiveBridge(const BridgeOptions& options, std::function<void(const Br
     m.system = std::make_unique<live::LiveSystem>(&m.rig, live, start);
   } else {
     live.on_estimate = [&m](const localization::LocalizationEstimate& e) { m.OnEstimate(e); };
-    m.system = std::make_unique<live::LiveSystem>(m.map, &m.rig, live, start);
+    const Eigen::Vector3d sigma = options.init == "entrance" ? live.localizer.EntranceSigmas()
+                                                             : Eigen::Vector3d(0.5, 0.5, 0.1);
+    m.system = std::make_unique<live::LiveSystem>(m.map, &m.rig, live, start, sigma);
   }
 }
 

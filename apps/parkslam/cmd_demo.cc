@@ -188,7 +188,7 @@ SE2 LocalizeSecondDrive(const Options& o, const sim::ScenarioConfig& scenario,
   if (o.start == "entrance") {
     // As `localize --init entrance`.
     localizer.SetPose(io::ParseStartPose("entrance", map, "--start", "the map"),
-                      Eigen::Vector3d(0.5, 0.5, 0.1).cwiseAbs2().asDiagonal());
+                      config.localizer.EntranceSigmas().cwiseAbs2().asDiagonal());
   }
   (*metrics)["localization"]["start"] = o.start;
   localization::LocalizationRun run;

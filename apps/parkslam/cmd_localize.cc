@@ -85,7 +85,8 @@ void Run(const Options& o) {
   localization::Localizer localizer(
       map, config.localizer, odometry::EkfOptionsFromSpec(dataset.odometry_spec, dataset.vehicle));
   if (!o.init.empty()) {
-    const Eigen::Vector3d sigma(0.5, 0.5, 0.1);
+    const Eigen::Vector3d sigma =
+        o.init == "entrance" ? config.localizer.EntranceSigmas() : Eigen::Vector3d(0.5, 0.5, 0.1);
     localizer.SetPose(io::ParseStartPose(o.init, map, "--init", o.map),
                       sigma.cwiseAbs2().asDiagonal());
   }

@@ -74,6 +74,8 @@ bool LocalizerOptions::IsValid(std::string* error) const {
   c.PositiveAtMost(reloc_ambiguity_ratio, 1.0, "reloc_ambiguity_ratio", "");
   c.Positive(reloc_position_sigma_m, "reloc_position_sigma_m");
   c.Positive(reloc_yaw_sigma_rad, "reloc_yaw_sigma_rad");
+  c.Positive(entrance_position_sigma_m, "entrance_position_sigma_m");
+  c.Positive(entrance_yaw_sigma_rad, "entrance_yaw_sigma_rad");
   return c.ok();
 }
 

@@ -60,6 +60,15 @@ struct LocalizerOptions {
   double reloc_ambiguity_ratio = 0.7;  // a rival this close in support: wait
   double reloc_position_sigma_m = 0.3;
   double reloc_yaw_sigma_rad = 0.05;
+  // A start at the map's entrance (`--init entrance`): the car is in the
+  // entrance lane, heading along it within about 2 degrees. The heading's
+  // sigma carries the pose across a corridor without landmarks (0.03 rad
+  // is 1.2 m to the side after 40 m), where --init's 0.1 rad would be 4 m.
+  double entrance_position_sigma_m = 0.5;
+  double entrance_yaw_sigma_rad = 0.03;
+  Eigen::Vector3d EntranceSigmas() const {
+    return {entrance_position_sigma_m, entrance_position_sigma_m, entrance_yaw_sigma_rad};
+  }
 
   bool IsValid(std::string* error) const;
 
@@ -85,6 +94,8 @@ struct LocalizerOptions {
     v("reloc_ambiguity_ratio", reloc_ambiguity_ratio);
     v("reloc_position_sigma_m", reloc_position_sigma_m);
     v("reloc_yaw_sigma_rad", reloc_yaw_sigma_rad);
+    v("entrance_position_sigma_m", entrance_position_sigma_m);
+    v("entrance_yaw_sigma_rad", entrance_yaw_sigma_rad);
   }
 };
 
