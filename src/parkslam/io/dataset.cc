@@ -813,7 +813,7 @@ YAML::Node LoadManifest(const fs::path& dir) {
     ThrowIoError(manifest.string(), 0, "",
                  "missing: not a dataset folder, or a dataset not completely written");
   }
-  return yaml_util::LoadYaml(ReadTextFile(manifest), manifest.string());
+  return yaml_util::LoadYaml(ReadTextFile(manifest, kMaxYamlBytes), manifest.string());
 }
 
 std::vector<WheelSpeed> ReadWheelSpeeds(const fs::path& dir) {
@@ -931,6 +931,7 @@ std::vector<TimeNs> Times(const Samples& samples) {
 
 // The first bytes of a file: enough for any image header.
 std::string FileHead(const fs::path& path) {
+  CheckInputFile(path, kMaxImageBytes);  // no FIFO, device or huge file
   std::ifstream in(path, std::ios::binary);
   std::string bytes(1 << 16, '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));

@@ -60,7 +60,7 @@ YAML::Node LoadOpenCvYaml(const std::filesystem::path& path) {
   const std::string file = path.string();
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) ThrowIoError(file, 0, "", "no such file");
-  std::string text = ReadTextFile(path);
+  std::string text = ReadTextFile(path, kMaxYamlBytes);
   if (text.rfind("%YAML:", 0) != 0) {
     ThrowIoError(file, 1, "", "not an OpenCV YAML file (expected the first line %YAML:1.0)");
   }

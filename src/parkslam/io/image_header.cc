@@ -6,6 +6,7 @@
 #include <string>
 
 #include "parkslam/common/plausible_ranges.h"
+#include "parkslam/io/atomic_file.h"
 #include "parkslam/io/io_error.h"
 
 namespace parkslam::io {
@@ -95,6 +96,7 @@ cv::Size ImageSizeFromHeader(std::string_view b, std::string_view source) {
 }
 
 void CheckImageSize(const std::filesystem::path& path) {
+  CheckInputFile(path, kMaxImageBytes);  // no FIFO, device or huge file
   std::ifstream in(path, std::ios::binary);
   if (!in) ThrowIoError(path.string(), 0, "", "cannot open");
   // JPEG headers (EXIF, thumbnails) can run long before the frame header.

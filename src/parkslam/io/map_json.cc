@@ -289,7 +289,7 @@ void WriteMap(const std::filesystem::path& path, const SemanticMap& map) {
 }
 
 SemanticMap ReadMap(const std::filesystem::path& path) {
-  const std::string text = ReadTextFile(path);
+  const std::string text = ReadTextFile(path, kMaxJsonBytes);
   const Json json = json_util::ParseJson(text, path.string(), 0);
   return MapFromJson(json, path.string());
 }

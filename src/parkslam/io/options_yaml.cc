@@ -31,7 +31,7 @@ AlgorithmOptions OptionsFromYaml(const std::string& yaml_text, const AlgorithmOp
 }
 
 AlgorithmOptions LoadOptionsFile(const std::filesystem::path& path) {
-  return OptionsFromYaml(ReadTextFile(path), AlgorithmOptions{}, path.string());
+  return OptionsFromYaml(ReadTextFile(path, kMaxYamlBytes), AlgorithmOptions{}, path.string());
 }
 
 }  // namespace parkslam::io

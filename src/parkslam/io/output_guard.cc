@@ -31,12 +31,45 @@ bool Within(const fs::path& inner, const fs::path& outer) {
                 input.path.string() + " (an output never replaces or goes into an input)");
 }
 
+// An output that stands where a device, FIFO or socket is: writing there
+// would replace it (as root, `--out /dev/null` would replace the device).
+void RefuseSpecialFile(const NamedPath& output) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(output.path, ec);
+  if (ec || !fs::exists(status)) return;
+  if (!fs::is_regular_file(status) && !fs::is_directory(status)) {
+    throw IoError(output.name + " " + output.path.string() +
+                  ": exists and is not a plain file or a folder (a device, FIFO or socket); an "
+                  "output never replaces one");
+  }
+}
+
+// Two outputs of one command that name the same file: the second write
+// would replace the first.
+void RefuseSharedOutputs(const std::vector<NamedPath>& outputs) {
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    if (outputs[i].path.empty()) continue;
+    const fs::path a = Resolved(outputs[i].path);
+    for (size_t j = i + 1; j < outputs.size(); ++j) {
+      if (outputs[j].path.empty()) continue;
+      std::error_code ec;
+      if (a == Resolved(outputs[j].path) || fs::equivalent(outputs[i].path, outputs[j].path, ec)) {
+        throw IoError(outputs[j].name + " " + outputs[j].path.string() + ": is also " +
+                      outputs[i].name + " " + outputs[i].path.string() +
+                      " (each output of a command goes to a file of its own)");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void CheckOutputsSpareInputs(const std::vector<NamedPath>& outputs,
                              const std::vector<NamedPath>& inputs) {
+  RefuseSharedOutputs(outputs);
   for (const NamedPath& output : outputs) {
     if (output.path.empty()) continue;
+    RefuseSpecialFile(output);
     const fs::path out = Resolved(output.path);
     std::error_code ec;
     const bool out_exists = fs::exists(output.path, ec);

@@ -8,7 +8,9 @@
 // - an output file may not be an input file;
 // - an output may not lie inside an input folder (a dataset);
 // - an output folder may not hold an input (it may be cleared or filled).
-// Inputs that do not exist are left to the reader's own error.
+// Inputs that do not exist are left to the reader's own error. Outputs are
+// also checked against each other (no two name the same file) and against
+// what stands at their place (never a device, FIFO or socket).
 
 #include <filesystem>
 #include <string>

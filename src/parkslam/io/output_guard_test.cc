@@ -2,6 +2,8 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -66,6 +68,37 @@ TEST_F(OutputGuardTest, RefusesAnOutputFolderHoldingAnInput) {
               HasSubstr("is a folder that holds the input --map"));
   // Missing inputs are the reader's business; empty paths are not given.
   EXPECT_EQ(ErrorOf(dir_ / "out.json", {{dir_ / "absent.json", "--map"}, {"", "--trace"}}), "");
+}
+
+// `map --out a.json --trajectory-out a.json`: the second would replace the
+// first, under any spelling.
+TEST_F(OutputGuardTest, RefusesTwoOutputsOfOneFile) {
+  const auto error_of = [](const std::vector<NamedPath>& outputs) -> std::string {
+    try {
+      CheckOutputsSpareInputs(outputs, {});
+    } catch (const IoError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_THAT(error_of({{dir_ / "a.json", "--out"}, {dir_ / "a.json", "--trajectory-out"}}),
+              HasSubstr("--trajectory-out " + (dir_ / "a.json").string() + ": is also --out"));
+  EXPECT_THAT(error_of({{dir_ / "a.json", "--out"}, {dir_ / "ds" / ".." / "a.json", "--log"}}),
+              HasSubstr("is also --out"));
+  EXPECT_EQ(error_of({{dir_ / "map.json", "--out"}, {dir_ / "sym.json", "--log"}}), "");
+  fs::create_symlink(dir_ / "map.json", dir_ / "sym.json");
+  EXPECT_THAT(error_of({{dir_ / "map.json", "--out"}, {dir_ / "sym.json", "--log"}}),
+              HasSubstr("is also --out"));
+  EXPECT_EQ(error_of({{dir_ / "a.json", "--out"}, {dir_ / "b.json", "--log"}, {"", "--x"}}), "");
+}
+
+// `--out /dev/null` as root would replace the device with a file.
+TEST_F(OutputGuardTest, RefusesAnOutputWhereADeviceOrFifoIs) {
+  EXPECT_THAT(ErrorOf("/dev/null", {}), HasSubstr("is not a plain file or a folder"));
+  ASSERT_EQ(::mkfifo((dir_ / "pipe").c_str(), 0644), 0);
+  EXPECT_THAT(ErrorOf(dir_ / "pipe", {}), HasSubstr("a device, FIFO or socket"));
+  EXPECT_EQ(ErrorOf(dir_ / "map.json", {}), "");
+  EXPECT_EQ(ErrorOf(dir_ / "ds", {}), "");
 }
 
 }  // namespace

@@ -190,7 +190,7 @@ nlohmann::json Ps2LabelsToJson(const Ps2Labels& labels) {
 }
 
 Ps2Labels ReadPs2Labels(const std::filesystem::path& json_path) {
-  const std::string text = ReadTextFile(json_path);
+  const std::string text = ReadTextFile(json_path, kMaxJsonBytes);
   const Json json = json_util::ParseJson(text, json_path.string(), 0);
   return Ps2LabelsFromJson(json, json_path.string());
 }

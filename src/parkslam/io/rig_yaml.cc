@@ -150,7 +150,7 @@ camera::CameraRig RigFromYaml(const std::string& text, const std::string& source
 }
 
 camera::CameraRig LoadRig(const std::filesystem::path& path) {
-  return RigFromYaml(ReadTextFile(path), path.string());
+  return RigFromYaml(ReadTextFile(path, kMaxYamlBytes), path.string());
 }
 
 std::string RigToYaml(const camera::CameraRig& rig) {

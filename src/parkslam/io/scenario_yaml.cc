@@ -179,7 +179,7 @@ sim::ScenarioConfig ScenarioFromYaml(const std::string& yaml_text, const sim::Sc
 
 sim::ScenarioConfig LoadScenarioFile(const std::filesystem::path& path) {
   const sim::ScenarioConfig config =
-      ScenarioFromYaml(ReadTextFile(path), sim::DefaultScenario(), path.string());
+      ScenarioFromYaml(ReadTextFile(path, kMaxYamlBytes), sim::DefaultScenario(), path.string());
   std::string error;
   if (!config.IsValid(&error)) ThrowIoError(path.string(), 0, "", error);
   return config;

@@ -66,7 +66,8 @@ sim::ScenarioConfig ScenarioFromPlan(const PlanFile& plan, const std::string& so
 }
 
 sim::ScenarioConfig LoadPlanFile(const std::filesystem::path& path) {
-  return ScenarioFromPlan(PlanFromYaml(ReadTextFile(path), path.string()), path.string());
+  return ScenarioFromPlan(PlanFromYaml(ReadTextFile(path, kMaxYamlBytes), path.string()),
+                          path.string());
 }
 
 PlanFile PlanFromScenario(const sim::ScenarioConfig& scenario) {

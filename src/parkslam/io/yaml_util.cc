@@ -70,9 +70,41 @@ std::string IndexKey(const std::string& path, std::size_t index) {
   return path + "[" + std::to_string(index) + "]";
 }
 
+namespace {
+
+// The nodes a reader visits in `node`, aliases counted where they are used
+// (YAML's "billion laughs": 600 KB of nested aliases made 200,000 slots),
+// counted until `budget` runs out.
+void CountNodes(const YAML::Node& node, std::size_t* budget) {
+  if (*budget == 0) return;
+  --*budget;
+  if (node.IsSequence()) {
+    for (const YAML::Node& child : node) {
+      CountNodes(child, budget);
+      if (*budget == 0) return;
+    }
+  } else if (node.IsMap()) {
+    for (const auto& pair : node) {
+      CountNodes(pair.first, budget);
+      CountNodes(pair.second, budget);
+      if (*budget == 0) return;
+    }
+  }
+}
+
+}  // namespace
+
 YAML::Node LoadYaml(const std::string& text, const std::string& source) {
   try {
-    return YAML::Load(text);
+    YAML::Node root = YAML::Load(text);
+    std::size_t budget = kMaxYamlNodes + 1;
+    CountNodes(root, &budget);
+    if (budget == 0) {
+      ThrowIoError(source, 0, "",
+                   "expands to more than " + std::to_string(kMaxYamlNodes) +
+                       " YAML nodes (aliases counted where they are used); not read");
+    }
+    return root;
   } catch (const YAML::Exception& e) {
     std::string where = source;
     if (e.mark.line >= 0) {

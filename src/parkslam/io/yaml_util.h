@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <initializer_list>
 #include <string>
@@ -23,7 +24,13 @@ std::string JoinKey(const std::string& path, std::string_view key);
 // "world.rows" + 2 -> "world.rows[2]".
 std::string IndexKey(const std::string& path, std::size_t index);
 
-// Parses YAML text; throws IoError "source:line:column: invalid YAML: ...".
+// The most nodes a YAML input may expand to, aliases counted where they are
+// used (docs/plausible_ranges.md, "Input sizes"): a plan of 20,000 slots
+// has about 400,000.
+inline constexpr std::size_t kMaxYamlNodes = 500'000;
+
+// Parses YAML text; throws IoError "source:line:column: invalid YAML: ...",
+// or "source: expands to more than ... YAML nodes".
 YAML::Node LoadYaml(const std::string& text, const std::string& source);
 
 class YamlReader {
