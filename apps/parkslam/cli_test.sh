@@ -307,7 +307,7 @@ sed -i '5s/^[^,]*,/abc,/' "$tmp/rep/localization.csv"
 expect nonzero "localization.csv:5: t_s: not a number 'abc'" -- "$PARKSLAM" report "$tmp/rep" --out "$tmp/rep/bad.html"
 [ ! -e "$tmp/rep/bad.html" ] && pass || fail "report left a page behind after an error"
 echo "{" > "$tmp/rep/metrics.json"
-expect nonzero "metrics.json: not JSON \(line 2, column 1\)" -- "$PARKSLAM" report "$tmp/rep"
+expect nonzero "metrics.json: invalid JSON: at line 2, column 1: ends before its value does" -- "$PARKSLAM" report "$tmp/rep"
 expect nonzero "nothing to report" -- "$PARKSLAM" report "$tmp"
 expect nonzero "nope: not a folder" -- "$PARKSLAM" report "$tmp/nope"
 

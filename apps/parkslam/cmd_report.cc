@@ -17,6 +17,7 @@
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/io_error.h"
+#include "parkslam/io/json_util.h"
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/numeric_csv.h"
 #include "parkslam/io/output_guard.h"
@@ -36,18 +37,10 @@ constexpr double kNees3Upper = 9.3484;
 
 std::string g_command_line;
 
+// Every JSON input is read one way (io/json_util.h): its errors name the
+// file, the line and column and the field, in the project's words.
 nlohmann::json ReadJson(const fs::path& path) {
-  try {
-    return nlohmann::json::parse(io::ReadTextFile(path));
-  } catch (const nlohmann::json::parse_error& e) {
-    // The parser's own words are for its developers; say where.
-    const std::string what = e.what();
-    const size_t at = what.find("at line ");
-    const size_t end = at == std::string::npos ? at : what.find(':', at);
-    throw io::IoError(
-        path.string() + ": not JSON" +
-        (at == std::string::npos ? std::string() : " (" + what.substr(at + 3, end - at - 3) + ")"));
-  }
+  return io::json_util::ParseJson(io::ReadTextFile(path, io::kMaxJsonBytes), path.string(), 0);
 }
 
 // metrics.json's number at a dotted key, or NaN.
@@ -491,7 +484,7 @@ void AddPerception(const fs::path& dir, Loaded* r) {
                   picture.value("slots_true_positives", 0),
                   picture.value("slots_false_positives", 0),
                   picture.value("slots_false_negatives", 0));
-    r->data.pictures.push_back({caption, io::ReadTextFile(file)});
+    r->data.pictures.push_back({caption, io::ReadTextFile(file, io::kMaxImageBytes)});
   }
 }
 

@@ -1,7 +1,9 @@
 #include "parkslam/io/json_util.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 
@@ -295,15 +297,73 @@ Eigen::Vector2d JsonReader::Point(const Json& j, const JsonPath& path, double ma
                          BoundedNumber(j[1], y_path, max_abs, unit));
 }
 
+namespace {
+
+// What is wrong at byte `at` (0-based) of text that failed to parse, in
+// words for the user rather than the parser's.
+std::string JsonProblem(std::string_view text, std::size_t at) {
+  if (text.size() >= 2 && (text[0] == '\0' || text[1] == '\0' ||
+                           (static_cast<unsigned char>(text[0]) >= 0xFE &&
+                            static_cast<unsigned char>(text[1]) >= 0xFE))) {
+    return "not UTF-8 text (UTF-16?); JSON files are read as UTF-8";
+  }
+  std::size_t first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return "empty: no JSON value";
+  if (at >= text.size()) return "ends before its value does (a truncated file?)";
+  std::size_t start = at;
+  while (start > 0 && std::isalpha(static_cast<unsigned char>(text[start - 1]))) --start;
+  const std::string_view word = text.substr(start, 9);
+  for (const std::string_view bad : {"NaN", "nan", "Infinity", "-Infinity", "inf"}) {
+    if (word.rfind(bad, 0) == 0) {
+      return "NaN and Infinity are not JSON numbers; write a finite number";
+    }
+  }
+  const unsigned char c = static_cast<unsigned char>(text[at]);
+  if (c < 0x20 || c >= 0x7F) {
+    char code[8];
+    std::snprintf(code, sizeof(code), "0x%02X", c);
+    return std::string("unexpected byte ") + code;
+  }
+  return std::string("unexpected '") + static_cast<char>(c) + "'";
+}
+
+// "line L, column C" of byte `at` in `text`, counted from 1.
+std::string LineColumn(std::string_view text, std::size_t at) {
+  at = std::min(at, text.size());
+  int lines = 1;
+  std::size_t line_start = 0;
+  for (std::size_t k = 0; k < at; ++k) {
+    if (text[k] == '\n') {
+      ++lines;
+      line_start = k + 1;
+    }
+  }
+  return "line " + std::to_string(lines) + ", column " + std::to_string(at - line_start + 1);
+}
+
+}  // namespace
+
 Json ParseJson(std::string_view text, std::string_view source, int line) {
   try {
     return Json::parse(text);
   } catch (const Json::parse_error& e) {
-    ThrowIoError(source, line, "", std::string("invalid JSON: ") + e.what());
-  } catch (const Json::exception& e) {
-    // out_of_range for a number beyond a double; and, should a later
-    // nlohmann throw some other kind here, still an IoError.
-    ThrowIoError(source, line, ErrorPath(text), std::string("invalid JSON: ") + e.what());
+    // nlohmann's byte is 1-based, the last one read.
+    const std::size_t at = e.byte > 0 ? e.byte - 1 : 0;
+    ThrowIoError(source, line, ErrorPath(text),
+                 "invalid JSON: at " + LineColumn(text, at) + ": " + JsonProblem(text, at));
+  } catch (const Json::out_of_range& e) {
+    // nlohmann names the number in quotes: the user's own text.
+    const std::string what = e.what();
+    const size_t open = what.find('\'');
+    const size_t close = what.rfind('\'');
+    const std::string number =
+        open != std::string::npos && close > open ? what.substr(open, close - open + 1) : "";
+    ThrowIoError(source, line, ErrorPath(text),
+                 "invalid JSON: the number " + number + " is beyond the range of a double");
+  } catch (const Json::exception&) {
+    // Should a later nlohmann throw some other kind here: still an IoError,
+    // and still in the project's words.
+    ThrowIoError(source, line, ErrorPath(text), "invalid JSON");
   }
 }
 

@@ -35,9 +35,29 @@ TEST(ParseJsonTest, NumberTooLargeForADoubleNamesItsPath) {
 
 TEST(ParseJsonTest, SyntaxErrorKeepsTheParsersPosition) {
   const std::string message = ErrorParsing(R"({"a": [1, 2)");
-  EXPECT_THAT(message, HasSubstr("doc.json:3: invalid JSON: "));
-  EXPECT_THAT(message, HasSubstr("line 1, column"));
-  EXPECT_THAT(ErrorParsing(R"({"a": NaN})"), HasSubstr("doc.json:3: invalid JSON: "));
+  EXPECT_THAT(message, HasSubstr("doc.json:3: a[2]: invalid JSON: at line 1, column 12"));
+  EXPECT_THAT(ErrorParsing(R"({"a": NaN})"), HasSubstr("doc.json:3: a: invalid JSON: "));
+}
+
+// The parser's own words ("[json.exception.parse_error.101] ...") never
+// reach the user: each kind of bad text is said in plain words, with where.
+TEST(ParseJsonTest, SaysWhatIsWrongInItsOwnWords) {
+  const auto error_of = [](const std::string& text) {
+    return ErrorOf([&] { ParseJson(text, "doc.json", 0); });
+  };
+  EXPECT_THAT(error_of("{\"a\": NaN}"),
+              HasSubstr("doc.json: a: invalid JSON: at line 1, column 7: NaN and Infinity are not "
+                        "JSON numbers"));
+  EXPECT_THAT(error_of("{\n \"a\": -Infinity}"), HasSubstr("line 2, column"));
+  EXPECT_THAT(error_of("{\"a\": -Infinity}"), HasSubstr("NaN and Infinity"));
+  EXPECT_THAT(error_of("{\"slots\": [1, 2"), HasSubstr("ends before its value does"));
+  EXPECT_THAT(error_of(""), HasSubstr("empty: no JSON value"));
+  EXPECT_THAT(error_of(std::string("{\0\"\0a\0\"\0", 8)), HasSubstr("not UTF-8 text"));
+  EXPECT_THAT(error_of("{\"a\": 1}}"), HasSubstr("unexpected '}'"));
+  EXPECT_THAT(error_of("[1e999]"), HasSubstr("the number '1e999' is beyond the range"));
+  for (const std::string text : {"{\"a\": NaN}", "[1, 2", "", "{\"a\": 1}}", "[1e999]", "\xff"}) {
+    EXPECT_THAT(error_of(text), ::testing::Not(HasSubstr("json.exception"))) << text;
+  }
 }
 
 }  // namespace
