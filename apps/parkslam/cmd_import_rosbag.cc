@@ -5,15 +5,48 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "commands.h"
+#include "interruption.h"
+#include "parkslam/io/atomic_file.h"
+#include "parkslam/io/dataset.h"
 #include "parkslam/io/output_guard.h"
 #include "parkslam/rosbag/rosbag_export.h"
 #include "parkslam/rosbag/rosbag_import.h"
 #include "progress.h"
 
 namespace parkslam::app {
+
+namespace {
+
+// The import fails where check-dataset would fail the dataset it writes (a
+// wheel-speed scale of 1e6, a zero quaternion, two cameras on one topic):
+// the two agree. Gaps in a stream are not refused (a real bag has them);
+// check-dataset lists them.
+void RefuseWhatCheckDatasetRefuses(const std::filesystem::path& staging, const std::string& bag,
+                                   const std::string& out) {
+  const io::DatasetCheck check = io::CheckDataset(staging, /*max_gap_s=*/3600.0);
+  if (check.ok()) return;
+  std::string message = bag + ": the dataset it gives fails check-dataset; nothing was written:";
+  const std::string staged = staging.string();
+  for (size_t k = 0; k < check.errors.size() && k < 5; ++k) {
+    std::string error = check.errors[k];
+    // Name the files as the dataset will have them, not the staging folder.
+    for (size_t at = error.find(staged); at != std::string::npos;
+         at = error.find(staged, at + out.size())) {
+      error.replace(at, staged.size(), out);
+    }
+    message += "\n  " + error;
+  }
+  if (check.errors.size() > 5) {
+    message += "\n  (and " + std::to_string(check.errors.size() - 5) + " more)";
+  }
+  throw std::runtime_error(message);
+}
+
+}  // namespace
 
 void AddImportRosbagCommand(CLI::App& app) {
   struct Options {
@@ -40,13 +73,25 @@ void AddImportRosbagCommand(CLI::App& app) {
     io::CheckOutputsSpareInputs(
         {{options->out, "--out"}},
         {{options->bag, "BAG"}, {options->topics, "--topics"}, {topics.rig.string(), "rig"}});
-    PrepareDatasetFolder(options->out, options->force);
+    const bool replaces = CheckDatasetFolder(options->out, options->force);
+    // The dataset is written into a staging folder beside --out and moved
+    // there once whole and checked: a failed or interrupted import leaves
+    // --out as it was.
+    std::filesystem::path target(options->out);
+    if (!target.has_filename()) target = target.parent_path();
+    io::TemporaryFile staging(target, io::TemporaryFile::Kind::kFolder);
+    const InterruptionScope interruption;
     Progress progress("  reading the bag", 1000);
     const rosbag_import::ImportSummary s = rosbag_import::ImportRosbag(
-        options->bag, topics, options->out, [&progress](std::size_t done, std::size_t total) {
+        options->bag, topics, staging.path(), [&progress](std::size_t done, std::size_t total) {
+          InterruptionScope::ThrowIfInterrupted("nothing was written to --out");
           progress.Update(static_cast<int>(1000 * done / std::max<std::size_t>(total, 1)));
         });
     progress.Finish();
+    InterruptionScope::ThrowIfInterrupted("nothing was written to --out");
+    RefuseWhatCheckDatasetRefuses(staging.path(), options->bag, options->out);
+    if (replaces) ClearDatasetFolder(options->out);
+    staging.Commit();
     std::printf(
         "%zu wheel speeds, %zu steering angles, %zu IMU samples, %zu frame sets of images "
         "(%zu images in no complete set, %zu samples dropped for a repeated time)\n"

@@ -115,8 +115,13 @@ void AddPixelOptions(CLI::App* command, PixelOptions* options);
 
 // A dataset's --out folder: refused when it is a file, or a folder that is
 // not empty unless `force`, which clears it (another drive's data or images
-// would mix with the new one's).
+// would mix with the new one's). `force` clears only what looks like a
+// dataset (dataset.yaml, and nothing but a dataset's folders beside it).
 void PrepareDatasetFolder(const std::string& out, bool force);
+// The same checks without clearing: true when the folder holds a dataset
+// that `force` allows to be cleared.
+bool CheckDatasetFolder(const std::string& out, bool force);
+void ClearDatasetFolder(const std::string& out);
 
 // "x,y,yaw" (metres, metres, radians), as io/pose_text.h reads it.
 using io::ParsePose;

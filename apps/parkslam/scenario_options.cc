@@ -165,20 +165,57 @@ void AddConfigOptions(CLI::App* command, ConfigOptions* options) {
       "Print every algorithm option with its default as YAML and exit");
 }
 
-void PrepareDatasetFolder(const std::string& out, bool force) {
+namespace {
+
+// What simulate and import-rosbag write at the top of a dataset folder.
+bool IsADatasetsEntry(const std::filesystem::path& entry) {
+  const std::string name = entry.filename().string();
+  for (const char* own : {"dataset.yaml", "sensors", "groundtruth", "observations", "images"}) {
+    if (name == own) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool CheckDatasetFolder(const std::string& out, bool force) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  if (std::filesystem::exists(out, ec) && !std::filesystem::is_directory(out, ec)) {
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
     throw std::runtime_error("--out " + out + ": a file, not a folder");
   }
-  if (!std::filesystem::is_directory(out, ec) || std::filesystem::is_empty(out, ec)) return;
+  if (!fs::is_directory(out, ec) || fs::is_empty(out, ec)) return false;
   if (!force) {
     throw std::runtime_error("--out " + out +
                              ": the folder is not empty (another drive's data or images would "
                              "mix with this one's); choose another or add --force to clear it");
   }
+  // --force clears a dataset, never a folder of something else.
+  if (!fs::is_regular_file(fs::path(out) / "dataset.yaml", ec)) {
+    throw std::runtime_error("--out " + out +
+                             ": --force clears only a dataset folder (one with dataset.yaml, as "
+                             "simulate and import-rosbag write), and this one has none");
+  }
+  for (const auto& entry : fs::directory_iterator(out)) {
+    if (!IsADatasetsEntry(entry.path())) {
+      throw std::runtime_error("--out " + out + ": --force clears only a dataset folder, and " +
+                               entry.path().filename().string() +
+                               " is not a dataset's; move it or choose another folder");
+    }
+  }
+  return true;
+}
+
+void ClearDatasetFolder(const std::string& out) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(out, ec)) return;
   for (const auto& entry : std::filesystem::directory_iterator(out)) {
     std::filesystem::remove_all(entry.path());
   }
+}
+
+void PrepareDatasetFolder(const std::string& out, bool force) {
+  if (CheckDatasetFolder(out, force)) ClearDatasetFolder(out);
 }
 
 }  // namespace parkslam::app

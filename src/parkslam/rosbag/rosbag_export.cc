@@ -3,6 +3,9 @@
 #include <rosbag/bag.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,34 +34,48 @@ void ExportRosbag(const fs::path& dataset_dir, const fs::path& bag_path,
   const io::Dataset dataset = io::ReadDataset(dataset_dir);
   std::vector<io::ImageIndexEntry> images;
   if (fs::exists(dataset_dir / "images/index.csv")) images = io::ReadImageIndex(dataset_dir);
-  {
-    rosbag::Bag bag;
-    try {
-      bag.open(bag_path.string(), rosbag::bagmode::Write);
-    } catch (const std::exception& e) {
-      io::ThrowIoError(bag_path.string(), 0, "", std::string("cannot write: ") + e.what());
-    }
+  // Written beside the bag and renamed over it once whole, so that a signal,
+  // a full disk or a second run never leaves a half-written bag at its path.
+  io::TemporaryFile temporary(bag_path);
+  // A Bag whose write failed throws again from its destructor (its close()
+  // flushes once more), which would end the process; so a failed one is
+  // left open, once, as the command ends with the error.
+  auto bag = std::make_unique<rosbag::Bag>();
+  try {
+    bag->open(temporary.path().string(), rosbag::bagmode::Write);
     for (const WheelSpeed& s : dataset.log.wheel_speeds) {
       const std::int64_t t = kEpoch_ns + s.t_ns;
-      bag.write("/vehicle/twist", RosTime(t), SpeedStamped(t, s.speed_mps));
+      bag->write("/vehicle/twist", RosTime(t), SpeedStamped(t, s.speed_mps));
     }
     for (const SteeringAngle& s : dataset.log.steering_angles) {
-      bag.write("/vehicle/steering_wheel", RosTime(kEpoch_ns + s.t_ns),
-                Float64(s.steering_wheel_rad));
+      bag->write("/vehicle/steering_wheel", RosTime(kEpoch_ns + s.t_ns),
+                 Float64(s.steering_wheel_rad));
     }
     for (const ImuSample& s : dataset.log.imu_samples) {
       const std::int64_t t = kEpoch_ns + s.t_ns;
-      bag.write("/imu/data", RosTime(t), Imu(t, s.heading_rad, s.yaw_rate_radps));
+      bag->write("/imu/data", RosTime(t), Imu(t, s.heading_rad, s.yaw_rate_radps));
     }
     for (const io::ImageIndexEntry& e : images) {
-      const std::string bytes = io::ReadTextFile(dataset_dir / e.file);
+      const std::string bytes = io::ReadTextFile(dataset_dir / e.file, io::kMaxImageBytes);
       const std::int64_t t = kEpoch_ns + e.t_ns;
       const bool png = fs::path(e.file).extension() == ".png";
-      bag.write("/" + e.camera + "/image_raw/compressed", RosTime(t),
-                Compressed(t, png ? "png" : "jpeg",
-                           std::vector<std::uint8_t>(bytes.begin(), bytes.end())));
+      bag->write("/" + e.camera + "/image_raw/compressed", RosTime(t),
+                 Compressed(t, png ? "png" : "jpeg",
+                            std::vector<std::uint8_t>(bytes.begin(), bytes.end())));
     }
+    bag->close();
+  } catch (const io::IoError&) {
+    static_cast<void>(bag.release());  // see above
+    throw;
+  } catch (const std::exception&) {
+    // rosbag's own words name the temporary; errno says why (a full disk).
+    const int write_errno = errno;
+    static_cast<void>(bag.release());
+    io::ThrowIoError(bag_path.string(), 0, "",
+                     write_errno != 0 ? "cannot write: " + std::string(std::strerror(write_errno))
+                                      : std::string("cannot write the bag"));
   }
+  bag.reset();
   // The topics.yaml that reads it back.
   std::string topics = "# parkslam import-rosbag topics for " + bag_path.filename().string() +
                        " (written by export-rosbag)\ncameras:\n";
@@ -81,6 +98,7 @@ void ExportRosbag(const fs::path& dataset_dir, const fs::path& bag_path,
   topics += "sensors:\n  odometry:\n";
   io::yaml_util::AppendOdometrySpecYaml(dataset.odometry_spec, 4, &topics);
   io::WriteFileAtomically(topics_yaml, topics);
+  temporary.Commit();
 }
 
 }  // namespace parkslam::rosbag_import

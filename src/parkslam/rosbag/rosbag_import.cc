@@ -330,7 +330,8 @@ std::string MakeFrameSets(std::map<std::string, std::vector<PendingImage>>& imag
 
 TopicsConfig LoadTopicsConfig(const fs::path& path) {
   const io::yaml_util::YamlReader r(path.string(), true);
-  const YAML::Node root = io::yaml_util::LoadYaml(io::ReadTextFile(path), path.string());
+  const YAML::Node root =
+      io::yaml_util::LoadYaml(io::ReadTextFile(path, io::kMaxYamlBytes), path.string());
   r.ExpectMap(root, "");
   r.CheckKeys(
       root, "",
