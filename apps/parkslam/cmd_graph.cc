@@ -149,6 +149,12 @@ void AddSolveGraphCommand(CLI::App& app) {
                                       ? graph::TrustRegion::kDogleg
                                       : graph::TrustRegion::kLevenbergMarquardt;
     const graph::SolveSummary s = graph::SolvePoseGraph(options->solve, &g);
+    if (s.failed) {
+      throw std::runtime_error(options->in +
+                               ": the solver failed (its linear solver could not factor the "
+                               "problem: too large, or a part of it not constrained); --out "
+                               "not written");
+    }
     io::WriteG2o(options->out, g);
     nlohmann::json j = {{"chi2", s.chi2},          {"iterations", s.iterations},
                         {"time_s", s.time_s},      {"loop_closures", s.loop_closures},
@@ -260,8 +266,9 @@ void AddMakeGraphCommand(CLI::App& app) {
   cmd->add_option("--world", options->world, "manhattan or ring")
       ->check(CLI::IsMember({"manhattan", "ring"}))
       ->capture_default_str();
-  cmd->add_option("--poses", options->graph.poses, "Number of poses")
-      ->check(CLI::Range(2, 1000000))
+  cmd->add_option("--poses", options->graph.poses,
+                  "Number of poses (at most what solve-graph reads)")
+      ->check(CLI::Range(2, static_cast<int>(io::kMaxG2oPoses)))
       ->capture_default_str();
   cmd->add_option("--sigma-xy", options->graph.sigma_xy_m, "Measurement noise, m")
       ->check(CLI::Range(1e-6, 9.9))

@@ -2,11 +2,42 @@
 // the core libraries and writes files; nothing here holds an algorithm.
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+#include <filesystem>
+#include <new>
 
 #include "commands.h"
+#include "interruption.h"
 #include "parkslam/io/io_error.h"
+
+namespace {
+
+// Every number option of every command takes finite values only: NaN passes
+// every range check (`--image-rate-hz nan` looped for ever) and 1e999 is
+// infinity. Ranges stay each option's own.
+void RefuseNonFiniteNumbers(CLI::App* app) {
+  const CLI::Validator finite(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end != text.c_str() && !std::isfinite(value)) {
+          return "a finite number is needed, not " + text;
+        }
+        return "";
+      },
+      "");
+  for (CLI::Option* option : app->get_options()) {
+    if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(finite);
+  }
+  for (CLI::App* command : app->get_subcommands([](CLI::App*) { return true; })) {
+    RefuseNonFiniteNumbers(command);
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -38,13 +69,26 @@ int main(int argc, char** argv) {
   parkslam::app::AddImportRosbagCommand(app);
   parkslam::app::AddExportRosbagCommand(app);
 #endif
+  RefuseNonFiniteNumbers(&app);
   parkslam::app::SetCommandLine(argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const parkslam::app::Interrupted& e) {
+    std::fprintf(stderr, "parkslam: %s\n", e.what());
+    return 128 + e.signal_number();
   } catch (const parkslam::io::IoError& e) {
     std::fprintf(stderr, "parkslam: error: %s\n", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "parkslam: error: out of memory (an input or an option asks for more than this "
+                 "machine has; docs/plausible_ranges.md gives what each may be)\n");
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "parkslam: error: %s: %s\n", e.path1().string().c_str(),
+                 e.code().message().c_str());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "parkslam: error: %s\n", e.what());

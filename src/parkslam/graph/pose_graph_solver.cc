@@ -273,6 +273,9 @@ class IncrementalSolve {
     summary_.iterations +=
         solver_summary.num_successful_steps + solver_summary.num_unsuccessful_steps;
     if (solver_summary.termination_type != ceres::CONVERGENCE) summary_.converged = false;
+    if (solver_summary.termination_type == ceres::FAILURE || !solver_summary.IsSolutionUsable()) {
+      summary_.failed = true;
+    }
   }
 
   const SolveOptions& options_;
@@ -320,6 +323,7 @@ void AddWork(const SolveSummary& more, SolveSummary* total) {
   total->iterations += more.iterations;
   total->solves += more.solves;
   total->converged = total->converged && more.converged;
+  total->failed = total->failed || more.failed;
 }
 
 // e^T Omega e of each kept closure.

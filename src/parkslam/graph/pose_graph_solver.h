@@ -90,6 +90,9 @@ struct SolveSummary {
   int rejected = 0;                  // loop closures switched to the null
   std::vector<bool> pose_edge_kept;  // per graph.pose_edges entry
   bool converged = true;             // every solve reached a tolerance
+  // A solve whose linear solver failed (a factorization refused, the
+  // problem too large or degenerate): the estimates are not a solution.
+  bool failed = false;
   // Max-Mixture: the schedule whose solution was kept ("batch",
   // "incremental"), and the factor calibration put on every information
   // matrix (1 without calibration).

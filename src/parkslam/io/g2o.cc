@@ -291,6 +291,13 @@ graph::PoseGraph ParseG2o(std::string_view content, const std::string& source_na
     if (trimmed.empty() || trimmed.front() == '#') continue;
     ParseElement(Tokenize(trimmed, source_name, lines.line_number()), &p);
   }
+  if (p.graph.poses.size() > kMaxG2oPoses) {
+    ThrowIoError(source_name, 0, "",
+                 std::to_string(p.graph.poses.size()) + " poses; solve-graph takes at most " +
+                     std::to_string(kMaxG2oPoses) +
+                     " (docs/plausible_ranges.md, \"Input sizes\": memory and time grow faster "
+                     "than the graph)");
+  }
   ResolveReferences(source_name, &p);
   if (p.graph.poses.empty()) ThrowIoError(source_name, 0, "", "no VERTEX_SE2");
   return std::move(p.graph);

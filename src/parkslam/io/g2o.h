@@ -20,6 +20,7 @@
 // starting with '#' and blank lines are skipped; any other element type is
 // an error naming its line (3D types and TORO's VERTEX2/EDGE2 are not read).
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -34,6 +35,10 @@ namespace parkslam::io {
 // (docs/plausible_ranges.md), duplicate vertex ids, edges naming vertices
 // that do not exist, information matrices that are not positive definite,
 // and a graph without a pose.
+// The most poses a graph may have: a 20,000-pose grid solves in 12 s and
+// 245 MB on two cores; one of 50,000 took over 5 minutes, 100,000 over 13
+// minutes and 5 GB.
+inline constexpr std::size_t kMaxG2oPoses = 20'000;
 graph::PoseGraph ParseG2o(std::string_view text, const std::string& source_name);
 graph::PoseGraph ReadG2o(const std::filesystem::path& path);
 
