@@ -185,30 +185,6 @@ void RemoveStaleTemporaries(const fs::path& path) {
   }
 }
 
-}  // namespace
-
-fs::path TemporaryPathOf(const fs::path& path, long pid, unsigned long long start_ticks,
-                         unsigned serial) {
-  const std::string target_name = path.filename().string();
-  fs::path temporary = path;
-  temporary += ".tmp." + std::to_string(pid) + "." + std::to_string(start_ticks) + "." +
-               std::to_string(serial) + "." + NameCheck(target_name, pid, start_ticks, serial);
-  return temporary;
-}
-
-unsigned long long ThisProcessStartTicks() {
-  static const unsigned long long start = StartTicksOf(::getpid());
-  return start;
-}
-
-namespace {
-
-// A name no other writer in this or another process uses at the same time.
-fs::path TemporaryPathFor(const fs::path& path) {
-  static std::atomic<unsigned> counter{0};
-  return TemporaryPathOf(path, ::getpid(), ThisProcessStartTicks(), counter.fetch_add(1));
-}
-
 // Writes all of `content` to the open descriptor; false on failure (errno set).
 bool WriteAll(int fd, std::string_view content) {
   const char* data = content.data();
@@ -252,6 +228,20 @@ void RefuseToReplaceSpecialFile(const fs::path& path) {
 
 }  // namespace
 
+fs::path TemporaryPathOf(const fs::path& path, long pid, unsigned long long start_ticks,
+                         unsigned serial) {
+  const std::string target_name = path.filename().string();
+  fs::path temporary = path;
+  temporary += ".tmp." + std::to_string(pid) + "." + std::to_string(start_ticks) + "." +
+               std::to_string(serial) + "." + NameCheck(target_name, pid, start_ticks, serial);
+  return temporary;
+}
+
+unsigned long long ThisProcessStartTicks() {
+  static const unsigned long long start = StartTicksOf(::getpid());
+  return start;
+}
+
 TemporaryFile::TemporaryFile(fs::path target, Kind kind) : target_(std::move(target)) {
   if (kind == Kind::kFile) {
     RefuseToReplaceSpecialFile(target_);
@@ -264,7 +254,9 @@ TemporaryFile::TemporaryFile(fs::path target, Kind kind) : target_(std::move(tar
   CreateParentFolders(target_);
   InstallCleanupOnce();
   RemoveStaleTemporaries(target_);
-  temporary_ = TemporaryPathFor(target_);
+  // A name no other writer in this or another process uses at the same time.
+  static std::atomic<unsigned> counter{0};
+  temporary_ = TemporaryPathOf(target_, ::getpid(), ThisProcessStartTicks(), counter.fetch_add(1));
   slot_ = Register(temporary_);
 }
 

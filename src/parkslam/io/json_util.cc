@@ -307,8 +307,7 @@ std::string JsonProblem(std::string_view text, std::size_t at) {
                             static_cast<unsigned char>(text[1]) >= 0xFE))) {
     return "not UTF-8 text (UTF-16?); JSON files are read as UTF-8";
   }
-  std::size_t first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return "empty: no JSON value";
+  if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) return "empty: no JSON value";
   if (at >= text.size()) return "ends before its value does (a truncated file?)";
   std::size_t start = at;
   while (start > 0 && std::isalpha(static_cast<unsigned char>(text[start - 1]))) --start;
