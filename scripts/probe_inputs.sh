@@ -159,5 +159,28 @@ for g in g_nan g_dangling; do
   probe absurd "solve-graph $g" -- "$parkslam" solve-graph $g.g2o --out out.g2o
 done
 
+# Every number of the algorithm options and of the scenario, one at a time,
+# at 1e308 and -1e308 (last: --cases N in CI stops before them).
+for file in options scenario; do
+  line_no=0
+  while IFS= read -r line; do
+    line_no=$((line_no + 1))
+    case "$line" in
+      *:\ [0-9]* | *:\ -[0-9]*) ;;
+      *) continue ;;
+    esac
+    key=${line%%:*}
+    key=${key// /}
+    for huge in 1e308 -1e308; do
+      sed "${line_no}s/: .*/: $huge/" $file.yaml > v.yaml
+      if [ $file = options ]; then
+        probe absurd "map --config: $key $huge" -- "$parkslam" map ds --out out.json --config v.yaml
+      else
+        probe absurd "simulate --world: $key $huge" -- "$parkslam" simulate --world v.yaml --out out
+      fi
+    done
+  done < $file.yaml
+done
+
 echo "probe: $runs runs, $bad bad$(for c in "${!classes[@]}"; do printf ', %s %s' "${classes[$c]}" "$c"; done)"
 [ "$bad" -eq 0 ]

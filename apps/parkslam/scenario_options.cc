@@ -5,6 +5,7 @@
 #include "parkslam/io/options_yaml.h"
 #include "parkslam/io/scenario_yaml.h"
 #include "parkslam/io/world_plan_yaml.h"
+#include "parkslam/options/option_ranges.h"
 
 namespace parkslam::app {
 
@@ -163,6 +164,13 @@ void AddConfigOptions(CLI::App* command, ConfigOptions* options) {
         throw CLI::Success();
       },
       "Print every algorithm option with its default as YAML and exit");
+  command->add_flag_callback(
+      "--dump-ranges",
+      [] {
+        std::cout << OptionRangesMarkdown();
+        throw CLI::Success();
+      },
+      "Print every numeric algorithm option's plausible range (a Markdown table) and exit");
 }
 
 namespace {

@@ -71,11 +71,18 @@ TEST(OptionsYamlTest, UnknownKeysAndBadValuesNameTheFileLineAndKey) {
   EXPECT_EQ(OptionsErrorOf("front_end:\n  slots:\n    min_contrast_grey: abc\n"),
             "o.yaml:3: front_end.slots.min_contrast_grey: expected a number, got 'abc'");
   EXPECT_EQ(OptionsErrorOf("mapper:\n  null_weight: -1\n"),
-            "o.yaml: mapper.null_weight: must be in (0, 1]");
+            "o.yaml:2: mapper.null_weight: -1 is outside the plausible range (0, 1]");
   EXPECT_EQ(OptionsErrorOf("follower:\n  max_decel_mps2: 0\n"),
-            "o.yaml: follower.max_decel_mps2: must be positive");
+            "o.yaml:2: follower.max_decel_mps2: 0 is outside the plausible range (0, 10] m/s^2");
+  // A relation between two keys: the line of the one the message names.
   EXPECT_EQ(OptionsErrorOf("front_end:\n  tag_max_height_m: 0.5\n"),
-            "o.yaml: front_end.tag_max_height_m: must be in [1, 10] m");
+            "o.yaml:2: front_end.tag_max_height_m: must be in [1, 10] m");
+  // The example: a tag size of 1e308 mapped no tag, exit 0.
+  EXPECT_EQ(OptionsErrorOf("front_end:\n  tags: {quad_decimate: 2,\n    tag_size_m: 1e308}\n"),
+            "o.yaml:3: front_end.tags.tag_size_m: 1e+308 is outside the plausible range (0, 5] m");
+  // A default made wrong by another key has no line of its own.
+  EXPECT_EQ(OptionsErrorOf("front_end:\n  tag_min_height_m: 2\n"),
+            "o.yaml: front_end.tag_max_height_m: must be in [2, 10] m");
   EXPECT_EQ(OptionsErrorOf("front_end:\n  detector: lernd\n"),
             "o.yaml:2: front_end.detector: 'lernd' is none of classical, learned");
   EXPECT_THAT(OptionsErrorOf("front_end:\n  detector: [learned]\n"),

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "parkslam/common/field_checker.h"
+#include "parkslam/options/option_ranges.h"
 
 namespace parkslam {
 namespace {
@@ -35,6 +36,9 @@ bool AlgorithmOptions::IsValid(std::string* error) const {
   perception::LearnedSlotIdReaderOptions learned_ids = front_end.learned_ids;
   if (learned_slots.model_path.empty()) learned_slots.model_path = "default";
   if (learned_ids.model_path.empty()) learned_ids.model_path = "default";
+  // Every number within its plausible range first (option_ranges.h), then
+  // each part's relations between its numbers.
+  if (!CheckOptionRanges(*this, error)) return false;
   FieldChecker c(error);
   CheckFrontEnd(front_end, c);
   c.Part(front_end.top_view, "front_end.top_view");

@@ -14,12 +14,12 @@ namespace {
 
 // Walks every field of the options (nested parts through their own
 // VisitFields) and, for the field numbered `target`, makes its value
-// absurd: NaN or a billion below zero for a number, a billion below zero
-// for a count. Counts the fields and records the dotted path of the one it
+// absurd: NaN, a billion below zero or 1e308 for a number, a billion
+// below or above zero for a count. Counts the fields and records the dotted path of the one it
 // changed.
 struct Spoiler {
   int target = -1;
-  bool nan = true;
+  enum class Absurd { kNan, kMinusBillion, kHuge } absurd = Absurd::kNan;
   int count = 0;
   std::string prefix;
   std::string spoiled;
@@ -37,9 +37,11 @@ struct Spoiler {
       if (count++ != target) return;
       spoiled = path;
       if constexpr (std::is_floating_point_v<T>) {
-        value = nan ? std::numeric_limits<T>::quiet_NaN() : T(-1e9);
+        value = absurd == Absurd::kNan            ? std::numeric_limits<T>::quiet_NaN()
+                : absurd == Absurd::kMinusBillion ? T(-1e9)
+                                                  : std::numeric_limits<T>::max();
       } else {
-        value = -1000000000;
+        value = absurd == Absurd::kHuge ? 1000000000 : -1000000000;
       }
     }
   }
@@ -56,16 +58,20 @@ TEST(AlgorithmOptionsTest, EveryAbsurdNumberIsRejectedByItsOwnKey) {
   ASSERT_GT(counter.count, 100);
   std::printf("%d numbers in the algorithm options\n", counter.count);
   std::vector<std::string> wrong;
-  for (const bool nan : {true, false}) {
+  using Absurd = Spoiler::Absurd;
+  for (const Absurd absurd : {Absurd::kNan, Absurd::kMinusBillion, Absurd::kHuge}) {
     for (int k = 0; k < counter.count; ++k) {
       AlgorithmOptions options;
       Spoiler spoiler;
       spoiler.target = k;
-      spoiler.nan = nan;
+      spoiler.absurd = absurd;
       options.VisitFields(spoiler);
       error.clear();
       if (options.IsValid(&error)) {
-        wrong.push_back(spoiler.spoiled + (nan ? " = nan" : " = -1e9") + ": accepted");
+        const char* what = absurd == Absurd::kNan            ? " = nan"
+                           : absurd == Absurd::kMinusBillion ? " = -1e9"
+                                                             : " = 1e308 (1e9 for a count)";
+        wrong.push_back(spoiler.spoiled + what + ": accepted");
       } else if (error.rfind(spoiler.spoiled + ": ", 0) != 0) {
         wrong.push_back(spoiler.spoiled + ": \"" + error + "\"");
       }
@@ -73,7 +79,7 @@ TEST(AlgorithmOptionsTest, EveryAbsurdNumberIsRejectedByItsOwnKey) {
   }
   std::string list;
   for (const std::string& w : wrong) list += "\n  " + w;
-  EXPECT_TRUE(wrong.empty()) << wrong.size() << " of " << 2 * counter.count << " cases:" << list;
+  EXPECT_TRUE(wrong.empty()) << wrong.size() << " of " << 3 * counter.count << " cases:" << list;
 }
 
 TEST(AlgorithmOptionsTest, NestedPartsAreNamedByTheirKeys) {
@@ -86,7 +92,7 @@ TEST(AlgorithmOptionsTest, NestedPartsAreNamedByTheirKeys) {
   options = AlgorithmOptions{};
   options.mapper.null_weight = 2.0;
   EXPECT_FALSE(options.IsValid(&error));
-  EXPECT_EQ(error, "mapper.null_weight: must be in (0, 1]");
+  EXPECT_EQ(error, "mapper.null_weight: 2 is outside the plausible range (0, 1]");
 }
 
 }  // namespace

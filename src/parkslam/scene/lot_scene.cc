@@ -401,8 +401,8 @@ bool LotLook::IsValid(std::string* error) const {
     for (const std::string& n : names) known += ", " + n;
     return fail("unknown look '" + preset + "' (known: " + known + ")");
   }
-  if (!(parked_share <= 1.0)) {  // NaN fails too
-    return fail("parked_share must be at most 1 (negative: drawn)");
+  if (!(parked_share == -1.0 || (parked_share >= 0.0 && parked_share <= 1.0))) {  // NaN fails
+    return fail("parked_share must be in [0, 1], or -1: drawn");
   }
   return true;
 }

@@ -23,7 +23,7 @@ struct LotLook {
   // A preset (LotPresetNames()) or "seed": everything drawn from `seed`.
   std::string preset = "epoxy";
   std::uint64_t seed = 1;
-  // Share of the slots with a parked car; negative: drawn from
+  // Share of the slots with a parked car; -1: drawn from
   // [0.3, 0.7] by the seed.
   double parked_share = -1.0;
 

@@ -33,8 +33,9 @@ void CheckWorld(const WorldConfig& w, FieldChecker& c) {
               "must be one of " + known);
   }
   c.Require(w.look_seed >= 0, "world.look_seed", "must be non-negative");
-  c.Require(std::isfinite(w.parked_share) && w.parked_share <= 1.0, "world.parked_share",
-            "must be at most 1 (negative: drawn from 0.3-0.7)");
+  // -1 is the sentinel "drawn"; any other negative number is a typo.
+  c.Require(w.parked_share == -1.0 || (w.parked_share >= 0.0 && w.parked_share <= 1.0),
+            "world.parked_share", "must be in [0, 1], or -1: drawn from 0.3-0.7");
   c.Require(w.seed >= 0, "world.seed", "must be non-negative");
   c.Require(w.changes.seed >= 0, "world.changes.seed", "must be non-negative");
   c.Rate(w.changes.moved_slot_share, "world.changes.moved_slot_share");

@@ -147,7 +147,7 @@ struct WorldConfig {
   // How the cameras see the lot (scene/lot_scene.h): "grey", the flat grey
   // floor with seven-segment IDs; a named look (LookNames()); or "seed",
   // a look drawn from look_seed. parked_share: the share of slots with a
-  // parked car in a named or seeded look (negative: drawn, 0.3-0.7).
+  // parked car in a named or seeded look (-1: drawn, 0.3-0.7).
   std::string look = "grey";
   int look_seed = 1;
   double parked_share = -1.0;
