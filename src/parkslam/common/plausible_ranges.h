@@ -46,6 +46,13 @@ inline constexpr double kMaxAngleSigma_rad = 3.14159265358979323846;
 // Side of an AprilTag: one on a wall or pillar under a 2 to 4 m ceiling;
 // the project's tags are 0.488 m.
 inline constexpr double kMaxTagSize_m = 5.0;
+// Tag IDs: the tag36h11 family, the one the front end detects, holds IDs
+// 0 to 586.
+inline constexpr int kTagIdCount = 587;
+// A slot's area: the smallest slot (kMinSlotSide_m square) has 2.25 m²; a
+// slot whose corners enclose less than this is four points on a line or on
+// top of each other, not a slot.
+inline constexpr double kMinSlotArea_m2 = 0.5;
 
 // ---------------------------------------------------------------------------
 // Images and cameras.

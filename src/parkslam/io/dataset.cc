@@ -58,6 +58,11 @@ struct LabelFrame {
   std::vector<int> slots;
 };
 
+// The streams of one drive start and end within this of each other
+// (CheckDataset): cameras and sensors switched on a few seconds apart are
+// normal, a minute is not one drive.
+constexpr double kMaxStreamSkew_s = 60.0;
+
 // Sensor streams (docs/dataset_format.md): time starts at 0 and a stream
 // may pause for at most this long; a longer gap is a broken recording, not
 // something to dead-reckon through (it would be hours of output).
@@ -387,7 +392,9 @@ SlotIdReading ParseSlotId(const Json& j, const JsonReader& r, const JsonPath& pa
       const Json& hypothesis = digit[h];
       r.ExpectArray(hypothesis, hypothesis_path, 2, "entries [digit, probability]");
       const std::string& text = r.String(hypothesis[0], text_path);
-      if (text.size() != 1) r.Fail(text_path, "expected one character, got '" + text + "'");
+      if (text.size() != 1 || text[0] < '0' || text[0] > '9') {
+        r.Fail(text_path, "expected one digit 0-9, got '" + text + "'");
+      }
       id.digits[d].hypotheses.push_back({text[0], Probability(hypothesis[1], r, probability_path)});
     }
   }
@@ -409,6 +416,7 @@ SlotObservation ParseSlot(const Json& j, const JsonReader& r, const JsonPath& pa
     slot.corners_vehicle[c] = r.Point(corners_json[c], corner, kMaxObservationRange_m, "m");
     slot.corner_observed[c] = r.Bool(observed_json[c], flag);
   }
+  json_util::CheckSlotArea(slot.corners_vehicle, r, corners);
   slot.corner_sigma_m =
       r.NumberIn(j["sigma_m"], path.Key("sigma_m"), 0.0, kMaxPositionSigma_m, "m");
   slot.detection_confidence = Probability(j["confidence"], r, path.Key("confidence"));
@@ -444,6 +452,10 @@ TagObservation ParseTag(const Json& j, const JsonReader& r, const JsonPath& path
                  {"id", "x_m", "y_m", "range_m", "bearing_rad", "yaw_rad", "cov", "yaw_sigma_rad"});
   TagObservation tag;
   tag.tag_id = r.Int(j["id"], path.Key("id"));
+  if (tag.tag_id < 0 || tag.tag_id >= kTagIdCount) {
+    r.Fail(path.Key("id"), "must be a tag36h11 ID in [0, " + std::to_string(kTagIdCount - 1) +
+                               "], got " + std::to_string(tag.tag_id));
+  }
   tag.p_vehicle =
       Eigen::Vector2d(r.BoundedNumber(j["x_m"], path.Key("x_m"), kMaxObservationRange_m, "m"),
                       r.BoundedNumber(j["y_m"], path.Key("y_m"), kMaxObservationRange_m, "m"));
@@ -963,6 +975,7 @@ void CheckImages(const fs::path& dir, DatasetCheck* check) {
     attempt([&] {
       const fs::path path = dir / entry.file;
       const cv::Size size = ImageSizeFromHeader(FileHead(path), path.string());
+      CheckImageEnds(path);
       const camera::CameraConfig* camera = rig ? rig->Find(entry.camera) : nullptr;
       if (rig && camera == nullptr) {
         ThrowIoError(path.string(), 0, "",
@@ -980,6 +993,68 @@ void CheckImages(const fs::path& dir, DatasetCheck* check) {
   }
   for (const auto& [camera, t] : times) {
     check->streams.push_back(Summarize("images/index.csv (" + camera + ")", t));
+  }
+}
+
+// Ground truth as ReadDataset reads it for the eval commands: the
+// trajectory (finite poses, strictly increasing times), the map, the labels
+// matched to the slot frames, and their counts against dataset.yaml.
+void CheckGroundTruth(const fs::path& dir, const std::optional<Counts>& counts,
+                      const SensorLog& log, bool slots_read, DatasetCheck* check) {
+  if (!counts) return;
+  const auto attempt = [check](auto&& f) { return Attempt(check, f); };
+  const fs::path manifest = dir / kDatasetManifestFile;
+  const auto count = [&](const char* file, std::int64_t announced, std::size_t held) {
+    if (announced == static_cast<std::int64_t>(held)) return;
+    check->errors.push_back(manifest.string() + ": groundtruth: " + std::to_string(announced) +
+                            " announced for " + file + ", which holds " + std::to_string(held));
+  };
+  if (counts->trajectory_poses > 0) {
+    attempt([&] {
+      count(kTrajectoryFile, counts->trajectory_poses, ReadTum(dir / kTrajectoryFile).size());
+    });
+  }
+  Dataset truth;
+  const bool map_read =
+      !counts->map || attempt([&] { truth.groundtruth_map = ReadMap(dir / kMapFile); });
+  if (counts->slot_label_frames > 0 && slots_read && map_read) {
+    attempt([&] {
+      const fs::path labels_file = dir / kLabelsFile;
+      const std::vector<LabelFrame> frames = ReadJsonl<LabelFrame>(labels_file, ParseLabelFrame);
+      count(kLabelsFile, counts->slot_label_frames, frames.size());
+      truth.log.slot_frames = log.slot_frames;
+      MatchLabels(frames, truth, labels_file.string());
+    });
+  }
+}
+
+// The streams of one drive start and end together: one that runs on for an
+// hour after the others (or starts long before) is two recordings, or a
+// clock that jumped, and would leave the car dead reckoning on one sensor.
+void CheckStreamsEndTogether(const fs::path& dir, DatasetCheck* check) {
+  std::vector<double> firsts, lasts;
+  for (const StreamSummary& s : check->streams) {
+    if (s.count == 0) continue;
+    firsts.push_back(s.first_s);
+    lasts.push_back(s.last_s);
+  }
+  if (firsts.size() < 2) return;
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  const double first_s = median(firsts), last_s = median(lasts);
+  for (const StreamSummary& s : check->streams) {
+    if (s.count == 0) continue;
+    const double early_s = first_s - s.first_s, late_s = s.last_s - last_s;
+    if (early_s <= kMaxStreamSkew_s && late_s <= kMaxStreamSkew_s) continue;
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "%s: runs from %.3f s to %.3f s, but the other streams from about %.3f s to "
+                  "%.3f s (the streams of one drive start and end within %.0f s of each other)",
+                  (dir / s.name).string().c_str(), s.first_s, s.last_s, first_s, last_s,
+                  kMaxStreamSkew_s);
+    check->errors.push_back(line);
   }
 }
 
@@ -1025,6 +1100,9 @@ DatasetCheck CheckDataset(const fs::path& dir, double max_gap_s) {
   stream(slots, kSlotsFile, Times(log.slot_frames), counts ? counts->slot_frames : 0);
   stream(tags, kTagsFile, Times(log.tag_frames), counts ? counts->tag_frames : 0);
   if (fs::exists(dir / "images", error)) CheckImages(dir, &check);
+
+  CheckGroundTruth(dir, counts, log, slots, &check);
+  CheckStreamsEndTogether(dir, &check);
 
   for (const StreamSummary& s : check.streams) {
     // A stream slower than the limit (images at 0.5 Hz, say) is judged by

@@ -458,6 +458,18 @@ TEST(DatasetTest, ImplausibleObservationsAreRefused) {
   EXPECT_THAT(ErrorReadingEdited(tags, "\"yaw_sigma_rad\":0.03", "\"yaw_sigma_rad\":4"),
               HasSubstr(tags + ":1: tags[0].yaw_sigma_rad: 4 is outside the plausible range [0, "
                                "3.14159] rad"));
+  // Issue: "observations with an ID digit x, tag id -1, zero-area slots".
+  EXPECT_THAT(ErrorReadingEdited(slots, "[\"3\",0.8]", "[\"x\",0.8]"),
+              HasSubstr(slots + ":1: slots[0].id[0][0][0]: expected one digit 0-9, got 'x'"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "\"id\":7,", "\"id\":-1,"),
+              HasSubstr(tags + ":1: tags[0].id: must be a tag36h11 ID in [0, 586], got -1"));
+  EXPECT_THAT(ErrorReadingEdited(tags, "\"id\":7,", "\"id\":587,"),
+              HasSubstr(tags + ":1: tags[0].id: must be a tag36h11 ID in [0, 586], got 587"));
+  EXPECT_THAT(ErrorReadingEdited(slots, "[3.5,6.8],[1,6.8]", "[3.5,1.5],[1,1.5]"),
+              HasSubstr(slots + ":1: slots[0].corners: the corners enclose 0.00 m^2, not a slot"));
+  // Crossed over (a bow tie): distinct corners, no area.
+  EXPECT_THAT(ErrorReadingEdited(slots, "[3.5,6.8],[1,6.8]", "[1,6.8],[3.5,6.8]"),
+              HasSubstr(slots + ":1: slots[0].corners: the corners enclose 0.00 m^2, not a slot"));
   // A noise-free simulation's covariance is zero, and a single noisy
   // direction's singular: both are covariances.
   EXPECT_EQ(ErrorReadingEdited(tags, "[4e-04,-1e-04,9e-04]", "[0,0,0]"), "");
@@ -685,6 +697,55 @@ TEST(CheckDatasetTest, EveryProblemIsListedWithItsFile) {
               HasSubstr("wheel_speed.csv: a gap of 1.52 s after t = 0.020 s (more than 1.00 s)"));
   // A longer limit lets the gap pass.
   EXPECT_EQ(CheckDataset(dir / "d", 2.0).errors.size(), 2u);
+}
+
+// Issue: "check-dataset says ok to a NaN or reversed ground-truth
+// trajectory, a truncated map.json, an IMU running an hour past the other
+// streams": what the eval commands would refuse, the check lists.
+TEST(CheckDatasetTest, GroundTruthIsCheckedAsTheEvalCommandsReadIt) {
+  const auto problems = [](const std::string& file, const std::string& from,
+                           const std::string& to) {
+    const TempDir dir;
+    WriteDataset(dir / "d", SampleDataset());
+    EXPECT_TRUE(CheckDataset(dir / "d").ok());
+    if (to == "<cut>") {
+      const std::string text = ReadTextFile(dir / "d" / file);
+      WriteFileAtomically(dir / "d" / file, text.substr(0, text.find(from)));
+    } else {
+      EditFile(dir / "d" / file, from, to);
+    }
+    std::string all;
+    for (const std::string& e : CheckDataset(dir / "d").errors) all += e + "\n";
+    return all;
+  };
+  EXPECT_THAT(problems("groundtruth/trajectory.tum", "-37.000000", "nan"),
+              HasSubstr("groundtruth/trajectory.tum:2: x: not a finite number"));
+  // Reversed: the second pose before the first.
+  EXPECT_THAT(problems("groundtruth/trajectory.tum", "\n0.010000000 ", "\n-0.010000000 "),
+              HasSubstr("groundtruth/trajectory.tum:3: t: not strictly increasing"));
+  EXPECT_THAT(problems("groundtruth/map.json", "\"tags\"", "<cut>"),
+              HasSubstr("groundtruth/map.json: invalid JSON: "));
+  EXPECT_THAT(
+      problems("groundtruth/slot_labels.jsonl", "\n", "\n{\"t_ns\":150000000,\"slots\":[]}\n"),
+      HasSubstr("groundtruth/slot_labels.jsonl:2: t_ns: 150000000 does not match slot "
+                "frame 1"));
+}
+
+TEST(CheckDatasetTest, StreamsOfOneDriveEndTogether) {
+  const TempDir dir;
+  Dataset d = SampleDataset();
+  // An IMU running on for an hour after the other streams, at its rate.
+  const TimeNs last = d.log.imu_samples.back().t_ns;
+  for (TimeNs k = 1; k <= 3600 * 10; ++k) {
+    d.log.imu_samples.push_back({last + k * 100'000'000, 0.0, std::nullopt});
+  }
+  WriteDataset(dir / "d", d);
+  const DatasetCheck check = CheckDataset(dir / "d");
+  ASSERT_EQ(check.errors.size(), 1u);
+  EXPECT_THAT(check.errors[0],
+              HasSubstr("sensors/imu.csv: runs from 0.000 s to 3600.010 s, but the other streams "
+                        "from about 0.000 s to 0.250 s (the streams of one drive start and end "
+                        "within 60 s of each other)"));
 }
 
 TEST(CheckDatasetTest, CountsAgainstTheManifestAndAMissingFolder) {

@@ -1,5 +1,6 @@
 #include "parkslam/io/image_header.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <fstream>
@@ -110,6 +111,38 @@ void CheckImageSize(const std::filesystem::path& path) {
                  "an image of " + std::to_string(size.width) + " x " + std::to_string(size.height) +
                      " pixels; at most " + std::to_string(kMaxImageSide_px) + " a side and " +
                      std::to_string(kMaxImagePixels) + " pixels are read");
+  }
+}
+
+void CheckImageEnds(const std::filesystem::path& path) {
+  CheckInputFile(path, kMaxImageBytes);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) ThrowIoError(path.string(), 0, "", "cannot open");
+  std::string head(8, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  const bool png = head == std::string_view("\x89PNG\r\n\x1a\n", 8);
+  const bool jpeg = head.size() >= 2 && static_cast<unsigned char>(head[0]) == 0xFF &&
+                    static_cast<unsigned char>(head[1]) == 0xD8;
+  if (!png && !jpeg) return;
+  in.clear();
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  constexpr std::streamoff kTail = 4096;
+  in.seekg(std::max<std::streamoff>(0, size - kTail));
+  std::string tail(static_cast<size_t>(std::min(size, kTail)), '\0');
+  in.read(tail.data(), static_cast<std::streamsize>(tail.size()));
+  tail.resize(static_cast<size_t>(in.gcount()));
+  if (png && tail.find("IEND") == std::string::npos) {
+    ThrowIoError(path.string(), 0, "",
+                 "a PNG cut short (" + std::to_string(size) + " bytes, no IEND chunk at its end)");
+  }
+  // The marker after the header: a 2-byte file's FF D8 is no end.
+  if (jpeg && (size < 4 || tail.rfind("\xFF\xD9") == std::string::npos ||
+               (size <= kTail && tail.rfind("\xFF\xD9") < 2))) {
+    ThrowIoError(path.string(), 0, "",
+                 "a JPEG cut short (" + std::to_string(size) +
+                     " bytes, no end-of-image marker FF D9 at its end)");
   }
 }
 

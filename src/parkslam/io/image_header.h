@@ -23,6 +23,13 @@ cv::Size ImageSizeFromHeader(std::string_view bytes, std::string_view source);
 // cannot be read.
 void CheckImageSize(const std::filesystem::path& path);
 
+// Throws IoError naming the file when a JPEG or PNG is cut short: a JPEG
+// ends with its end-of-image marker (FF D9), a PNG with its IEND chunk,
+// and a cut file has neither in its last bytes (some cameras append a few
+// bytes after the marker, so the last 4 KB are searched). Reads only the
+// file's head and tail; other formats pass.
+void CheckImageEnds(const std::filesystem::path& path);
+
 }  // namespace parkslam::io
 
 #endif  // PARKSLAM_IO_IMAGE_HEADER_H_

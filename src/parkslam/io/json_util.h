@@ -5,6 +5,7 @@
 // compact pretty printer.
 
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
@@ -80,6 +81,12 @@ class JsonReader {
   std::string_view source_;
   int line_;
 };
+
+// A slot's four corners (a map's or an observation's) must enclose at least
+// kMinSlotArea_m2 (shoelace formula, either winding); four points on a line,
+// on one spot or crossed over are not a slot. Fails naming `corners`.
+void CheckSlotArea(const std::array<Eigen::Vector2d, 4>& corners, const JsonReader& r,
+                   const JsonPath& path);
 
 // Json::parse that throws nothing but IoError "source[:line]: invalid JSON: ...".
 // nlohmann reports a syntax error as parse_error, whose message gives the

@@ -146,6 +146,7 @@ MapSlot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path) {
     slot.corner_sigma_m[i] =
         r.NumberIn(j["corner_sigma_m"][i], sigma, 0.0, kMaxPositionSigma_m, "m");
   }
+  json_util::CheckSlotArea(slot.corners_map, r, corners);
   const JsonPath count = path.Key("observations");
   slot.observation_count = r.Int(j["observations"], count);
   if (slot.observation_count < 0) r.Fail(count, "must not be negative");
@@ -161,7 +162,10 @@ MapTag ReadTag(const Json& j, const JsonReader& r, const JsonPath& path,
   MapTag tag;
   const JsonPath id = path.Key("id");
   tag.tag_id = r.Int(j["id"], id);
-  if (tag.tag_id < 0) r.Fail(id, "must not be negative");
+  if (tag.tag_id < 0 || tag.tag_id >= kTagIdCount) {
+    r.Fail(id, "must be a tag36h11 ID in [0, " + std::to_string(kTagIdCount - 1) + "], got " +
+                   std::to_string(tag.tag_id));
+  }
   tag.p_map = Eigen::Vector2d(r.BoundedNumber(j["x"], path.Key("x"), kMaxCoordinate_m, "m"),
                               r.BoundedNumber(j["y"], path.Key("y"), kMaxCoordinate_m, "m"));
   tag.yaw_map_rad = r.BoundedNumber(j["yaw"], path.Key("yaw"), kMaxAngle_rad, "rad");
@@ -215,6 +219,18 @@ void CheckUniqueSlotIds(const SemanticMap& map, const JsonReader& r, const JsonP
       const JsonPath slot = slots.Index(i);
       r.Fail(slot.Key("id"),
              "duplicate id '" + id + "' (also slots[" + std::to_string(it->second) + "])");
+    }
+  }
+}
+
+// Two tags of one ID: the localizer would tie every sighting to one of them.
+void CheckUniqueTagIds(const SemanticMap& map, const JsonReader& r, const JsonPath& tags) {
+  std::map<int, std::size_t> first_index;
+  for (std::size_t i = 0; i < map.tags.size(); ++i) {
+    const auto [it, inserted] = first_index.emplace(map.tags[i].tag_id, i);
+    if (!inserted) {
+      r.Fail(tags.Index(i).Key("id"), "duplicate id " + std::to_string(map.tags[i].tag_id) +
+                                          " (also tags[" + std::to_string(it->second) + "])");
     }
   }
 }
@@ -279,6 +295,7 @@ SemanticMap MapFromJson(const nlohmann::json& json, const std::string& source_na
     const JsonPath tag = tags.Index(i);
     map.tags.push_back(ReadTag(json["tags"][i], r, tag, map.obstacles.size()));
   }
+  CheckUniqueTagIds(map, r, tags);
   return map;
 }
 

@@ -225,6 +225,26 @@ TEST(MapJsonTest, RejectsADuplicateSlotId) {
             "map.json: slots[3].id: duplicate id '38' (also slots[0])");
 }
 
+// Issue: "map JSON with duplicate tag IDs" was taken, and the localizer
+// tied every sighting of the ID to one of the two.
+TEST(MapJsonTest, RejectsADuplicateTagIdAndOneOutsideTheFamily) {
+  nlohmann::json j = SampleJson();
+  j["tags"][2]["id"] = 7;
+  EXPECT_EQ(ErrorOf([&] { MapFromJson(j, "map.json"); }),
+            "map.json: tags[2].id: duplicate id 7 (also tags[0])");
+  j["tags"][2]["id"] = 587;
+  EXPECT_EQ(ErrorOf([&] { MapFromJson(j, "map.json"); }),
+            "map.json: tags[2].id: must be a tag36h11 ID in [0, 586], got 587");
+}
+
+TEST(MapJsonTest, RejectsASlotWithoutArea) {
+  nlohmann::json j = SampleJson();
+  j["slots"][0]["corners"][2] = j["slots"][0]["corners"][1];
+  j["slots"][0]["corners"][3] = j["slots"][0]["corners"][0];
+  EXPECT_THAT(ErrorOf([&] { MapFromJson(j, "map.json"); }),
+              HasSubstr("map.json: slots[0].corners: the corners enclose 0.00 m^2, not a slot"));
+}
+
 TEST(MapJsonTest, RejectsAnUnknownSlotKind) {
   nlohmann::json j = SampleJson();
   j["slots"][0]["kind"] = "diagonal";

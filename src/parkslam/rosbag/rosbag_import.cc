@@ -13,11 +13,14 @@
 #include <vector>
 
 #include "parkslam/camera/camera_names.h"
+#include "parkslam/common/field_checker.h"
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/rig_yaml.h"
 #include "parkslam/io/ros1_message.h"
+#include "parkslam/io/text_util.h"
 #include "parkslam/io/yaml_util.h"
 
 namespace parkslam::rosbag_import {
@@ -201,11 +204,13 @@ class MessageReader {
         if (c.topic == topics_.imu) ReadImu(c, m);
         if (c.topic == topics_.wheel_speed.topic) {
           const auto [stamp, value] = Scalar(topics_.wheel_speed, "wheel_speed", c, m);
+          Plausible(value, kMaxWheelSpeed_mps, "wheel_speed", c.topic, stamp, "m/s");
           contents_.log.wheel_speeds.push_back({stamp, value});
           contents_.first_ns = std::min(contents_.first_ns, stamp);
         }
         if (c.topic == topics_.steering.topic) {
           const auto [stamp, value] = Scalar(topics_.steering, "steering", c, m);
+          Plausible(value, kMaxSteeringWheelAngle_rad, "steering", c.topic, stamp, "rad");
           contents_.log.steering_angles.push_back({stamp, value});
           contents_.first_ns = std::min(contents_.first_ns, stamp);
         }
@@ -217,6 +222,18 @@ class MessageReader {
   }
 
  private:
+  // A scaled number beyond what a car reports (common/plausible_ranges.h),
+  // named by the bag, the key of topics.yaml, the topic and the stamp, not
+  // by the dataset file it would have become.
+  void Plausible(double value, double max_abs, const char* key, const std::string& topic,
+                 std::int64_t stamp, std::string_view unit) const {
+    if (std::isfinite(value) && std::abs(value) <= max_abs) return;
+    ThrowIoError(bag_name_, 0, key,
+                 "topic " + topic + " at stamp " + std::to_string(stamp) +
+                     " ns: " + io::text::BeyondPlausible(value, max_abs, unit) +
+                     " (after topics.yaml's scale)");
+  }
+
   void ReadImage(const Channel& c, const rosbag::MessageInstance& m) {
     const auto leaves = io::ros1::DecodeFields(
         c.spec, bytes_.data(), bytes_.size(),
@@ -244,8 +261,22 @@ class MessageReader {
     const auto covariance = f.find("orientation_covariance[0]");
     const bool has_heading = covariance == f.end() || covariance->second.number != -1.0;
     ImuSample sample{stamp, f.at("angular_velocity.z").number, std::nullopt};
-    if (has_heading)
-      sample.heading_rad = std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+    Plausible(sample.yaw_rate_radps, kMaxYawRate_radps, "imu", c.topic, stamp, "rad/s");
+    if (has_heading) {
+      // A rotation's quaternion has norm 1; drivers round it, a zero or
+      // runaway one is no orientation at all (atan2 would make it heading 0).
+      const double norm = std::sqrt(x * x + y * y + z * z + w * w);
+      if (!(norm >= 0.5 && norm <= 2.0)) {
+        ThrowIoError(bag_name_, 0, "imu",
+                     "topic " + c.topic + " at stamp " + std::to_string(stamp) +
+                         " ns: orientation (" + Limit(x) + ", " + Limit(y) + ", " + Limit(z) +
+                         ", " + Limit(w) +
+                         ") is not a rotation (a quaternion of norm 1; set "
+                         "orientation_covariance[0] to -1 for none)");
+      }
+      // The yaw of any non-zero quaternion: the scale cancels in atan2.
+      sample.heading_rad = std::atan2(2.0 * (w * z + x * y), w * w + x * x - y * y - z * z);
+    }
     contents_.log.imu_samples.push_back(sample);
     contents_.first_ns = std::min(contents_.first_ns, stamp);
   }
@@ -350,7 +381,14 @@ TopicsConfig LoadTopicsConfig(const fs::path& path) {
     if (!cameras[name]) r.Fail(cameras, "cameras." + name, "missing key (the top view needs it)");
   }
   for (const std::string& name : camera::AllCameraNames()) {
-    if (cameras[name]) config.cameras[name] = r.String(cameras[name], "cameras." + name);
+    if (!cameras[name]) continue;
+    config.cameras[name] = r.String(cameras[name], "cameras." + name);
+    for (const auto& [other, topic] : config.cameras) {
+      if (other != name && topic == config.cameras[name]) {
+        r.Fail(cameras[name], "cameras." + name,
+               "topic " + topic + " is cameras." + other + "'s too (each camera needs its own)");
+      }
+    }
   }
   config.imu = r.String(root["imu"], "imu");
   config.wheel_speed = ReadScalarTopic(r, root["wheel_speed"], "wheel_speed");
@@ -392,7 +430,12 @@ ImportSummary ImportRosbag(const fs::path& bag_path, const TopicsConfig& topics,
   for (const auto& [name, topic] : topics.cameras) {
     RequireTopic(channels, bag_name, topic, "cameras." + name,
                  {"sensor_msgs/Image", "sensor_msgs/CompressedImage"});
-    camera_of_topic[topic] = name;
+    const auto [it, added] = camera_of_topic.emplace(topic, name);
+    if (!added) {
+      ThrowIoError(
+          bag_name, 0, "cameras." + name,
+          "topic " + topic + " is cameras." + it->second + "'s too (each camera needs its own)");
+    }
   }
   RequireTopic(channels, bag_name, topics.imu, "imu", {"sensor_msgs/Imu"});
   RequireTopic(channels, bag_name, topics.wheel_speed.topic, "wheel_speed.topic", {});

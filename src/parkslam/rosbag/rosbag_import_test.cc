@@ -33,20 +33,46 @@ constexpr std::int64_t kStart_ns = 1'700'000'000'000'000'000;
 // Three seconds of a drive: speed 50 Hz (nested field), steering 50 Hz,
 // IMU 100 Hz (with no orientation in its last second, as a gyro-only IMU
 // sends), five cameras at 5 Hz, the tag camera raw, the others JPEG, the
-// left one 4 ms late.
-void WriteBag(const std::filesystem::path& path) {
+// left one 4 ms late. `spoil` makes one message of its kind absurd.
+struct Spoil {
+  double twist_at_1s = 1.5;            // the wheel speed at t = 1 s
+  bool zero_quaternion_at_1s = false;  // an IMU orientation (0, 0, 0, 0)
+  int rear_jpeg_side_px = 0;           // > 0: the rear JPEGs' headers claim this size
+};
+
+// A JPEG whose frame header (SOF0) claims side x side pixels.
+std::vector<std::uint8_t> WithClaimedSize(std::vector<std::uint8_t> jpeg, int side) {
+  for (std::size_t i = 0; i + 8 < jpeg.size(); ++i) {
+    if (jpeg[i] == 0xFF && jpeg[i + 1] == 0xC0) {
+      for (const std::size_t at : {i + 5, i + 7}) {
+        jpeg[at] = static_cast<std::uint8_t>(side >> 8);
+        jpeg[at + 1] = static_cast<std::uint8_t>(side & 0xFF);
+      }
+      return jpeg;
+    }
+  }
+  ADD_FAILURE() << "no SOF0 marker";
+  return jpeg;
+}
+
+void WriteBag(const std::filesystem::path& path, const Spoil& spoil = {}) {
   rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
   const camera::CameraRig rig = camera::DefaultRig();
   for (std::int64_t k = 0; k < 300; ++k) {
     const std::int64_t t = kStart_ns + k * 10'000'000;
     const ros::Time received = ros::Time().fromNSec(static_cast<std::uint64_t>(t + 2'000'000));
-    if (k < 200) {
+    if (k == 100 && spoil.zero_quaternion_at_1s) {
+      auto imu = Imu(t, 0.0, 0.05);
+      // The orientation follows the header: seq, stamp (8 bytes), frame_id "base_link".
+      std::memset(imu.bytes.data() + 4 + 8 + 4 + 9, 0, 4 * sizeof(double));
+      bag.write("/imu/data", received, imu);
+    } else if (k < 200) {
       bag.write("/imu/data", received, Imu(t, 0.1 + 0.001 * k, 0.05));
     } else {
       bag.write("/imu/data", received, Imu(t, std::nullopt, 0.05));
     }
     if (k % 2 == 0) {
-      bag.write("/vehicle/twist", received, SpeedStamped(t, 1.5));
+      bag.write("/vehicle/twist", received, SpeedStamped(t, k == 100 ? spoil.twist_at_1s : 1.5));
       bag.write("/vehicle/steering", received, Float64(0.2));
     }
     if (k % 20 == 0) {
@@ -61,6 +87,9 @@ void WriteBag(const std::filesystem::path& path) {
         } else {
           std::vector<std::uint8_t> jpeg;
           cv::imencode(".jpg", grey, jpeg);
+          if (name == "rear" && spoil.rear_jpeg_side_px > 0) {
+            jpeg = WithClaimedSize(jpeg, spoil.rear_jpeg_side_px);
+          }
           bag.write("/" + name + "/image_raw/compressed", received,
                     Compressed(stamp, "jpeg", jpeg));
         }
@@ -158,6 +187,58 @@ TEST_F(RosbagImportTest, MistakesNameTheTopicOrKey) {
     FAIL() << "no throw";
   } catch (const io::IoError& e) {
     EXPECT_THAT(std::string(e.what()), HasSubstr("imu_rate: unknown key"));
+  }
+}
+
+// Issue: "import-rosbag accepts what its own check-dataset then refuses".
+// Each absurd bag is refused, by the import or by the check that
+// import-rosbag runs before it commits (cmd_import_rosbag.cc), naming what
+// is wrong.
+std::string ImportOrCheckError(const std::filesystem::path& bag, const TopicsConfig& topics,
+                               const std::filesystem::path& out) {
+  try {
+    ImportRosbag(bag, topics, out);
+  } catch (const io::IoError& e) {
+    return std::string("import: ") + e.what();
+  }
+  const io::DatasetCheck check = io::CheckDataset(out, 3600.0);
+  return check.ok() ? std::string() : "check: " + check.errors.front();
+}
+
+TEST_F(RosbagImportTest, AbsurdBagsAreRefused) {
+  const TopicsConfig topics = LoadTopicsConfig(dir_ / "topics.yaml");
+  WriteBag(dir_ / "twist.bag", Spoil{.twist_at_1s = 1e308});
+  EXPECT_THAT(ImportOrCheckError(dir_ / "twist.bag", topics, dir_ / "a"),
+              HasSubstr("twist.bag: wheel_speed: topic /vehicle/twist at stamp "
+                        "1700000001000000000 ns: 1e+308 is beyond the plausible 60 m/s"));
+  // A scale of 1e6 in topics.yaml makes 1.5 m/s 1.5e6 m/s.
+  TopicsConfig scaled = topics;
+  scaled.wheel_speed.scale = 1e6;
+  EXPECT_THAT(ImportOrCheckError(dir_ / "drive.bag", scaled, dir_ / "b"),
+              HasSubstr("1500000 is beyond the plausible 60 m/s (after topics.yaml's scale)"));
+  WriteBag(dir_ / "quaternion.bag", Spoil{.zero_quaternion_at_1s = true});
+  EXPECT_THAT(ImportOrCheckError(dir_ / "quaternion.bag", topics, dir_ / "c"),
+              HasSubstr("quaternion.bag: imu: topic /imu/data at stamp 1700000001000000000 ns: "
+                        "orientation (0, 0, 0, 0) is not a rotation"));
+  WriteBag(dir_ / "huge.bag", Spoil{.rear_jpeg_side_px = 20000});
+  EXPECT_THAT(ImportOrCheckError(dir_ / "huge.bag", topics, dir_ / "d"),
+              HasSubstr("d/images/rear/0.jpg: 20000 x 20000 pixels, but images/rig.yaml gives "
+                        "camera 'rear' 640 x 480"));
+  TopicsConfig shared = topics;
+  shared.cameras["rear"] = shared.cameras["front"];
+  EXPECT_THAT(ImportOrCheckError(dir_ / "drive.bag", shared, dir_ / "e"),
+              HasSubstr("cameras.rear: topic /front/image_raw/compressed is cameras.front's too"));
+  // And topics.yaml refuses it as it is read.
+  std::string yaml = TopicsYaml();
+  yaml.replace(yaml.find("/rear/image_raw"), 5, "/front");
+  io::WriteFileAtomically(dir_ / "shared.yaml", yaml);
+  try {
+    LoadTopicsConfig(dir_ / "shared.yaml");
+    ADD_FAILURE() << "no throw";
+  } catch (const io::IoError& e) {
+    EXPECT_THAT(std::string(e.what()),
+                HasSubstr("shared.yaml:3: cameras.rear: topic /front/image_raw/compressed is "
+                          "cameras.front's too"));
   }
 }
 
