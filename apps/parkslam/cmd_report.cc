@@ -13,6 +13,7 @@
 
 #include "commands.h"
 #include "parkslam/common/angles.h"
+#include "parkslam/common/plausible_ranges.h"
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/dataset.h"
@@ -21,6 +22,7 @@
 #include "parkslam/io/map_json.h"
 #include "parkslam/io/numeric_csv.h"
 #include "parkslam/io/output_guard.h"
+#include "parkslam/io/text_util.h"
 #include "parkslam/io/tum.h"
 #include "parkslam/viz/report_html.h"
 #include "steps.h"
@@ -41,6 +43,32 @@ std::string g_command_line;
 // file, the line and column and the field, in the project's words.
 nlohmann::json ReadJson(const fs::path& path) {
   return io::json_util::ParseJson(io::ReadTextFile(path, io::kMaxJsonBytes), path.string(), 0);
+}
+
+// The value at `key` of the object `j` of metrics.json, `fallback` where
+// the key is absent; `where` names the file and the object's key
+// ("run/metrics.json: perception.slots", or the file alone for the top). Another type is an error
+// that says so, where nlohmann's own get<>() would throw its type_error text.
+template <typename T>
+T ValueOf(const nlohmann::json& j, const char* key, T fallback, const std::string& where) {
+  if (!j.is_object()) throw io::IoError(where + ": expected a JSON object");
+  if (!j.contains(key)) return fallback;
+  const nlohmann::json& v = j[key];
+  // "run/metrics.json: dataset", "run/metrics.json: perception.images".
+  const std::string field = where + (where.find(": ") == std::string::npos ? ": " : ".") + key;
+  if constexpr (std::is_same_v<T, std::string>) {
+    if (!v.is_string()) throw io::IoError(field + ": expected text");
+    return v.get<std::string>();
+  } else {
+    if (!v.is_number()) throw io::IoError(field + ": expected a number");
+    const double number = v.get<double>();
+    if constexpr (std::is_integral_v<T>) {
+      if (!(number >= 0 && number <= 1e9)) {
+        throw io::IoError(field + ": expected a count in [0, 1e9]");
+      }
+    }
+    return static_cast<T>(number);
+  }
 }
 
 // metrics.json's number at a dotted key, or NaN.
@@ -241,6 +269,41 @@ struct TrackedErrors {
   int nees_frames = 0, nees_inside = 0;
 };
 
+// One row of localization.csv within the plausible ranges
+// (common/plausible_ranges.h): positions in the map frame, angles, and a
+// covariance's variances (non-negative, a position's at most the square of
+// the map's extent), counts and the state small non-negative integers. A
+// 1e308 position or a negative variance drew a page of infinities.
+void CheckLocalizationRow(const io::NumericTable& log, std::size_t k, const fs::path& path) {
+  const std::vector<double>& row = log.rows[k];
+  const auto fail = [&](const std::string& field, const std::string& what) {
+    throw io::IoError(path.string() + ":" + std::to_string(k + 2) + ": " + field + ": " + what);
+  };
+  const auto bounded = [&](const char* name, double max_abs, const char* unit) {
+    const double v = row[static_cast<size_t>(log.Column(name))];
+    if (std::abs(v) > max_abs) fail(name, io::text::BeyondPlausible(v, max_abs, unit));
+  };
+  const auto in_range = [&](const char* name, double min, double max, const char* unit) {
+    const double v = row[static_cast<size_t>(log.Column(name))];
+    if (v < min || v > max) fail(name, io::text::OutsidePlausible(v, min, max, unit));
+  };
+  constexpr double kMaxVariance_m2 = kMaxCoordinate_m * kMaxCoordinate_m;
+  for (const char* name : {"x_m", "y_m", "true_x_m", "true_y_m"}) {
+    bounded(name, kMaxCoordinate_m, "m");
+  }
+  for (const char* name : {"yaw_rad", "true_yaw_rad"}) bounded(name, kMaxAngle_rad, "rad");
+  for (const char* name : {"cov_xx", "cov_yy"}) in_range(name, 0.0, kMaxVariance_m2, "m^2");
+  in_range("cov_yawyaw", 0.0, kMaxAngle_rad * kMaxAngle_rad, "rad^2");
+  bounded("cov_xy", kMaxVariance_m2, "m^2");
+  for (const char* name : {"cov_xyaw", "cov_yyaw"}) {
+    bounded(name, kMaxCoordinate_m * kMaxAngle_rad, "m rad");
+  }
+  in_range("state", 0, 2, "");
+  for (const char* name : {"slots_seen", "slots_used", "tags_seen", "tags_used", "relocalized"}) {
+    in_range(name, 0, 1e6, "");
+  }
+}
+
 // The log's series for the plots (rounded), from localization.csv.
 nlohmann::json LocalizationSeries(const io::NumericTable& log, const fs::path& path,
                                   TrackedErrors* errors) {
@@ -255,6 +318,7 @@ nlohmann::json LocalizationSeries(const io::NumericTable& log, const fs::path& p
   int& tracked = errors->tracked;
   for (size_t k = 0; k < log.rows.size(); ++k) {
     const std::vector<double>& row = log.rows[k];
+    CheckLocalizationRow(log, k, path);
     if (k > 0 && !(row[col("t_s")] > log.rows[k - 1][col("t_s")])) {
       throw io::IoError(path.string() + ":" + std::to_string(k + 2) + ": t_s: not increasing");
     }
@@ -368,25 +432,36 @@ void AddEkf(const fs::path& dir, Loaded* r) {
   const io::NumericTable t = io::ReadNumericCsv(path, {"t_s", "anees"});
   nlohmann::json ekf = {{"t", nlohmann::json::array()}, {"anees", nlohmann::json::array()}};
   double sum = 0.0;
-  for (const std::vector<double>& row : t.rows) {
-    ekf["t"].push_back(row[0]);
-    ekf["anees"].push_back(row[1]);
-    sum += row[1];
+  const auto t_col = static_cast<size_t>(t.Column("t_s"));
+  const auto anees_col = static_cast<size_t>(t.Column("anees"));
+  for (size_t k = 0; k < t.rows.size(); ++k) {
+    const std::vector<double>& row = t.rows[k];
+    const std::string line = path.string() + ":" + std::to_string(k + 2) + ": ";
+    if (k > 0 && !(row[t_col] > t.rows[k - 1][t_col]))
+      throw io::IoError(line + "t_s: not increasing");
+    // A NEES is a squared distance: never negative.
+    if (row[anees_col] < 0.0) throw io::IoError(line + "anees: must not be negative");
+    ekf["t"].push_back(row[t_col]);
+    ekf["anees"].push_back(row[anees_col]);
+    sum += row[anees_col];
   }
   const nlohmann::json& c = r->metrics.contains("odometry_consistency")
                                 ? r->metrics["odometry_consistency"]
                                 : nlohmann::json::object();
-  if (c.contains("band_95") && c["band_95"].is_array() && c["band_95"].size() == 2) {
+  if (c.contains("band_95") && c["band_95"].is_array() && c["band_95"].size() == 2 &&
+      c["band_95"][0].is_number() && c["band_95"][1].is_number()) {
     const double band_lo = c["band_95"][0].get<double>(), band_hi = c["band_95"][1].get<double>();
     ekf["band"] = {band_lo, band_hi};
     int inside = 0;
-    for (const std::vector<double>& row : t.rows) inside += row[1] >= band_lo && row[1] <= band_hi;
+    for (const std::vector<double>& row : t.rows) {
+      inside += row[anees_col] >= band_lo && row[anees_col] <= band_hi;
+    }
     if (!t.rows.empty()) {
       AddFigure(r, "odometry_consistency.share_inside_band", "EKF ANEES inside its 95 % band",
                 static_cast<double>(inside) / static_cast<double>(t.rows.size()), "%", 100, 1);
     }
   }
-  ekf["runs"] = c.value("runs", 0);
+  ekf["runs"] = ValueOf(c, "runs", 0, (dir / "metrics.json").string() + ": odometry_consistency");
   if (!t.rows.empty()) {
     AddFigure(r, "odometry_consistency.mean_anees", "EKF average NEES (ideal 3)",
               sum / static_cast<double>(t.rows.size()), "", 1, 2);
@@ -460,30 +535,37 @@ void AddFollow(const fs::path& follow_dir, const std::string& key_prefix, Loaded
 void AddPerception(const fs::path& dir, Loaded* r) {
   if (!r->metrics.contains("perception")) return;
   const nlohmann::json& p = r->metrics["perception"];
+  const std::string where = (dir / "metrics.json").string() + ": perception";
   const auto row = [&](const char* what, const char* key) {
-    if (!p.contains(key)) return;
+    if (!p.is_object() || !p.contains(key)) return;
     const nlohmann::json& c = p[key];
+    const std::string at = where + "." + key;
     char precision[32], recall[32];
-    std::snprintf(precision, sizeof precision, "%.1f %%", 100 * c.value("precision", 0.0));
-    std::snprintf(recall, sizeof recall, "%.1f %%", 100 * c.value("recall", 0.0));
+    std::snprintf(precision, sizeof precision, "%.1f %%", 100 * ValueOf(c, "precision", 0.0, at));
+    std::snprintf(recall, sizeof recall, "%.1f %%", 100 * ValueOf(c, "recall", 0.0, at));
     r->data.perception_table.push_back({what, precision, recall,
-                                        std::to_string(c.value("true_positives", 0)),
-                                        std::to_string(c.value("false_positives", 0)),
-                                        std::to_string(c.value("false_negatives", 0))});
+                                        std::to_string(ValueOf(c, "true_positives", 0, at)),
+                                        std::to_string(ValueOf(c, "false_positives", 0, at)),
+                                        std::to_string(ValueOf(c, "false_negatives", 0, at))});
   };
-  r->data.perception_table.push_back({"over " + std::to_string(p.value("images", 0)) + " top views",
-                                      "precision", "recall", "true", "false", "missed"});
+  r->data.perception_table.push_back(
+      {"over " + std::to_string(ValueOf(p, "images", 0, where)) + " top views", "precision",
+       "recall", "true", "false", "missed"});
   row("marking points", "marking_points");
   row("slots", "slots");
-  for (const nlohmann::json& picture : p.value("pictures", nlohmann::json::array())) {
-    const fs::path file = dir / picture.value("file", "");
+  if (!p.contains("pictures")) return;
+  if (!p["pictures"].is_array()) throw io::IoError(where + ".pictures: expected an array");
+  for (std::size_t i = 0; i < p["pictures"].size(); ++i) {
+    const nlohmann::json& picture = p["pictures"][i];
+    const std::string at = where + ".pictures[" + std::to_string(i) + "]";
+    const fs::path file = dir / ValueOf(picture, "file", std::string(), at);
     if (!fs::is_regular_file(file)) continue;
     char caption[400];
     std::snprintf(caption, sizeof caption, "%s (t = %.0f s: %d slots right, %d false, %d missed)",
-                  picture.value("caption", "").c_str(), picture.value("t_s", 0.0),
-                  picture.value("slots_true_positives", 0),
-                  picture.value("slots_false_positives", 0),
-                  picture.value("slots_false_negatives", 0));
+                  ValueOf(picture, "caption", std::string(), at).c_str(),
+                  ValueOf(picture, "t_s", 0.0, at), ValueOf(picture, "slots_true_positives", 0, at),
+                  ValueOf(picture, "slots_false_positives", 0, at),
+                  ValueOf(picture, "slots_false_negatives", 0, at));
     r->data.pictures.push_back({caption, io::ReadTextFile(file, io::kMaxImageBytes)});
   }
 }
@@ -513,9 +595,11 @@ void WriteReport(const fs::path& dir, const ReportInputs& inputs, const fs::path
   const bool follow_folder = fs::exists(dir / "lateral.csv");
   r.data.title = follow_folder
                      ? "parkslam follow: " + dir.filename().string()
-                     : "parkslam run: " + r.metrics.value("dataset", dir.filename().string());
-  r.data.command = r.metrics.value("command", std::string("(not recorded)"));
-  r.data.version = r.metrics.value("version", std::string(kVersion));
+                     : "parkslam run: " + ValueOf(r.metrics, "dataset", dir.filename().string(),
+                                                  metrics_path.string());
+  r.data.command =
+      ValueOf(r.metrics, "command", std::string("(not recorded)"), metrics_path.string());
+  r.data.version = ValueOf(r.metrics, "version", std::string(kVersion), metrics_path.string());
   r.data.scene = nlohmann::json::object();
   r.data.scene["trajectories"] = nlohmann::json::array();
   AddMap(dir, inputs, &r);

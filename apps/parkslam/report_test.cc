@@ -15,6 +15,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -105,6 +106,52 @@ TEST_F(ReportTest, TheCommandWritesTheSamePageAndRefusesAnEmptyFolder) {
             0);
   EXPECT_THAT(Slurp(*dir_ / "err.txt"), ::testing::HasSubstr("nothing to report"));
   EXPECT_FALSE(fs::exists(*dir_ / "empty" / "report.html"));
+}
+
+// Issue: "report over 1e308 positions and negative variances" drew a page
+// of infinities, exit 0. A run folder whose localization.csv holds one is
+// refused naming the file, the line and the column; so is a metrics.json
+// whose values have the wrong type.
+TEST_F(ReportTest, AbsurdRunFilesAreRefusedNamingLineAndField) {
+  ASSERT_EQ(demo_status_, 0);
+  const std::string log = Slurp(run() / "localization.csv");
+  const std::size_t header_end = log.find('\n');
+  ASSERT_NE(header_end, std::string::npos);
+  const std::string header = log.substr(0, header_end);
+  // Column `name` of the first row set to `value`.
+  const auto edited = [&](const std::string& name, const std::string& value) {
+    std::vector<std::string> columns, cells;
+    std::stringstream h(header),
+        row(log.substr(header_end + 1, log.find('\n', header_end + 1) - header_end - 1));
+    for (std::string c; std::getline(h, c, ',');) columns.push_back(c);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    std::string out = header + "\n";
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      out += (i > 0 ? "," : "") + (columns[i] == name ? value : cells[i]);
+    }
+    return out + log.substr(log.find('\n', header_end + 1));
+  };
+  const auto error_of = [&](const std::string& file, const std::string& text) {
+    const fs::path folder = *dir_ / "absurd";
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    std::ofstream(folder / file) << text;
+    const int status = Shell(std::string(PARKSLAM_BIN) + " report " + folder.string() + " 2> " +
+                             (*dir_ / "absurd.txt").string());
+    EXPECT_NE(status, 0) << file;
+    EXPECT_FALSE(fs::exists(folder / "report.html")) << file;
+    return Slurp(*dir_ / "absurd.txt");
+  };
+  EXPECT_THAT(error_of("localization.csv", edited("x_m", "1e308")),
+              ::testing::HasSubstr("absurd/localization.csv:2: x_m: 1e+308 is beyond the "
+                                   "plausible 100000 m"));
+  EXPECT_THAT(error_of("localization.csv", edited("cov_yy", "-0.5")),
+              ::testing::HasSubstr("absurd/localization.csv:2: cov_yy: -0.5 is outside the "
+                                   "plausible range [0, 1e+10] m^2"));
+  EXPECT_THAT(error_of("metrics.json", "{\"perception\": {\"images\": \"six\"}}"),
+              ::testing::HasSubstr("absurd/metrics.json: perception.images: expected a number"));
+  EXPECT_THAT(error_of("metrics.json", "{\"dataset\": 7}"),
+              ::testing::HasSubstr("absurd/metrics.json: dataset: expected text"));
 }
 
 // Pixels of a colour (within a tolerance) inside a rectangle of the screenshot.
