@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "parkslam/common/field_checker.h"
 #include "parkslam/eval/trajectory_metrics.h"
 #include "parkslam/graph/max_mixture_pose_edge_factor.h"
 #include "parkslam/graph/pose_graph_solver.h"
@@ -60,6 +61,9 @@ void AddSolveGraphCommand(CLI::App& app) {
     bool json = false;
   };
   auto options = std::make_shared<Options>();
+  // Ten minutes: 20,000 poses of plain least squares take 12 s here, of
+  // Max-Mixture over 10 minutes (docs/plausible_ranges.md, "Input sizes").
+  options->solve.time_budget_s = 600.0;
   CLI::App* cmd = app.add_subcommand(
       "solve-graph",
       "Optimize a 2D pose graph in g2o format (VERTEX_SE2, EDGE_SE2, VERTEX_XY, EDGE_SE2_XY, "
@@ -121,6 +125,11 @@ void AddSolveGraphCommand(CLI::App& app) {
   cmd->add_option("--max-iterations", options->solve.max_iterations, "Per solve")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
+  cmd->add_option("--time-budget-s", options->solve.time_budget_s,
+                  "Wall-clock limit of the whole solve; past it nothing is written and the "
+                  "command fails (0: none)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   cmd->add_option("--truth", options->truth,
                   "A .g2o graph of the true poses: report the aligned position RMSE");
   cmd->add_flag("--json", options->json, "Print one JSON object");
@@ -149,6 +158,12 @@ void AddSolveGraphCommand(CLI::App& app) {
                                       ? graph::TrustRegion::kDogleg
                                       : graph::TrustRegion::kLevenbergMarquardt;
     const graph::SolveSummary s = graph::SolvePoseGraph(options->solve, &g);
+    if (s.out_of_time) {
+      throw std::runtime_error(
+          options->in + ": the solve ran past its time budget (--time-budget-s " +
+          Limit(options->solve.time_budget_s) + " s" +
+          ") before it ended; --out not written (a larger budget, or a smaller graph)");
+    }
     if (s.failed) {
       throw std::runtime_error(options->in +
                                ": the solver failed (its linear solver could not factor the "

@@ -102,13 +102,33 @@ ceres::Solver::Options SolverOptions(const SolveOptions& options) {
   return solver_options;
 }
 
+// The end of SolveOptions::time_budget_s, shared by every schedule and
+// round of one SolvePoseGraph.
+class Deadline {
+ public:
+  explicit Deadline(double budget_s)
+      : bounded_(budget_s > 0.0),
+        end_(std::chrono::steady_clock::now() +
+             std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                 std::chrono::duration<double>(bounded_ ? budget_s : 0.0))) {}
+  bool bounded() const { return bounded_; }
+  double remaining_s() const {
+    return std::chrono::duration<double>(end_ - std::chrono::steady_clock::now()).count();
+  }
+
+ private:
+  bool bounded_;
+  std::chrono::steady_clock::time_point end_;
+};
+
 // One solve of a pose graph, pose by pose in id order: each step adds the
 // poses of the step and the edges that become complete with them, then
 // solves.
 class IncrementalSolve {
  public:
-  IncrementalSolve(const SolveOptions& options, PoseGraph* graph)
+  IncrementalSolve(const SolveOptions& options, const Deadline& deadline, PoseGraph* graph)
       : options_(options),
+        deadline_(deadline),
         graph_(graph),
         schedule_(MakePoseOrder(*graph)),
         pose_count_(static_cast<int>(schedule_.pose_ids.size())),
@@ -267,8 +287,22 @@ class IncrementalSolve {
   }
 
   void Solve() {
+    ceres::Solver::Options solver_options = solver_options_;
+    if (deadline_.bounded()) {
+      const double remaining_s = deadline_.remaining_s();
+      if (remaining_s <= 0.0) {
+        summary_.out_of_time = true;
+        summary_.converged = false;
+        return;
+      }
+      solver_options.max_solver_time_in_seconds = remaining_s;
+    }
     ceres::Solver::Summary solver_summary;
-    ceres::Solve(solver_options_, &problem_, &solver_summary);
+    ceres::Solve(solver_options, &problem_, &solver_summary);
+    if (deadline_.bounded() && deadline_.remaining_s() <= 0.0 &&
+        solver_summary.termination_type != ceres::CONVERGENCE) {
+      summary_.out_of_time = true;
+    }
     ++summary_.solves;
     summary_.iterations +=
         solver_summary.num_successful_steps + solver_summary.num_unsuccessful_steps;
@@ -279,6 +313,7 @@ class IncrementalSolve {
   }
 
   const SolveOptions& options_;
+  const Deadline& deadline_;
   PoseGraph* graph_;
   const PoseOrder schedule_;
   const int pose_count_;
@@ -301,8 +336,9 @@ class IncrementalSolve {
 
 // One schedule from the graph's estimates: `step` poses between solves (the
 // whole graph at once for step >= the pose count).
-SolveSummary RunSchedule(const SolveOptions& options, int step, PoseGraph* graph) {
-  IncrementalSolve solve(options, graph);
+SolveSummary RunSchedule(const SolveOptions& options, const Deadline& deadline, int step,
+                         PoseGraph* graph) {
+  IncrementalSolve solve(options, deadline, graph);
   const int pose_count = solve.pose_count();
   step = step > 0 ? std::min(step, pose_count) : pose_count;
   for (int added = 0; added < pose_count;) {
@@ -324,6 +360,7 @@ void AddWork(const SolveSummary& more, SolveSummary* total) {
   total->solves += more.solves;
   total->converged = total->converged && more.converged;
   total->failed = total->failed || more.failed;
+  total->out_of_time = total->out_of_time || more.out_of_time;
 }
 
 // e^T Omega e of each kept closure.
@@ -367,16 +404,16 @@ PoseGraph ScaledInformation(const PoseGraph& graph, double scale) {
 
 // Max-Mixture: the schedules of kAuto (or the one asked for), then the
 // calibration of the information (pose_graph_solver.h).
-SolveSummary SolveMixture(const SolveOptions& options, PoseGraph* graph) {
+SolveSummary SolveMixture(const SolveOptions& options, const Deadline& deadline, PoseGraph* graph) {
   SolveSummary summary;
   if (options.schedule == Schedule::kIncremental) {
-    summary = RunSchedule(options, options.incremental_step, graph);
+    summary = RunSchedule(options, deadline, options.incremental_step, graph);
     summary.schedule = "incremental";
   } else {
     PoseGraph batch = *graph;
-    summary = RunSchedule(Batch(options), 0, &batch);
+    summary = RunSchedule(Batch(options), deadline, 0, &batch);
     summary.schedule = "batch";
-    if (options.schedule == Schedule::kAuto) {
+    if (options.schedule == Schedule::kAuto && !summary.out_of_time) {
       // The incremental schedule too, with the information sized by the
       // closures batch kept (its gate and thresholds are then the data's),
       // and the two solutions compared in that same model.
@@ -387,7 +424,7 @@ SolveSummary SolveMixture(const SolveOptions& options, PoseGraph* graph) {
         if (kept_scale > 0.0) scale = kept_scale;
       }
       PoseGraph incremental = ScaledInformation(*graph, scale);
-      SolveSummary other = RunSchedule(options, options.incremental_step, &incremental);
+      SolveSummary other = RunSchedule(options, deadline, options.incremental_step, &incremental);
       other.schedule = "incremental";
       PoseGraph batch_scaled = ScaledInformation(batch, scale);
       const bool better = MixtureCost(options, incremental) < MixtureCost(options, batch_scaled);
@@ -409,11 +446,11 @@ SolveSummary SolveMixture(const SolveOptions& options, PoseGraph* graph) {
   // shed can return.
   const PoseGraph uncalibrated = *graph;
   for (const bool median : {true, false}) {
-    for (int round = 0; round < (median ? 8 : 3); ++round) {
+    for (int round = 0; round < (median ? 8 : 3) && !summary.out_of_time; ++round) {
       const double scale = VarianceScale(KeptClosureChi2(*graph, summary.pose_edge_kept), median);
       if (scale == 0.0) break;
       PoseGraph scaled = ScaledInformation(!median && round == 0 ? uncalibrated : *graph, scale);
-      SolveSummary calibrated = RunSchedule(Batch(options), 0, &scaled);
+      SolveSummary calibrated = RunSchedule(Batch(options), deadline, 0, &scaled);
       AddWork(summary, &calibrated);
       calibrated.schedule = summary.schedule;
       calibrated.information_scale = scale;
@@ -459,6 +496,9 @@ std::string ValidateSolveOptions(const SolveOptions& o) {
   if (!(o.function_tolerance > 0.0 && o.function_tolerance < 1.0)) {
     return "function_tolerance must be in (0, 1)";
   }
+  if (!(o.time_budget_s >= 0.0 && o.time_budget_s <= 1e6)) {
+    return "time_budget_s must be in [0, 1e6] (0: none)";
+  }
   return "";
 }
 
@@ -468,10 +508,11 @@ SolveSummary SolvePoseGraph(const SolveOptions& options, PoseGraph* graph) {
   }
   CheckPoseGraph(*graph);
   const auto start = std::chrono::steady_clock::now();
+  const Deadline deadline(options.time_budget_s);
   SolveSummary summary =
       options.robust == RobustKernel::kMaxMixture
-          ? SolveMixture(options, graph)
-          : RunSchedule(options,
+          ? SolveMixture(options, deadline, graph)
+          : RunSchedule(options, deadline,
                         options.schedule == Schedule::kIncremental ? options.incremental_step : 0,
                         graph);
   summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

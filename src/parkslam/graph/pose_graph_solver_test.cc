@@ -1,5 +1,6 @@
 #include "parkslam/graph/pose_graph_solver.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -46,6 +47,29 @@ TEST(PoseGraphSolverTest, ClosuresUndoTheDrift) {
   EXPECT_LT(summary.chi2, 3.0 * edges);
   EXPECT_GT(summary.chi2, 0.5 * (edges - 600.0) * 3.0);
   EXPECT_EQ(summary.rejected, 0);
+}
+
+// A budget that runs out is said, never a partial solve passed off as one;
+// a budget that suffices changes nothing.
+TEST(PoseGraphSolverTest, ATimeBudgetThatRunsOutIsSaid) {
+  const sim::SyntheticGraph problem = Manhattan(600, 1);
+  SolveOptions tight = MaxMixture();
+  tight.time_budget_s = 1e-6;
+  SolveSummary summary;
+  SolvedRmse(tight, problem, &summary);
+  EXPECT_TRUE(summary.out_of_time);
+  EXPECT_FALSE(summary.converged);
+  SolveOptions ample = MaxMixture();
+  ample.time_budget_s = 1e5;
+  SolveSummary bounded, unbounded;
+  const double bounded_rmse = SolvedRmse(ample, problem, &bounded);
+  const double unbounded_rmse = SolvedRmse(MaxMixture(), problem, &unbounded);
+  EXPECT_FALSE(bounded.out_of_time);
+  EXPECT_EQ(bounded_rmse, unbounded_rmse);
+  EXPECT_EQ(bounded.iterations, unbounded.iterations);
+  SolveOptions negative;
+  negative.time_budget_s = -1.0;
+  EXPECT_THAT(ValidateSolveOptions(negative), ::testing::HasSubstr("time_budget_s"));
 }
 
 TEST(PoseGraphSolverTest, MaxMixtureKeepsEveryTrueClosureWithoutOutliers) {
