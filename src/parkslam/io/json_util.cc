@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 
+#include "parkslam/common/convex_polygon.h"
 #include "parkslam/common/plausible_ranges.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/text_util.h"
@@ -380,13 +381,7 @@ void AppendJsonString(std::string* out, std::string_view value) {
 
 void CheckSlotArea(const std::array<Eigen::Vector2d, 4>& corners, const JsonReader& r,
                    const JsonPath& path) {
-  double twice_area = 0.0;
-  for (std::size_t i = 0; i < corners.size(); ++i) {
-    const Eigen::Vector2d& a = corners[i];
-    const Eigen::Vector2d& b = corners[(i + 1) % corners.size()];
-    twice_area += a.x() * b.y() - b.x() * a.y();
-  }
-  const double area_m2 = 0.5 * std::abs(twice_area);
+  const double area_m2 = PolygonArea({corners.begin(), corners.end()});
   if (area_m2 >= kMinSlotArea_m2) return;
   char what[160];
   std::snprintf(what, sizeof what,
