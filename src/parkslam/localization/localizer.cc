@@ -153,61 +153,101 @@ bool Localizer::Update(const Eigen::Matrix<double, N, 1>& innovation,
 
 std::optional<double> Localizer::UpdateSlot(const SlotObservation& obs, LandmarkUse* use) {
   ++use->observed;
-  // The two entrance corners (the corners a detector really sees).
+  // The two entrance corners (the corners a detector really sees), matched
+  // to two corners of a map slot: its entrance (0, 1), or, where no entrance
+  // is near, one of its side lines (1, 2 or 3, 0) when the detector took the
+  // side of a slot seen end-on for the entrance of another (a row's first
+  // slot from the cross aisle: its side line runs between two L corners and
+  // looks like a parallel slot's entrance). Then the same painted corners
+  // are seen, and the pose is measured against them as well.
   const double obs_sigma = std::max(obs.corner_sigma_m, options_.corner_sigma_floor_m);
   const SE2 pose = this->pose();
   const SE2 T_vehicle_map = pose.inverse();
   Eigen::Vector4d z;
   z << obs.corners_vehicle[0], obs.corners_vehicle[1];
-  auto innovation_for = [&](const MapSlot& slot) {
+  struct Pairing {
+    int slot = 0;
+    int a = 0, b = 1;  // the map slot's corners that obs's corners 0 and 1 are
+  };
+  auto innovation_for = [&](const Pairing& p) {
+    const MapSlot& slot = map_.slots[p.slot];
     Eigen::Vector4d h;
-    h << T_vehicle_map * slot.corners_map[0], T_vehicle_map * slot.corners_map[1];
+    h << T_vehicle_map * slot.corners_map[p.a], T_vehicle_map * slot.corners_map[p.b];
     return Eigen::Vector4d(z - h);
   };
-  auto map_variance = [&](const MapSlot& slot, int j) {
-    return Square(std::max(slot.corner_sigma_m[j], options_.map_corner_sigma_floor_m));
+  auto map_variance = [&](const Pairing& p, int corner) {
+    return Square(
+        std::max(map_.slots[p.slot].corner_sigma_m[corner], options_.map_corner_sigma_floor_m));
   };
-  auto model_for = [&](const MapSlot& slot, Eigen::Matrix<double, 4, 3>* H, Eigen::Matrix4d* R) {
+  auto model_for = [&](const Pairing& p, Eigen::Matrix<double, 4, 3>* H, Eigen::Matrix4d* R) {
     H->setZero();
     R->setZero();
     const Eigen::Matrix2d Rt = pose.rotation().transpose();
+    const int corners[2] = {p.a, p.b};
     for (int j = 0; j < 2; ++j) {
       H->block<2, 2>(2 * j, 0) = -Rt;
-      H->block<2, 1>(2 * j, 2) =
-          DRotTransposeDYaw(pose.yaw(), slot.corners_map[j] - pose.translation());
+      H->block<2, 1>(2 * j, 2) = DRotTransposeDYaw(
+          pose.yaw(), map_.slots[p.slot].corners_map[corners[j]] - pose.translation());
       R->block<2, 2>(2 * j, 2 * j) =
-          Eigen::Matrix2d::Identity() * (Square(obs_sigma) + map_variance(slot, j));
+          Eigen::Matrix2d::Identity() * (Square(obs_sigma) + map_variance(p, corners[j]));
     }
   };
+  // How far the pairing's corners are from the observed ones (the larger).
+  auto distance = [&](const Pairing& p) {
+    const Eigen::Vector4d y = innovation_for(p);
+    return std::max(y.head<2>().norm(), y.tail<2>().norm());
+  };
+  auto nearest_first = [&](std::vector<Pairing> pairings) {
+    std::vector<std::pair<double, Pairing>> near;
+    for (const Pairing& p : pairings) {
+      const double d = distance(p);
+      if (d <= options_.nn_radius_m) near.push_back({d, p});
+    }
+    std::stable_sort(near.begin(), near.end(),
+                     [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::vector<Pairing> sorted;
+    for (const auto& [d, p] : near) sorted.push_back(p);
+    return sorted;
+  };
 
-  std::vector<int> candidates;
+  std::vector<Pairing> candidates;
   const std::string id = ConfidentId(obs.id, options_.id_min_confidence);
   const auto by_id = id.empty() ? slot_by_id_.end() : slot_by_id_.find(id);
-  if (by_id != slot_by_id_.end()) candidates.push_back(by_id->second);
+  if (by_id != slot_by_id_.end()) candidates.push_back({by_id->second, 0, 1});
   // Nearest neighbours, best first (also the fall-back for a misread ID).
-  std::vector<std::pair<double, int>> near;
+  std::vector<Pairing> entrances;
   for (int i = 0; i < static_cast<int>(map_.slots.size()); ++i) {
-    const Eigen::Vector4d y = innovation_for(map_.slots[i]);
-    const double d = std::max(y.head<2>().norm(), y.tail<2>().norm());
-    if (d <= options_.nn_radius_m) near.push_back({d, i});
+    if (by_id == slot_by_id_.end() || i != by_id->second) entrances.push_back({i, 0, 1});
   }
-  std::sort(near.begin(), near.end());
-  for (const auto& [d, i] : near) {
-    if (std::find(candidates.begin(), candidates.end(), i) == candidates.end())
-      candidates.push_back(i);
+  for (const Pairing& p : nearest_first(std::move(entrances))) candidates.push_back(p);
+  bool side_line = false;
+  if (candidates.empty()) {
+    // A side line with at least one corner the map saw (a side of two
+    // guessed corners would let a wrong pose pass a gate of 0.4 m sigmas).
+    std::vector<Pairing> sides;
+    for (int i = 0; i < static_cast<int>(map_.slots.size()); ++i) {
+      const MapSlot& slot = map_.slots[i];
+      for (const auto& [a, b] : {std::pair{1, 2}, std::pair{3, 0}}) {
+        if (slot.corner_observed[a] || slot.corner_observed[b]) sides.push_back({i, a, b});
+      }
+    }
+    candidates = nearest_first(std::move(sides));
+    side_line = true;
   }
   if (candidates.empty()) {
     ++use->rejected_no_map_landmark;
     return std::nullopt;
   }
   ++use->associated;
-  for (int i : candidates) {
+  for (const Pairing& p : candidates) {
     Eigen::Matrix<double, 4, 3> H;
     Eigen::Matrix4d R;
-    model_for(map_.slots[i], &H, &R);
-    if (Update<4>(innovation_for(map_.slots[i]), H, R)) {
+    model_for(p, &H, &R);
+    if (Update<4>(innovation_for(p), H, R)) {
       ++use->used;
-      return (map_variance(map_.slots[i], 0) + map_variance(map_.slots[i], 1)) / 2;
+      // A side line anchors the pose on its better-known corner.
+      const double var_a = map_variance(p, p.a), var_b = map_variance(p, p.b);
+      return side_line ? std::min(var_a, var_b) : (var_a + var_b) / 2;
     }
   }
   ++use->rejected_gate;

@@ -253,6 +253,67 @@ TEST(LocalizerTest, WrongIdObservationDoesNotMoveThePose) {
   EXPECT_LT((s->T_map_vehicle.translation() - pose.translation()).norm(), 0.02);
 }
 
+// From a cross aisle the first slot of a row is seen end-on: its side line
+// runs between two L corners and the detector may take it for the entrance
+// of a (parallel) slot. Those are the map slot's own corners, so the pose is
+// measured against them instead of counting a rejection (five of which in a
+// second declared a well-localized car lost on the varied lot).
+TEST(LocalizerTest, ASlotSeenEndOnIsMeasuredOnItsSideLine) {
+  // One slot, entrance 0-1 along y = 0 seen by the mapper; its back corners
+  // guessed at 5.3 m where the paint is at 5.8 m.
+  SemanticMap map;
+  MapSlot slot;
+  slot.id = "1";
+  slot.corners_map = {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(2.5, 0.0),
+                      Eigen::Vector2d(2.5, 5.3), Eigen::Vector2d(0.0, 5.3)};
+  slot.corner_observed = {true, true, false, false};
+  slot.corner_sigma_m = {0.02, 0.02, 0.4, 0.4};
+  map.slots.push_back(slot);
+  const Fixture& f = Default();
+  Localizer localizer(
+      map, LocalizerOptions{},
+      odometry::EkfOptionsFromSpec(f.scenario.sensors.odometry, f.scenario.vehicle));
+  // Driving south in the cross aisle, 4 m west of the slot.
+  const SE2 pose(-4.0, 3.0, -0.5 * M_PI);
+  localizer.SetPose(pose, Covariance(0.05, 0.01));
+  const SE2 T_vehicle_map = pose.inverse();
+  const Eigen::Vector2d back_west(0.0, 5.8), front_west(0.0, 0.0);
+  SlotObservation side;
+  // The side line as the entrance (north end first: the slot's corners 3, 0
+  // in the map's order), the rest guessed into the slot.
+  side.corners_vehicle = {T_vehicle_map * back_west, T_vehicle_map * front_west,
+                          T_vehicle_map * Eigen::Vector2d(2.5, 0.0),
+                          T_vehicle_map * Eigen::Vector2d(2.5, 5.8)};
+  side.corner_sigma_m = 0.03;
+  for (TimeNs t = 0; t <= 10; ++t) localizer.Process(ImuSample{t * 10'000'000, 0.0, 0.0});
+  const auto e = localizer.Process(SlotObservationFrame{100'000'000, {side}});
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->slots.used, 1);
+  EXPECT_EQ(e->slots.rejected(), 0);
+  // The seen corner holds the pose; the guessed one, 0.5 m off, barely moves it.
+  EXPECT_LT((e->T_map_vehicle.translation() - pose.translation()).norm(), 0.03);
+  EXPECT_LT(std::abs(NormalizeAngle(e->T_map_vehicle.yaw() - pose.yaw())), 0.01);
+
+  // The same sight from a pose 0.5 m off is not the slot's side: the seen
+  // corner is many sigmas away, and the gate refuses it.
+  SlotObservation shifted = side;
+  for (auto& c : shifted.corners_vehicle) c += Eigen::Vector2d(0.5, 0.0);
+  const auto s = localizer.Process(SlotObservationFrame{200'000'000, {shifted}});
+  EXPECT_EQ(s->slots.associated, 1);
+  EXPECT_EQ(s->slots.rejected_gate, 1);
+  EXPECT_LT((s->T_map_vehicle.translation() - pose.translation()).norm(), 0.03);
+
+  // The back line joins two guessed corners: too loose to stand for a
+  // landmark, so it names none.
+  SlotObservation back;
+  back.corners_vehicle = {
+      T_vehicle_map * Eigen::Vector2d(2.5, 5.3), T_vehicle_map * Eigen::Vector2d(0.0, 5.3),
+      T_vehicle_map * Eigen::Vector2d(0.0, 7.8), T_vehicle_map * Eigen::Vector2d(2.5, 7.8)};
+  const auto b = localizer.Process(SlotObservationFrame{300'000'000, {back}});
+  EXPECT_EQ(b->slots.rejected_no_map_landmark, 1);
+  EXPECT_EQ(b->slots.associated, 0);
+}
+
 TEST(LocalizerTest, InvalidOptionsThrow) {
   LocalizerOptions o;
   o.gate_probability = 1.5;
