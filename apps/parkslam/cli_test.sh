@@ -42,6 +42,22 @@ expect nonzero "bad.yaml.*world.hall_size" -- "$PARKSLAM" simulate --world "$tmp
 expect nonzero "sensors.ids.nope" -- "$PARKSLAM" simulate --set sensors.ids.nope=1 --out "$tmp/x"
 expect nonzero "confusion" -- "$PARKSLAM" simulate --id-confusion-rate 1.5 --out "$tmp/x"
 expect 0 "confusion_rate: 0.25" -- "$PARKSLAM" simulate --id-confusion-rate 0.25 --dump-config
+# An empty value is refused by name, whatever the option.
+expect nonzero "^--out: an empty value" -- "$PARKSLAM" simulate --out ''
+expect nonzero "^--init: an empty value" -- "$PARKSLAM" odometry "$tmp/none" --out "$tmp/o.tum" --init ''
+expect nonzero "^parkslam: error: --look: 'nan' is neither a look" -- "$PARKSLAM" simulate --look nan --out "$tmp/x"
+[ ! -e "$tmp/x" ] && pass || fail "a refused simulate left $tmp/x"
+# Interrupted while rendering: nothing at --out, no staging folder beside it.
+"$PARKSLAM" simulate --images --image-rate-hz 5 --out "$tmp/int" >/dev/null 2>"$tmp/sigint.err" &
+sim_pid=$!
+sleep 3
+kill -INT $sim_pid
+wait $sim_pid
+rc=$?
+[ $rc -eq 130 ] && grep -q "interrupted (signal 2): nothing was written to --out" "$tmp/sigint.err" &&
+  pass || fail "interrupted simulate: exit $rc, $(cat "$tmp/sigint.err")"
+[ -z "$(ls -A "$tmp" | grep -E '^int($|\.tmp)')" ] && pass ||
+  fail "interrupted simulate left $(ls -A "$tmp" | grep '^int')"
 
 # A short drive: approach only.
 expect 0 "written to" -- "$PARKSLAM" simulate --seed 3 --set route.laps=0 --out "$tmp/d"
@@ -269,6 +285,9 @@ expect nonzero "typo.yaml:2: localizer.nn_radius: unknown key \(did you mean 'nn
 [ ! -e "$tmp/t.tum" ] && pass || fail "localize wrote an output despite a bad --config"
 
 # make-graph and solve-graph: a ring with outliers, solved plainly and with Max-Mixture.
+expect nonzero "would give the graph 1000[0-9]* edges; solve-graph takes at most 200000" -- \
+  "$PARKSLAM" make-graph --poses 100 --outliers 1000000 --out "$tmp/huge.g2o"
+[ ! -e "$tmp/huge.g2o" ] && pass || fail "make-graph wrote a graph over the limit"
 expect 0 "300 poses.*20 random" -- "$PARKSLAM" make-graph --world ring --poses 300 --outliers 20 \
   --seed 4 --out "$tmp/ring.g2o" --truth "$tmp/ring_truth.g2o"
 expect 0 "Max-Mixture: 2[0-9] of" -- "$PARKSLAM" solve-graph "$tmp/ring.g2o" --robust maxmix \

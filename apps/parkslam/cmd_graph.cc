@@ -327,6 +327,18 @@ void AddMakeGraphCommand(CLI::App& app) {
     if (!options->truth.empty()) outputs.push_back({options->truth, "--truth"});
     io::CheckOutputsSpareInputs(outputs, inputs);
     sim::SyntheticGraph made = MadeOrBaseGraph(*options);
+    // A graph solve-graph would refuse is not written at all.
+    const double edges = static_cast<double>(made.graph.pose_edges.size()) +
+                         options->random_outliers + options->local_outliers +
+                         static_cast<double>(options->groups) * options->group_size;
+    if (edges > static_cast<double>(io::kMaxG2oEdges)) {
+      std::string message = "--outliers, --local and --groups x --group-size would give the graph ";
+      message.append(std::to_string(static_cast<long long>(edges)))
+          .append(" edges; solve-graph takes at most ")
+          .append(std::to_string(io::kMaxG2oEdges))
+          .append(" (docs/plausible_ranges.md, \"Input sizes\")");
+      throw std::invalid_argument(message);
+    }
     Random random = Random::Derive(options->seed, 0x6f75746c69657273ULL);
     const int random_added = sim::AddRandomOutliers(options->random_outliers, &random, &made.graph);
     const int local_added = sim::AddLocalOutliers(options->local_outliers, options->local_window,

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "interruption.h"
 #include "parkslam/camera/camera_names.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/output_guard.h"
@@ -49,6 +50,7 @@ void WriteImages(const std::filesystem::path& dir, const io::Dataset& dataset, d
       index += std::to_string(t) + "," + names[c] + "," + file + "\n";
     }
     progress.Update(++frame);
+    InterruptionScope::ThrowIfInterrupted("nothing was written to --out");
   }
   progress.Finish();
   io::WriteFileAtomically(dir / "images" / "rig.yaml", io::RigToYaml(rig));
@@ -104,14 +106,25 @@ void AddSimulateCommand(CLI::App& app) {
     }
     if (options->out.empty()) throw CLI::RequiredError("--out");
     io::CheckOutputsSpareInputs({{options->out, "--out"}}, ScenarioFiles(options->scenario));
-    PrepareDatasetFolder(options->out, options->force);
+    const bool replaces = CheckDatasetFolder(options->out, options->force);
+    // As import-rosbag: the dataset is written into a staging folder beside
+    // --out and moved there once whole, so that an interrupted or failed run
+    // leaves --out as it was (a killed one leaves the staging folder, which
+    // the next run's sweep removes).
+    std::filesystem::path target(options->out);
+    if (!target.has_filename()) target = target.parent_path();
+    if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
+    io::TemporaryFile staging(target, io::TemporaryFile::Kind::kFolder);
+    const InterruptionScope interruption;
     const auto start = std::chrono::steady_clock::now();
     const io::Dataset dataset = SimulateDataset(scenario, options->seed);
     const auto simulated = std::chrono::steady_clock::now();
-    // dataset.yaml last (docs/dataset_format.md): a run killed before the
-    // end leaves a folder that reads as incomplete.
-    if (options->images) WriteImages(options->out, dataset, options->image_rate_hz);
-    io::WriteDataset(options->out, dataset);
+    std::filesystem::create_directories(staging.path());
+    if (options->images) WriteImages(staging.path(), dataset, options->image_rate_hz);
+    io::WriteDataset(staging.path(), dataset);
+    InterruptionScope::ThrowIfInterrupted("nothing was written to --out");
+    if (replaces) ClearDatasetFolder(options->out);
+    staging.Commit();
     const auto written = std::chrono::steady_clock::now();
     std::printf("%s\n", DescribeDataset(dataset).c_str());
     std::printf("simulated in %.2f s, written to %s in %.2f s\n",

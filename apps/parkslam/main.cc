@@ -29,8 +29,20 @@ void RefuseNonFiniteNumbers(CLI::App* app) {
         return "";
       },
       "");
+  // An empty value (`--out ''`, `--init ''`) is a slip of the shell, never a
+  // choice: it would reach the command as "no file" or "the default".
+  const CLI::Validator not_empty(
+      [](std::string& text) -> std::string {
+        return text.empty() ? "an empty value is not one (give the value, or leave the option "
+                              "out)"
+                            : "";
+      },
+      "");
   for (CLI::Option* option : app->get_options()) {
     if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(finite);
+    if (!option->get_type_name().empty() && option->get_type_name() != "BOOLEAN") {
+      option->check(not_empty);
+    }
   }
   for (CLI::App* command : app->get_subcommands([](CLI::App*) { return true; })) {
     RefuseNonFiniteNumbers(command);

@@ -1,9 +1,11 @@
+#include <algorithm>
 #include <iostream>
 #include <stdexcept>
 
 #include "commands.h"
 #include "parkslam/io/options_yaml.h"
 #include "parkslam/io/scenario_yaml.h"
+#include "parkslam/io/text_util.h"
 #include "parkslam/io/world_plan_yaml.h"
 #include "parkslam/options/option_ranges.h"
 
@@ -74,7 +76,15 @@ sim::ScenarioConfig ResolveScenario(const ScenarioOptions& options) {
       scenario.world.look = "seed";
       scenario.world.look_seed = std::stoi(options.look);
     } else {
-      scenario.world.look = options.look;  // checked with the scenario below
+      const std::vector<std::string>& names = sim::LookNames();
+      if (std::find(names.begin(), names.end(), options.look) == names.end()) {
+        std::string message = "--look: ";
+        message.append(io::text::Quoted(options.look)).append(" is neither a look (");
+        for (size_t i = 0; i < names.size(); ++i) message.append(i ? ", " : "").append(names[i]);
+        message.append(") nor a seed of at most 9 digits");
+        throw std::invalid_argument(message);
+      }
+      scenario.world.look = options.look;
     }
   }
   for (const std::string& assignment : options.overrides) {

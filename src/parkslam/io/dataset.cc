@@ -863,6 +863,14 @@ std::vector<TagObservationFrame> ReadTagFrames(const fs::path& dir) {
 
 }  // namespace
 
+namespace {
+StreamSummary Summarize(const std::string& name, std::vector<TimeNs> t_ns);
+template <typename Samples>
+std::vector<TimeNs> Times(const Samples& samples);
+std::vector<std::string> StreamsApart(const fs::path& dir,
+                                      const std::vector<StreamSummary>& streams);
+}  // namespace
+
 Dataset ReadDataset(const fs::path& dir) {
   const YAML::Node root = LoadManifest(dir);
   const std::string source = (dir / kDatasetManifestFile).string();
@@ -876,6 +884,16 @@ Dataset ReadDataset(const fs::path& dir) {
   log.imu_samples = ReadImuSamples(dir);
   log.slot_frames = ReadSlotFrames(dir);
   log.tag_frames = ReadTagFrames(dir);
+  // As check-dataset: a stream that starts or ends far from the others (a
+  // clock jumped by years) would have the dead reckoning step across the
+  // gap, for ever.
+  const std::vector<std::string> apart =
+      StreamsApart(dir, {Summarize(kWheelSpeedFile, Times(log.wheel_speeds)),
+                         Summarize(kSteeringFile, Times(log.steering_angles)),
+                         Summarize(kImuFile, Times(log.imu_samples)),
+                         Summarize(kSlotsFile, Times(log.slot_frames)),
+                         Summarize(kTagsFile, Times(log.tag_frames))});
+  if (!apart.empty()) throw std::runtime_error(apart.front());
 
   const YAML::Node c = root["counts"];
   CheckCount(r, c["wheel_speed"], "counts.wheel_speed", counts.wheel_speed, log.wheel_speeds.size(),
@@ -1031,20 +1049,22 @@ void CheckGroundTruth(const fs::path& dir, const std::optional<Counts>& counts,
 // The streams of one drive start and end together: one that runs on for an
 // hour after the others (or starts long before) is two recordings, or a
 // clock that jumped, and would leave the car dead reckoning on one sensor.
-void CheckStreamsEndTogether(const fs::path& dir, DatasetCheck* check) {
+std::vector<std::string> StreamsApart(const fs::path& dir,
+                                      const std::vector<StreamSummary>& streams) {
+  std::vector<std::string> errors;
   std::vector<double> firsts, lasts;
-  for (const StreamSummary& s : check->streams) {
+  for (const StreamSummary& s : streams) {
     if (s.count == 0) continue;
     firsts.push_back(s.first_s);
     lasts.push_back(s.last_s);
   }
-  if (firsts.size() < 2) return;
+  if (firsts.size() < 2) return errors;
   const auto median = [](std::vector<double> v) {
     std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
     return v[v.size() / 2];
   };
   const double first_s = median(firsts), last_s = median(lasts);
-  for (const StreamSummary& s : check->streams) {
+  for (const StreamSummary& s : streams) {
     if (s.count == 0) continue;
     const double early_s = first_s - s.first_s, late_s = s.last_s - last_s;
     if (early_s <= kMaxStreamSkew_s && late_s <= kMaxStreamSkew_s) continue;
@@ -1054,8 +1074,9 @@ void CheckStreamsEndTogether(const fs::path& dir, DatasetCheck* check) {
                   "%.3f s (the streams of one drive start and end within %.0f s of each other)",
                   (dir / s.name).string().c_str(), s.first_s, s.last_s, first_s, last_s,
                   kMaxStreamSkew_s);
-    check->errors.push_back(line);
+    errors.push_back(line);
   }
+  return errors;
 }
 
 }  // namespace
@@ -1102,7 +1123,7 @@ DatasetCheck CheckDataset(const fs::path& dir, double max_gap_s) {
   if (fs::exists(dir / "images", error)) CheckImages(dir, &check);
 
   CheckGroundTruth(dir, counts, log, slots, &check);
-  CheckStreamsEndTogether(dir, &check);
+  for (std::string& e : StreamsApart(dir, check.streams)) check.errors.push_back(std::move(e));
 
   for (const StreamSummary& s : check.streams) {
     // A stream slower than the limit (images at 0.5 Hz, say) is judged by

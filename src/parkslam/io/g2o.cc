@@ -298,6 +298,14 @@ graph::PoseGraph ParseG2o(std::string_view content, const std::string& source_na
                      " (docs/plausible_ranges.md, \"Input sizes\": memory and time grow faster "
                      "than the graph)");
   }
+  const std::size_t edges = p.graph.pose_edges.size() + p.graph.point_edges.size();
+  if (edges > kMaxG2oEdges) {
+    std::string message = std::to_string(edges);
+    message.append(" edges; solve-graph takes at most ")
+        .append(std::to_string(kMaxG2oEdges))
+        .append(" (docs/plausible_ranges.md, \"Input sizes\")");
+    ThrowIoError(source_name, 0, "", message);
+  }
   ResolveReferences(source_name, &p);
   if (p.graph.poses.empty()) ThrowIoError(source_name, 0, "", "no VERTEX_SE2");
   return std::move(p.graph);

@@ -39,6 +39,11 @@ namespace parkslam::io {
 // 245 MB on two cores; one of 50,000 took over 5 minutes, 100,000 over 13
 // minutes and 5 GB.
 inline constexpr std::size_t kMaxG2oPoses = 20'000;
+// The most edges (pose and point edges together): ten a pose at the pose
+// limit. Two million took over 2.4 GB before a Max-Mixture solve of them
+// had done; the standard sets have at most 6,453 (M3500 with its 1,000
+// outliers).
+inline constexpr std::size_t kMaxG2oEdges = 200'000;
 graph::PoseGraph ParseG2o(std::string_view text, const std::string& source_name);
 graph::PoseGraph ReadG2o(const std::filesystem::path& path);
 

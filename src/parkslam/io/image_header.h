@@ -19,8 +19,8 @@ cv::Size ImageSizeFromHeader(std::string_view bytes, std::string_view source);
 
 // Reads the header of `path` and throws IoError naming the file when the
 // image is larger than the largest any command decodes, kMaxImageSide_px a
-// side and kMaxImagePixels (common/plausible_ranges.h), or its header
-// cannot be read.
+// side and kMaxImagePixels (common/plausible_ranges.h), its header cannot
+// be read, or it is cut short (CheckImageEnds).
 void CheckImageSize(const std::filesystem::path& path);
 
 // Throws IoError naming the file when a JPEG or PNG is cut short: a JPEG

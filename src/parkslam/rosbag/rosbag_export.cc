@@ -12,6 +12,7 @@
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/dataset.h"
 #include "parkslam/io/image_folder.h"
+#include "parkslam/io/image_header.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/yaml_util.h"
 #include "parkslam/rosbag/ros1_writer.h"
@@ -56,6 +57,7 @@ void ExportRosbag(const fs::path& dataset_dir, const fs::path& bag_path,
       bag->write("/imu/data", RosTime(t), Imu(t, s.heading_rad, s.yaw_rate_radps));
     }
     for (const io::ImageIndexEntry& e : images) {
+      io::CheckImageEnds(dataset_dir / e.file);  // a cut image is not passed on
       const std::string bytes = io::ReadTextFile(dataset_dir / e.file, io::kMaxImageBytes);
       const std::int64_t t = kEpoch_ns + e.t_ns;
       const bool png = fs::path(e.file).extension() == ".png";

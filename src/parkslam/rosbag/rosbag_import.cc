@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
@@ -417,6 +418,9 @@ ImportSummary ImportRosbag(const fs::path& bag_path, const TopicsConfig& topics,
       ThrowIoError(topics.rig.string(), 0, "", "no camera '" + name + "' (topics.yaml has it)");
     }
   }
+  // A FIFO or device in place of the bag would block the reader or never
+  // end; a bag may be any size.
+  io::CheckInputFile(bag_path, std::numeric_limits<std::uintmax_t>::max());
   rosbag::Bag bag;
   try {
     bag.open(bag_name, rosbag::bagmode::Read);
