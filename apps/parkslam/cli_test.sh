@@ -58,6 +58,16 @@ rc=$?
   pass || fail "interrupted simulate: exit $rc, $(cat "$tmp/sigint.err")"
 [ -z "$(ls -A "$tmp" | grep -E '^int($|\.tmp)')" ] && pass ||
   fail "interrupted simulate left $(ls -A "$tmp" | grep '^int')"
+"$PARKSLAM" demo --observations --consistency-runs 0 --follow-runs 0 --perception-frames 0 \
+  --out "$tmp/intdemo" >/dev/null 2>"$tmp/sigint.err" &
+sim_pid=$!
+sleep 2
+kill -TERM $sim_pid
+wait $sim_pid
+rc=$?
+[ $rc -eq 143 ] && grep -q "interrupted (signal 15): --out is as it was" "$tmp/sigint.err" &&
+  [ -z "$(ls -A "$tmp" | grep -E '^intdemo')" ] && pass ||
+  fail "interrupted demo: exit $rc, $(tail -1 "$tmp/sigint.err"), left $(ls -A "$tmp" | grep '^intdemo')"
 
 # A short drive: approach only.
 expect 0 "written to" -- "$PARKSLAM" simulate --seed 3 --set route.laps=0 --out "$tmp/d"

@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "detection_scoring.h"
+#include "interruption.h"
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/harness/odometry_consistency.h"
 #include "parkslam/harness/trace_following.h"
@@ -336,7 +337,39 @@ void PrintSummary(const Options& o, const Evaluation& e) {
       std::filesystem::path(o.out).string().c_str());
 }
 
-void Run(const Options& o) {
+// Moves every entry of the finished staging folder into --out, each in one
+// rename, replacing an entry of the same name (a former demo's output) and
+// leaving everything else in --out as it was.
+void MoveInto(const std::filesystem::path& staging, const std::filesystem::path& out) {
+  namespace fs = std::filesystem;
+  fs::create_directories(out);
+  for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
+    const fs::path destination = out / entry.path().filename();
+    std::error_code ec;
+    if (fs::is_directory(destination, ec) && !fs::is_symlink(destination, ec)) {
+      fs::remove_all(destination);
+    }
+    fs::rename(entry.path(), destination);
+  }
+}
+
+void Run(const Options& given) {
+  // Written into a staging folder beside --out and moved in once whole: an
+  // interrupted or failed demo leaves --out as it was (a killed one leaves
+  // the staging folder, which the next run's sweep removes).
+  std::filesystem::path target(given.out);
+  if (!target.has_filename()) target = target.parent_path();
+  std::error_code ec;
+  if (std::filesystem::exists(target, ec) && !std::filesystem::is_directory(target, ec)) {
+    throw std::runtime_error("--out " + given.out + ": a file, not a folder");
+  }
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
+  io::TemporaryFile staging(target, io::TemporaryFile::Kind::kFolder);
+  Options o = given;
+  o.out = staging.path().string();
+  std::filesystem::create_directories(o.out);
+  const InterruptionScope interruption;
+  const auto checkpoint = [] { InterruptionScope::ThrowIfInterrupted("--out is as it was"); };
   const std::filesystem::path out = o.out;
   const bool on_pixels = !o.observations && o.live_images_hz > 0.0;
   const harness::FrameSource frames =
@@ -351,6 +384,7 @@ void Run(const Options& o) {
                     !o.no_report - 1;
   int step = 0;
   auto header = [&](const std::string& what) {
+    checkpoint();
     std::fprintf(stderr, "[%d/%d] %s\n", ++step, steps, what.c_str());
   };
 
@@ -409,7 +443,9 @@ void Run(const Options& o) {
     header("writing the report");
     WriteReport(out, {}, out / "report.html");
   }
-  PrintSummary(o, evaluation);
+  checkpoint();
+  MoveInto(out, given.out);
+  PrintSummary(given, evaluation);
 }
 
 }  // namespace demo_command

@@ -12,12 +12,14 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 
 #include "commands.h"
 #include "image_files.h"
+#include "interruption.h"
 #include "parkslam/camera/camera_model.h"
 #include "parkslam/common/seed_mix.h"
 #include "parkslam/io/atomic_file.h"
@@ -82,9 +84,10 @@ io::Ps2Labels ToPs2(const scene::TopViewLabels& labels) {
   return ps2;
 }
 
-// --kind checked and the --out folder made: refused when it is a file, or
-// a folder that is not empty unless --force.
-void PrepareOutput(const Options& o) {
+// --kind and --out checked: refused when --out is a file, or a folder that
+// is not empty unless --force. True when --force writes into a folder that
+// holds files already (in place: they are kept beside the new ones).
+bool CheckOutput(const Options& o) {
   namespace fs = std::filesystem;
   if (o.kind != "top-view" && o.kind != "ids") {
     throw std::invalid_argument("--kind: expected top-view or ids, got '" + o.kind + "'");
@@ -94,11 +97,11 @@ void PrepareOutput(const Options& o) {
   if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
     throw std::runtime_error(o.out + ": exists and is not a folder");
   }
-  if (fs::is_directory(out, ec) && !fs::is_empty(out, ec) && !o.force) {
+  const bool holds_files = fs::is_directory(out, ec) && !fs::is_empty(out, ec);
+  if (holds_files && !o.force) {
     throw std::runtime_error(o.out + ": the folder is not empty (pass --force to write into it)");
   }
-  fs::create_directories(out, ec);
-  if (ec) throw std::runtime_error(o.out + ": cannot create the folder: " + ec.message());
+  return holds_files;
 }
 
 // The floor's fonts under --fonts (none: OpenCV's stroke fonts, with a word).
@@ -183,9 +186,30 @@ void WriteManifest(const Options& o, const std::vector<std::filesystem::path>& f
   io::WriteFileAtomically(std::filesystem::path(o.out) / "manifest.json", manifest.dump(2) + "\n");
 }
 
-void Run(const Options& o) {
+void Run(const Options& given) {
   namespace fs = std::filesystem;
-  PrepareOutput(o);
+  const bool in_place = CheckOutput(given);
+  // A new or empty --out is written as a staging folder beside it and moved
+  // there once whole: an interrupted or failed run leaves nothing (a killed
+  // one leaves the staging folder, which the next run's sweep removes).
+  // --force into a folder with files writes in place, beside them.
+  Options o = given;
+  fs::path target(given.out);
+  if (!target.has_filename()) target = target.parent_path();
+  std::optional<io::TemporaryFile> staging;
+  std::error_code ec;
+  if (in_place) {
+    fs::create_directories(target, ec);
+  } else {
+    if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
+    if (!ec) {
+      staging.emplace(target, io::TemporaryFile::Kind::kFolder);
+      o.out = staging->path().string();
+      fs::create_directories(o.out, ec);
+    }
+  }
+  if (ec) throw std::runtime_error(given.out + ": cannot create the folder: " + ec.message());
+  const InterruptionScope interruption;
   const fs::path out = o.out;
   const std::vector<fs::path> fonts = FloorFonts(o);
   // The workers are the parallelism: OpenCV's own threads would only contend.
@@ -219,6 +243,7 @@ void Run(const Options& o) {
     request.fisheyes = o.fisheyes;
     try {
       for (int i = next++; i < o.count; i = next++) {
+        InterruptionScope::ThrowIfInterrupted("nothing was written to --out");
         WriteScene(o, renderer, &book, request, i, &counts);
         const int finished = ++done;
         if (finished % 4 == 0 || finished == o.count) {
@@ -235,6 +260,9 @@ void Run(const Options& o) {
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t) pool.emplace_back(work);
   for (std::thread& t : pool) t.join();
+  // In this thread, so that main() sees the signal (exit 128 + it).
+  InterruptionScope::ThrowIfInterrupted(in_place ? "--out holds the scenes written so far"
+                                                 : "nothing was written to --out");
   if (!error.empty()) throw std::runtime_error(error);
   progress.Finish();
   const double seconds =
@@ -255,6 +283,7 @@ void Run(const Options& o) {
     io::WriteFileAtomically(out / "ids" / "labels.csv", csv.str());
   }
   WriteManifest(o, fonts, marks, slots, id_count);
+  if (staging) staging->Commit();
   std::printf(
       "%d %s in %.1f s on %d threads: %.1f images/s, %.1f per thread (setup %.1f s); %d marking "
       "points, %d slots, %d ID crops\n",

@@ -1,6 +1,7 @@
 #include "interruption.h"
 
 #include <signal.h>
+#include <unistd.h>
 
 #include <array>
 #include <atomic>
@@ -17,7 +18,12 @@ extern "C" void NoteSignal(int signal_number) {
     // The second one: end now, as the default action would.
     ::signal(signal_number, SIG_DFL);
     ::raise(signal_number);
+    return;
   }
+  // write(2) is safe in a handler; a step may take a while to reach its end.
+  static constexpr char kNote[] =
+      "\nparkslam: stopping at the end of this step (a second signal stops at once)\n";
+  [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, kNote, sizeof(kNote) - 1);
 }
 
 }  // namespace
