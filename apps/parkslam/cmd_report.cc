@@ -17,6 +17,7 @@
 #include "parkslam/eval/map_metrics.h"
 #include "parkslam/io/atomic_file.h"
 #include "parkslam/io/dataset.h"
+#include "parkslam/io/image_header.h"
 #include "parkslam/io/io_error.h"
 #include "parkslam/io/json_util.h"
 #include "parkslam/io/map_json.h"
@@ -299,9 +300,10 @@ void CheckLocalizationRow(const io::NumericTable& log, std::size_t k, const fs::
     bounded(name, kMaxCoordinate_m * kMaxAngle_rad, "m rad");
   }
   in_range("state", 0, 2, "");
-  for (const char* name : {"slots_seen", "slots_used", "tags_seen", "tags_used", "relocalized"}) {
+  for (const char* name : {"slots_seen", "slots_used", "tags_seen", "tags_used"}) {
     in_range(name, 0, 1e6, "");
   }
+  in_range("relocalized", 0, 1, "");
 }
 
 // The log's series for the plots (rounded), from localization.csv.
@@ -473,6 +475,18 @@ void AddFollow(const fs::path& follow_dir, const std::string& key_prefix, Loaded
   const fs::path path = follow_dir / "lateral.csv";
   if (!fs::exists(path)) return;
   const io::NumericTable t = io::ReadNumericCsv(path, {"s_m"}, true);
+  for (size_t k = 0; k < t.rows.size(); ++k) {
+    const int line = static_cast<int>(k) + 2;
+    if (k > 0 && !(t.rows[k][0] > t.rows[k - 1][0])) {
+      io::ThrowIoError(path.string(), line, "s_m", "not increasing (stations run along the trace)");
+    }
+    for (size_t c = 0; c < t.columns.size(); ++c) {
+      if (std::abs(t.rows[k][c]) > kMaxCoordinate_m) {
+        io::ThrowIoError(path.string(), line, t.columns[c],
+                         io::text::BeyondPlausible(t.rows[k][c], kMaxCoordinate_m, "m"));
+      }
+    }
+  }
   nlohmann::json follow = {{"s", nlohmann::json::array()}, {"runs", nlohmann::json::array()}};
   for (const std::vector<double>& row : t.rows) follow["s"].push_back(row[0]);
   for (size_t c = 1; c < t.columns.size(); ++c) {
@@ -560,6 +574,7 @@ void AddPerception(const fs::path& dir, Loaded* r) {
     const std::string at = where + ".pictures[" + std::to_string(i) + "]";
     const fs::path file = dir / ValueOf(picture, "file", std::string(), at);
     if (!fs::is_regular_file(file)) continue;
+    io::CheckImageSize(file);  // a cut or absurdly large picture is refused, named
     char caption[400];
     std::snprintf(caption, sizeof caption, "%s (t = %.0f s: %d slots right, %d false, %d missed)",
                   ValueOf(picture, "caption", std::string(), at).c_str(),

@@ -152,6 +152,16 @@ TEST_F(ReportTest, AbsurdRunFilesAreRefusedNamingLineAndField) {
               ::testing::HasSubstr("absurd/metrics.json: perception.images: expected a number"));
   EXPECT_THAT(error_of("metrics.json", "{\"dataset\": 7}"),
               ::testing::HasSubstr("absurd/metrics.json: dataset: expected text"));
+  // An independent probe: a flag of 2.5, trace-following offsets of 1e308 and
+  // stations out of order.
+  EXPECT_THAT(error_of("localization.csv", edited("relocalized", "2.5")),
+              ::testing::HasSubstr("absurd/localization.csv:2: relocalized: 2.5 is outside the "
+                                   "plausible range [0, 1]"));
+  EXPECT_THAT(error_of("lateral.csv", "s_m,run_00_m\n0,0.01\n0.5,1e308\n"),
+              ::testing::HasSubstr("absurd/lateral.csv:3: run_00_m: 1e+308 is beyond the "
+                                   "plausible 100000 m"));
+  EXPECT_THAT(error_of("lateral.csv", "s_m,run_00_m\n0.5,0.01\n0,0.02\n"),
+              ::testing::HasSubstr("absurd/lateral.csv:3: s_m: not increasing"));
 }
 
 // Pixels of a colour (within a tolerance) inside a rectangle of the screenshot.

@@ -379,6 +379,12 @@ double Probability(const Json& j, const JsonReader& r, const JsonPath& path) {
 
 SlotIdReading ParseSlotId(const Json& j, const JsonReader& r, const JsonPath& path) {
   r.ExpectArray(j, path);
+  // Painted IDs have a few digits (the lots here 2-3, real ones up to 4).
+  constexpr std::size_t kMaxIdDigits = 8;
+  if (j.size() > kMaxIdDigits) {
+    r.Fail(path, std::to_string(j.size()) + " digits; a painted ID has at most " +
+                     std::to_string(kMaxIdDigits));
+  }
   SlotIdReading id;
   id.digits.resize(j.size());
   for (std::size_t d = 0; d < j.size(); ++d) {
@@ -396,6 +402,11 @@ SlotIdReading ParseSlotId(const Json& j, const JsonReader& r, const JsonPath& pa
         r.Fail(text_path, "expected one digit 0-9, got '" + text + "'");
       }
       id.digits[d].hypotheses.push_back({text[0], Probability(hypothesis[1], r, probability_path)});
+    }
+    double total = 0.0;
+    for (const auto& h : id.digits[d].hypotheses) total += h.probability;
+    if (total > 1.0 + 1e-6) {
+      r.Fail(digit_path, "its probabilities add up to " + std::to_string(total) + ", more than 1");
     }
   }
   return id;

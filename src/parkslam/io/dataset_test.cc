@@ -461,6 +461,15 @@ TEST(DatasetTest, ImplausibleObservationsAreRefused) {
   // Issue: "observations with an ID digit x, tag id -1, zero-area slots".
   EXPECT_THAT(ErrorReadingEdited(slots, "[\"3\",0.8]", "[\"x\",0.8]"),
               HasSubstr(slots + ":1: slots[0].id[0][0][0]: expected one digit 0-9, got 'x'"));
+  // An independent probe: an ID of 100 unread digits, and one digit's readings
+  // adding up to 2.7.
+  std::string hundred = "[[]";
+  for (int d = 1; d < 100; ++d) hundred += ",[]";
+  hundred += "]";
+  EXPECT_THAT(ErrorReadingEdited(slots, "[[[\"3\",0.8],[\"8\",0.15]],[[\"9\",0.9]]]", hundred),
+              HasSubstr(slots + ":1: slots[0].id: 100 digits; a painted ID has at most 8"));
+  EXPECT_THAT(ErrorReadingEdited(slots, "[\"8\",0.15]", "[\"8\",0.9]"),
+              HasSubstr(slots + ":1: slots[0].id[0]: its probabilities add up to 1.700000"));
   EXPECT_THAT(ErrorReadingEdited(tags, "\"id\":7,", "\"id\":-1,"),
               HasSubstr(tags + ":1: tags[0].id: must be a tag36h11 ID in [0, 586], got -1"));
   EXPECT_THAT(ErrorReadingEdited(tags, "\"id\":7,", "\"id\":587,"),

@@ -121,6 +121,17 @@ MapSlot ReadSlot(const Json& j, const JsonReader& r, const JsonPath& path) {
                  {"last_confirmed"});
   MapSlot slot;
   slot.id = r.String(j["id"], path.Key("id"));
+  // An ID as painted ("38", "B105") or temporary ("t12"): short, printable.
+  constexpr std::size_t kMaxIdLength = 16;
+  if (slot.id.size() > kMaxIdLength) {
+    r.Fail(path.Key("id"), std::to_string(slot.id.size()) + " characters; an ID has at most " +
+                               std::to_string(kMaxIdLength));
+  }
+  for (const char c : slot.id) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      r.Fail(path.Key("id"), "holds a control character");
+    }
+  }
   slot.temporary = r.Bool(j["temporary"], path.Key("temporary"));
   slot.id_legible = r.Bool(j["id_legible"], path.Key("id_legible"));
   const JsonPath kind_path = path.Key("kind");

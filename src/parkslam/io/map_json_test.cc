@@ -237,6 +237,19 @@ TEST(MapJsonTest, RejectsADuplicateTagIdAndOneOutsideTheFamily) {
             "map.json: tags[2].id: must be a tag36h11 ID in [0, 586], got 587");
 }
 
+// An independent probe: an ID of 100,000 digits and one of control characters.
+TEST(MapJsonTest, RejectsAnIdTooLongOrWithControlCharacters) {
+  nlohmann::json j = SampleJson();
+  j["slots"][1]["id"] = std::string(100000, '9');
+  EXPECT_EQ(ErrorOf([&] { MapFromJson(j, "map.json"); }),
+            "map.json: slots[1].id: 100000 characters; an ID has at most 16");
+  j["slots"][1]["id"] = std::string("\x01<script>");
+  EXPECT_EQ(ErrorOf([&] { MapFromJson(j, "map.json"); }),
+            "map.json: slots[1].id: holds a control character");
+  j["slots"][1]["id"] = "B105";
+  EXPECT_NO_THROW(MapFromJson(j, "map.json"));
+}
+
 TEST(MapJsonTest, RejectsASlotWithoutArea) {
   nlohmann::json j = SampleJson();
   j["slots"][0]["corners"][2] = j["slots"][0]["corners"][1];

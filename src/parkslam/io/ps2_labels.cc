@@ -204,9 +204,17 @@ std::vector<std::string> ListPs2Images(const std::filesystem::path& folder) {
     const fs::path& path = it->path();
     fs::path label = path;
     label.replace_extension(".json");
-    std::error_code ignored;  // what cannot be inspected is no labelled image
-    if (path.extension() == ".jpg" && fs::is_regular_file(path, ignored) &&
-        fs::is_regular_file(label, ignored)) {
+    std::error_code ignored;
+    if (path.extension() == ".jpg" && fs::exists(label, ignored)) {
+      // A labelled image whose image or labels is a folder, FIFO or device
+      // (a link to /dev/zero) is refused, not left out of the score.
+      for (const fs::path& file : {path, label}) {
+        if (!fs::is_regular_file(file, ignored)) {
+          ThrowIoError(file.string(), 0, "",
+                       "not a plain file (a folder, FIFO, device or broken link); a labelled "
+                       "view is a plain .jpg and a plain .json");
+        }
+      }
       names.push_back(path.stem().string());
     }
     it.increment(list_error);

@@ -273,10 +273,18 @@ TEST(ListPs2ImagesTest, ListsLabelledJpegsSorted) {
                            "label_only.json", "other.png", "other.json"}) {
     dir.Write(name, "x");
   }
-  std::filesystem::create_directories(dir / "folder.jpg");
-  dir.Write("folder.json", "x");
   EXPECT_EQ(ListPs2Images(dir.path()), (std::vector<std::string>{"a", "b"}));
   EXPECT_THAT(ErrorOf([&] { ListPs2Images(dir / "absent"); }), HasSubstr("cannot list the folder"));
+  // A labelled view whose image or labels is no plain file is refused, named,
+  // not left out of the score.
+  std::filesystem::create_directories(dir / "folder.jpg");
+  dir.Write("folder.json", "x");
+  EXPECT_THAT(ErrorOf([&] { ListPs2Images(dir.path()); }),
+              HasSubstr("folder.jpg: not a plain file"));
+  std::filesystem::remove(dir / "folder.jpg");
+  std::filesystem::create_directories(dir / "c.json");
+  dir.Write("c.jpg", "x");
+  EXPECT_THAT(ErrorOf([&] { ListPs2Images(dir.path()); }), HasSubstr("c.json: not a plain file"));
 }
 
 // The 20 labelled images of the real ps2.0 sample (shared/data).

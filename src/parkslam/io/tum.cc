@@ -116,7 +116,7 @@ TimedPose ParseLine(std::string_view line, const std::string& source, int line_n
   }
   // The position in the map frame; z is dropped (the trajectory is planar)
   // and the quaternion normalized below.
-  for (int c = 1; c <= 2; ++c) {
+  for (int c = 1; c <= 3; ++c) {
     if (std::abs(values[c]) > kMaxCoordinate_m) {
       ThrowIoError(source, line_number, kColumnNames[c],
                    text::BeyondPlausible(values[c], kMaxCoordinate_m, "m"));

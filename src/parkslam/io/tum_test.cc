@@ -114,13 +114,15 @@ TEST(TumTest, RejectsNaNAndInfinity) {
 }
 
 // Positions beyond kMaxCoordinate_m (common/plausible_ranges.h); z is
-// dropped, and not checked.
+// dropped, but held to the same bound.
 TEST(TumTest, RejectsImplausiblePositionsNamingLineAndField) {
   EXPECT_EQ(ErrorOf([] { ParseTum("0 0 0 0 0 0 0 1\n1 1e308 0 0 0 0 0 1\n", "t.tum"); }),
             "t.tum:2: x: 1e+308 is beyond the plausible 100000 m");
   EXPECT_EQ(ErrorOf([] { ParseTum("# t x y z qx qy qz qw\n0 5 -100000.5 0 0 0 0 1\n", "t.tum"); }),
             "t.tum:2: y: -100000.5 is beyond the plausible 100000 m");
-  EXPECT_EQ(ErrorOf([] { ParseTum("0 -100000 100000 1e300 0 0 0 1\n", "t.tum"); }), "");
+  EXPECT_EQ(ErrorOf([] { ParseTum("0 -100000 100000 1e300 0 0 0 1\n", "t.tum"); }),
+            "t.tum:1: z: 1e+300 is beyond the plausible 100000 m");
+  EXPECT_EQ(ErrorOf([] { ParseTum("0 -100000 100000 -99999 0 0 0 1\n", "t.tum"); }), "");
 }
 
 TEST(TumTest, RejectsTimestampsThatDoNotIncrease) {
