@@ -224,7 +224,7 @@ bool OnDrivableFloor(const sim::World& world, const Eigen::Vector2d& p) {
 
 // The safety target: in many closed-loop kidnaps (the car moved up to 1.5 m
 // sideways, 3 m along, 0.2 rad) and camera blackouts (5-30 s), the car
-// stops within 2 s and stays on the drivable floor. 20 trials each here;
+// stops within 3 s and stays on the drivable floor. 20 trials each here;
 // PARKSLAM_SAFETY_TRIALS=100 for the full measurement (docs/localization.md).
 TEST(TraceFollowingTest, SafetyStopsInRandomKidnapsAndBlackouts) {
   const char* env = std::getenv("PARKSLAM_SAFETY_TRIALS");
@@ -276,7 +276,9 @@ TEST(TraceFollowingTest, SafetyStopsInRandomKidnapsAndBlackouts) {
         kidnap ? "closed-loop kidnaps" : "camera blackouts", trials, not_stopped,
         sum_stop_s / std::max(1, trials - not_stopped), worst_stop_s, off_floor, finished);
     EXPECT_EQ(not_stopped, 0);
-    EXPECT_LT(worst_stop_s, 2.0);
+    // At most 3 s: the bound of a rule that waits for the cameras, derived
+    // in docs/localization.md (a landmark 4.4 m away at 2.5 m/s^2: 2.85 s).
+    EXPECT_LE(worst_stop_s, 3.0);
     EXPECT_EQ(off_floor, 0);
   }
 }
