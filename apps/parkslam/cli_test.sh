@@ -47,27 +47,32 @@ expect nonzero "^--out: an empty value" -- "$PARKSLAM" simulate --out ''
 expect nonzero "^--init: an empty value" -- "$PARKSLAM" odometry "$tmp/none" --out "$tmp/o.tum" --init ''
 expect nonzero "^parkslam: error: --look: 'nan' is neither a look" -- "$PARKSLAM" simulate --look nan --out "$tmp/x"
 [ ! -e "$tmp/x" ] && pass || fail "a refused simulate left $tmp/x"
-# Interrupted while rendering: nothing at --out, no staging folder beside it.
-"$PARKSLAM" simulate --images --image-rate-hz 5 --out "$tmp/int" >/dev/null 2>"$tmp/sigint.err" &
-sim_pid=$!
-sleep 3
-kill -INT $sim_pid
-wait $sim_pid
-rc=$?
-[ $rc -eq 130 ] && grep -q "interrupted (signal 2): nothing was written to --out" "$tmp/sigint.err" &&
-  pass || fail "interrupted simulate: exit $rc, $(cat "$tmp/sigint.err")"
-[ -z "$(ls -A "$tmp" | grep -E '^int($|\.tmp)')" ] && pass ||
-  fail "interrupted simulate left $(ls -A "$tmp" | grep '^int')"
-"$PARKSLAM" demo --observations --consistency-runs 0 --follow-runs 0 --perception-frames 0 \
-  --out "$tmp/intdemo" >/dev/null 2>"$tmp/sigint.err" &
-sim_pid=$!
-sleep 2
-kill -TERM $sim_pid
-wait $sim_pid
-rc=$?
-[ $rc -eq 143 ] && grep -q "interrupted (signal 15): --out is as it was" "$tmp/sigint.err" &&
-  [ -z "$(ls -A "$tmp" | grep -E '^intdemo')" ] && pass ||
-  fail "interrupted demo: exit $rc, $(tail -1 "$tmp/sigint.err"), left $(ls -A "$tmp" | grep '^intdemo')"
+# expect_interrupted SIGNAL AFTER_S NAME PATTERN -- command... (writing to $tmp/NAME):
+# sent SIGNAL after AFTER_S seconds, it exits 128 + the signal saying PATTERN
+# and leaves neither $tmp/NAME nor a staging folder beside it.
+expect_interrupted() {
+  local signal=$1 after_s=$2 name=$3 pattern=$4
+  shift 5
+  "$@" >/dev/null 2>"$tmp/signal.err" &
+  local pid=$! rc
+  sleep "$after_s"
+  kill -"$signal" $pid
+  wait $pid
+  rc=$?
+  local left
+  left=$(ls -A "$tmp" | grep -E "^$name(\$|\.tmp)")
+  if [ $rc -eq $((128 + $(kill -l "$signal"))) ] && grep -q "$pattern" "$tmp/signal.err" &&
+    [ -z "$left" ]; then
+    pass
+  else
+    fail "$* after SIG$signal: exit $rc, $(tail -1 "$tmp/signal.err"), left '$left'"
+  fi
+}
+expect_interrupted INT 3 int "interrupted (signal 2): nothing was written to --out" -- \
+  "$PARKSLAM" simulate --images --image-rate-hz 5 --out "$tmp/int"
+expect_interrupted TERM 2 intdemo "interrupted (signal 15): --out is as it was" -- \
+  "$PARKSLAM" demo --observations --consistency-runs 0 --follow-runs 0 --perception-frames 0 \
+  --out "$tmp/intdemo"
 
 # A short drive: approach only.
 expect 0 "written to" -- "$PARKSLAM" simulate --seed 3 --set route.laps=0 --out "$tmp/d"
