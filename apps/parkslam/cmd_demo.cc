@@ -357,14 +357,11 @@ void Run(const Options& given) {
   // Written into a staging folder beside --out and moved in once whole: an
   // interrupted or failed demo leaves --out as it was (a killed one leaves
   // the staging folder, which the next run's sweep removes).
-  std::filesystem::path target(given.out);
-  if (!target.has_filename()) target = target.parent_path();
   std::error_code ec;
-  if (std::filesystem::exists(target, ec) && !std::filesystem::is_directory(target, ec)) {
+  if (std::filesystem::exists(given.out, ec) && !std::filesystem::is_directory(given.out, ec)) {
     throw std::runtime_error("--out " + given.out + ": a file, not a folder");
   }
-  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
-  io::TemporaryFile staging(target, io::TemporaryFile::Kind::kFolder);
+  io::TemporaryFile staging(StagingTarget(given.out), io::TemporaryFile::Kind::kFolder);
   Options o = given;
   o.out = staging.path().string();
   std::filesystem::create_directories(o.out);

@@ -77,9 +77,7 @@ void AddImportRosbagCommand(CLI::App& app) {
     // The dataset is written into a staging folder beside --out and moved
     // there once whole and checked: a failed or interrupted import leaves
     // --out as it was.
-    std::filesystem::path target(options->out);
-    if (!target.has_filename()) target = target.parent_path();
-    io::TemporaryFile staging(target, io::TemporaryFile::Kind::kFolder);
+    io::TemporaryFile staging(StagingTarget(options->out), io::TemporaryFile::Kind::kFolder);
     const InterruptionScope interruption;
     Progress progress("  reading the bag", 1000);
     const rosbag_import::ImportSummary s = rosbag_import::ImportRosbag(

@@ -194,20 +194,13 @@ void Run(const Options& given) {
   // one leaves the staging folder, which the next run's sweep removes).
   // --force into a folder with files writes in place, beside them.
   Options o = given;
-  fs::path target(given.out);
-  if (!target.has_filename()) target = target.parent_path();
   std::optional<io::TemporaryFile> staging;
-  std::error_code ec;
-  if (in_place) {
-    fs::create_directories(target, ec);
-  } else {
-    if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-    if (!ec) {
-      staging.emplace(target, io::TemporaryFile::Kind::kFolder);
-      o.out = staging->path().string();
-      fs::create_directories(o.out, ec);
-    }
+  if (!in_place) {
+    staging.emplace(StagingTarget(given.out), io::TemporaryFile::Kind::kFolder);
+    o.out = staging->path().string();
   }
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
   if (ec) throw std::runtime_error(given.out + ": cannot create the folder: " + ec.message());
   const InterruptionScope interruption;
   const fs::path out = o.out;

@@ -111,10 +111,7 @@ void AddSimulateCommand(CLI::App& app) {
     // --out and moved there once whole, so that an interrupted or failed run
     // leaves --out as it was (a killed one leaves the staging folder, which
     // the next run's sweep removes).
-    std::filesystem::path target(options->out);
-    if (!target.has_filename()) target = target.parent_path();
-    if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
-    io::TemporaryFile staging(target, io::TemporaryFile::Kind::kFolder);
+    io::TemporaryFile staging(StagingTarget(options->out), io::TemporaryFile::Kind::kFolder);
     const InterruptionScope interruption;
     const auto start = std::chrono::steady_clock::now();
     const io::Dataset dataset = SimulateDataset(scenario, options->seed);

@@ -122,6 +122,10 @@ void PrepareDatasetFolder(const std::string& out, bool force);
 // that `force` allows to be cleared.
 bool CheckDatasetFolder(const std::string& out, bool force);
 void ClearDatasetFolder(const std::string& out);
+// Where an output folder's staging folder goes (io::TemporaryFile of kind
+// kFolder, written whole and then moved to `out`): `out` without a trailing
+// separator, its parent folder made.
+std::filesystem::path StagingTarget(const std::string& out);
 
 // "x,y,yaw" (metres, metres, radians), as io/pose_text.h reads it.
 using io::ParsePose;

@@ -232,6 +232,13 @@ void ClearDatasetFolder(const std::string& out) {
   }
 }
 
+std::filesystem::path StagingTarget(const std::string& out) {
+  std::filesystem::path target(out);
+  if (!target.has_filename()) target = target.parent_path();
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
+  return target;
+}
+
 void PrepareDatasetFolder(const std::string& out, bool force) {
   if (CheckDatasetFolder(out, force)) ClearDatasetFolder(out);
 }
