@@ -155,11 +155,14 @@ std::optional<double> Localizer::UpdateSlot(const SlotObservation& obs, Landmark
   ++use->observed;
   // The two entrance corners (the corners a detector really sees), matched
   // to two corners of a map slot: its entrance (0, 1), or, where no entrance
-  // is near, one of its side lines (1, 2 or 3, 0) when the detector took the
-  // side of a slot seen end-on for the entrance of another (a row's first
-  // slot from the cross aisle: its side line runs between two L corners and
-  // looks like a parallel slot's entrance). Then the same painted corners
-  // are seen, and the pose is measured against them as well.
+  // is near, one of its side lines (1, 2 or 3, 0) or its back line (2, 3).
+  // A side line: the detector took the side of a slot seen end-on for the
+  // entrance of another (a row's first slot from the cross aisle: its side
+  // line runs between two L corners and looks like a parallel slot's
+  // entrance). The back line: a row seen from the lane behind it, where the
+  // dividers meet the back line in T corners as they meet the entrance line
+  // on the aisle side. Either way the same painted corners are seen, and the
+  // pose is measured against them as well.
   const double obs_sigma = std::max(obs.corner_sigma_m, options_.corner_sigma_floor_m);
   const SE2 pose = this->pose();
   const SE2 T_vehicle_map = pose.inverse();
@@ -220,19 +223,21 @@ std::optional<double> Localizer::UpdateSlot(const SlotObservation& obs, Landmark
     if (by_id == slot_by_id_.end() || i != by_id->second) entrances.push_back({i, 0, 1});
   }
   for (const Pairing& p : nearest_first(std::move(entrances))) candidates.push_back(p);
-  bool side_line = false;
   if (candidates.empty()) {
     // A side line with at least one corner the map saw (a side of two
-    // guessed corners would let a wrong pose pass a gate of 0.4 m sigmas).
+    // guessed corners would let a wrong pose pass a gate of 0.4 m sigmas);
+    // the back line only where the map saw both of its corners (one seen
+    // and one guessed would hold the pose to a guess across the slot's
+    // width, where a side line's guessed corner lies along the car's way).
     std::vector<Pairing> sides;
     for (int i = 0; i < static_cast<int>(map_.slots.size()); ++i) {
       const MapSlot& slot = map_.slots[i];
       for (const auto& [a, b] : {std::pair{1, 2}, std::pair{3, 0}}) {
         if (slot.corner_observed[a] || slot.corner_observed[b]) sides.push_back({i, a, b});
       }
+      if (slot.corner_observed[2] && slot.corner_observed[3]) sides.push_back({i, 2, 3});
     }
     candidates = nearest_first(std::move(sides));
-    side_line = true;
   }
   if (candidates.empty()) {
     ++use->rejected_no_map_landmark;
@@ -245,8 +250,10 @@ std::optional<double> Localizer::UpdateSlot(const SlotObservation& obs, Landmark
     model_for(p, &H, &R);
     if (Update<4>(innovation_for(p), H, R)) {
       ++use->used;
-      // A side line anchors the pose on its better-known corner.
+      // A side line anchors the pose on its better-known corner (the other
+      // may be guessed), an entrance or a back line on both.
       const double var_a = map_variance(p, p.a), var_b = map_variance(p, p.b);
+      const bool side_line = p.a == 1 || p.a == 3;
       return side_line ? std::min(var_a, var_b) : (var_a + var_b) / 2;
     }
   }
@@ -298,17 +305,33 @@ Localizer::Support Localizer::CountInliers(const SE2& T_map_now) const {
     const SE2 T_now_frame = T_odom_now.inverse() * frame.T_odom_vehicle;
     const SE2 T_map_frame = T_map_now * T_now_frame;
     for (const SlotObservation& obs : frame.slots) {
+      const std::string id = ConfidentId(obs.id, options_.id_min_confidence);
+      const auto by_id = id.empty() ? slot_by_id_.end() : slot_by_id_.find(id);
       const Eigen::Vector2d c0 = T_map_frame * obs.corners_vehicle[0];
       const Eigen::Vector2d c1 = T_map_frame * obs.corners_vehicle[1];
-      for (int i = 0; i < static_cast<int>(map_.slots.size()); ++i) {
+      // On a slot's entrance, or on its back line where the map saw both
+      // of its corners (a row seen from the lane behind it, as UpdateSlot).
+      bool hit = false;
+      for (int i = 0; i < static_cast<int>(map_.slots.size()) && !hit; ++i) {
         const MapSlot& slot = map_.slots[i];
-        if ((slot.corners_map[0] - c0).norm() < options_.reloc_inlier_m &&
-            (slot.corners_map[1] - c1).norm() < options_.reloc_inlier_m) {
-          add(T_now_frame, obs.corners_vehicle[0], slot.corners_map[0]);
-          add(T_now_frame, obs.corners_vehicle[1], slot.corners_map[1]);
-          --support.inliers;  // one observation, two points
-          matched.insert(i);
-          break;
+        for (const auto& [a, b] : {std::pair{0, 1}, std::pair{2, 3}}) {
+          if (a == 2 && !(slot.corner_observed[2] && slot.corner_observed[3])) continue;
+          if ((slot.corners_map[a] - c0).norm() < options_.reloc_inlier_m &&
+              (slot.corners_map[b] - c1).norm() < options_.reloc_inlier_m) {
+            hit = true;
+            // An entrance whose confident reading names another map slot
+            // speaks against the hypothesis (a row's slots repeat every
+            // width: one slot off, the geometry alone fits as well).
+            if (a == 0 && by_id != slot_by_id_.end() && by_id->second != i) {
+              ++support.conflicts;
+              break;
+            }
+            add(T_now_frame, obs.corners_vehicle[0], slot.corners_map[a]);
+            add(T_now_frame, obs.corners_vehicle[1], slot.corners_map[b]);
+            --support.inliers;  // one observation, two points
+            matched.insert(i);
+            break;
+          }
         }
       }
     }
@@ -347,28 +370,25 @@ bool Localizer::TryRelocalize(TimeNs t_ns) {
     const SE2 T_vehicle_tag(obs.p_vehicle, obs.yaw_vehicle_rad);
     hypotheses.push_back(T_map_tag * T_vehicle_tag.inverse());
   }
-  int best = -1, best_inliers = 0, rival_inliers = 0;
-  Support best_support;
+  // Each hypothesis scored by its inliers less the readings that contradict
+  // it; the best must stand clear of every rival elsewhere (over 1 m away).
+  std::vector<Support> supports;
+  int best = -1;
   for (int h = 0; h < static_cast<int>(hypotheses.size()); ++h) {
-    Support support = CountInliers(hypotheses[h]);
-    const int inliers = support.inliers;
-    if (inliers > best_inliers) {
-      // The old best becomes a rival unless it is the same place.
-      if (best >= 0 &&
-          (hypotheses[best].translation() - hypotheses[h].translation()).norm() > 1.0) {
-        rival_inliers = std::max(rival_inliers, best_inliers);
-      }
-      best = h;
-      best_inliers = inliers;
-      best_support = std::move(support);
-    } else if (best >= 0 &&
-               (hypotheses[best].translation() - hypotheses[h].translation()).norm() > 1.0) {
-      rival_inliers = std::max(rival_inliers, inliers);
+    supports.push_back(CountInliers(hypotheses[h]));
+    if (best < 0 || supports[h].score() > supports[best].score()) best = h;
+  }
+  if (best < 0) return false;
+  int rival_score = 0;
+  for (int h = 0; h < static_cast<int>(hypotheses.size()); ++h) {
+    if ((hypotheses[best].translation() - hypotheses[h].translation()).norm() > 1.0) {
+      rival_score = std::max(rival_score, supports[h].score());
     }
   }
-  if (best < 0 || best_inliers < options_.reloc_min_inliers ||
+  const Support& best_support = supports[best];
+  if (best_support.score() < options_.reloc_min_inliers ||
       static_cast<int>(best_support.landmarks.size()) < options_.reloc_min_landmarks ||
-      rival_inliers > options_.reloc_ambiguity_ratio * best_inliers) {
+      rival_score > options_.reloc_ambiguity_ratio * best_support.score()) {
     return false;
   }
   Eigen::Matrix3d P = Eigen::Matrix3d::Zero();

@@ -190,9 +190,12 @@ class Localizer {
   bool TryRelocalize(TimeNs t_ns);
   // Observations of the buffered frames that land on the map under the
   // hypothesis T_map_now: their count, the landmarks they hit, and the
-  // point pairs (in the current vehicle frame, in the map).
+  // point pairs (in the current vehicle frame, in the map); and those that
+  // land on a slot other than the one their confident ID names.
   struct Support {
     int inliers = 0;
+    int conflicts = 0;
+    int score() const { return inliers - conflicts; }
     std::vector<int> landmarks;
     std::vector<Eigen::Vector2d> points_now, points_map;
   };

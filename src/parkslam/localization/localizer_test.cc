@@ -314,6 +314,110 @@ TEST(LocalizerTest, ASlotSeenEndOnIsMeasuredOnItsSideLine) {
   EXPECT_EQ(b->slots.associated, 0);
 }
 
+// A row seen from the lane behind it: where its dividers meet the back line
+// the detector finds T corners as on the aisle side, and takes two of them
+// for an entrance. Where the map saw both back corners they measure the pose
+// (on the small lot, the whole back lane was driven lost without them).
+TEST(LocalizerTest, ARowSeenFromBehindIsMeasuredOnItsBackLine) {
+  SemanticMap map;
+  MapSlot slot;
+  slot.id = "1";
+  slot.corners_map = {Eigen::Vector2d(2.5, 0.0), Eigen::Vector2d(0.0, 0.0),
+                      Eigen::Vector2d(0.0, -5.3), Eigen::Vector2d(2.5, -5.3)};
+  slot.corner_observed = {true, true, true, true};
+  slot.corner_sigma_m = {0.02, 0.02, 0.03, 0.03};
+  map.slots.push_back(slot);
+  const Fixture& f = Default();
+  const auto odometry_options =
+      odometry::EkfOptionsFromSpec(f.scenario.sensors.odometry, f.scenario.vehicle);
+  // Driving west in the back lane, 2 m south of the back line.
+  const SE2 pose(3.0, -7.3, M_PI);
+  const SE2 T_vehicle_map = pose.inverse();
+  // Seen from behind, the slot lies on the left of the line from corner 2
+  // to corner 3: that is the "entrance" the detector reports.
+  SlotObservation back;
+  back.corners_vehicle = {T_vehicle_map * slot.corners_map[2], T_vehicle_map * slot.corners_map[3],
+                          T_vehicle_map * slot.corners_map[0], T_vehicle_map * slot.corners_map[1]};
+  back.corner_sigma_m = 0.03;
+  auto sight = [&](const SemanticMap& m, const SlotObservation& obs) {
+    Localizer localizer(m, LocalizerOptions{}, odometry_options);
+    localizer.SetPose(pose, Covariance(0.05, 0.01));
+    for (TimeNs t = 0; t <= 10; ++t) localizer.Process(ImuSample{t * 10'000'000, 0.0, 0.0});
+    return *localizer.Process(SlotObservationFrame{100'000'000, {obs}});
+  };
+  const LocalizationEstimate e = sight(map, back);
+  EXPECT_EQ(e.slots.used, 1);
+  EXPECT_EQ(e.slots.rejected(), 0);
+  EXPECT_LT((e.T_map_vehicle.translation() - pose.translation()).norm(), 0.03);
+
+  // 0.5 m along the row it is no back line the map has.
+  SlotObservation shifted = back;
+  for (auto& c : shifted.corners_vehicle) c += Eigen::Vector2d(0.5, 0.0);
+  const LocalizationEstimate s = sight(map, shifted);
+  EXPECT_EQ(s.slots.rejected_gate, 1);
+  EXPECT_EQ(s.slots.used, 0);
+
+  // A back line with a guessed corner names no landmark.
+  SemanticMap guessed = map;
+  guessed.slots[0].corner_observed[3] = false;
+  const LocalizationEstimate g = sight(guessed, back);
+  EXPECT_EQ(g.slots.rejected_no_map_landmark, 1);
+  EXPECT_EQ(g.slots.used, 0);
+}
+
+// A row's slots repeat every width: one slot off, every slot seen in the last
+// seconds fits the map as well as it does in truth. A misread ID that names
+// the next slot must not relocalize the car there when the IDs read before
+// it name the slots where the truth puts them.
+TEST(LocalizerTest, AMisreadIdDoesNotRelocalizeOneSlotOff) {
+  SemanticMap map;
+  for (int k = 0; k < 10; ++k) {
+    MapSlot slot;
+    slot.id = std::to_string(k + 1);
+    const double x = 2.5 * k;
+    slot.corners_map = {Eigen::Vector2d(x + 2.5, 0.0), Eigen::Vector2d(x, 0.0),
+                        Eigen::Vector2d(x, -5.3), Eigen::Vector2d(x + 2.5, -5.3)};
+    slot.corner_observed = {true, true, false, false};
+    slot.corner_sigma_m = {0.02, 0.02, 0.4, 0.4};
+    map.slots.push_back(slot);
+  }
+  const Fixture& f = Default();
+  Localizer localizer(
+      map, LocalizerOptions{},
+      odometry::EkfOptionsFromSpec(f.scenario.sensors.odometry, f.scenario.vehicle));
+  // Standing in the aisle; every 0.2 s one slot is seen, its ID read.
+  const SE2 pose(8.0, 3.0, 0.0);
+  const SE2 T_vehicle_map = pose.inverse();
+  auto seen = [&](int k, const std::string& id) {
+    SlotObservation obs;
+    for (int j = 0; j < 4; ++j)
+      obs.corners_vehicle[j] = T_vehicle_map * map.slots[k].corners_map[j];
+    obs.corner_sigma_m = 0.03;
+    for (char c : id) obs.id.digits.push_back(DigitReading{{{c, 0.95}}});
+    return obs;
+  };
+  TimeNs t_ns = 0;
+  auto frame = [&](const SlotObservation& obs) {
+    for (int i = 0; i < 20; ++i) {
+      t_ns += 10'000'000;
+      localizer.Process(ImuSample{t_ns, 0.0, 0.0});
+    }
+    return *localizer.Process(SlotObservationFrame{t_ns, {obs}});
+  };
+  // Five slots read right: each alone is too little support (6 inliers).
+  for (int k = 1; k <= 5; ++k) EXPECT_FALSE(frame(seen(k, map.slots[k].id)).relocalized);
+  // Slot 7 read as "8": one slot off, all six sightings land on map slots,
+  // but five of them name other slots than the ones they land on.
+  const LocalizationEstimate misread = frame(seen(6, map.slots[7].id));
+  EXPECT_FALSE(misread.relocalized);
+  EXPECT_NE(misread.state, LocalizerState::kTracking);
+  // Two more read right, and the car is found where it is.
+  frame(seen(7, map.slots[7].id));
+  const LocalizationEstimate found = frame(seen(8, map.slots[8].id));
+  ASSERT_EQ(found.state, LocalizerState::kTracking);
+  EXPECT_LT((found.T_map_vehicle.translation() - pose.translation()).norm(), 0.05);
+}
+
 TEST(LocalizerTest, InvalidOptionsThrow) {
   LocalizerOptions o;
   o.gate_probability = 1.5;
