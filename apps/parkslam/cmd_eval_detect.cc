@@ -187,7 +187,7 @@ void ScoreDrive(const Options& o, const perception::PerceptionOptions& perceptio
 }
 
 void Run(const Options& o) {
-  io::CheckOutputsSpareInputs({{o.out_dir, "--out-dir"}},
+  io::CheckOutputsSpareInputs({{o.out_dir, "--out-dir", true}},
                               {{o.ps2, "--ps2"}, {o.models, "--models"}});
   Scores scores;
   if (!o.out_dir.empty()) std::filesystem::create_directories(o.out_dir);

@@ -170,7 +170,7 @@ void DrawRuns(const Options& o, const SemanticMap& map, const SE2& T_map_world,
 void Run(const Options& o) {
   std::vector<io::NamedPath> inputs{{o.map, "--map"}, {o.trace, "--trace"}};
   for (const io::NamedPath& file : ScenarioFiles(o.scenario)) inputs.push_back(file);
-  io::CheckOutputsSpareInputs({{o.out, "--out"}}, inputs);
+  io::CheckOutputsSpareInputs({{o.out, "--out", true}}, inputs);
   const std::filesystem::path out = o.out;
   const sim::ScenarioConfig scenario = ResolveScenario(o.scenario);
   const SemanticMap map = io::ReadMap(o.map);

@@ -71,7 +71,7 @@ void AddImportRosbagCommand(CLI::App& app) {
   cmd->callback([options] {
     const rosbag_import::TopicsConfig topics = rosbag_import::LoadTopicsConfig(options->topics);
     io::CheckOutputsSpareInputs(
-        {{options->out, "--out"}},
+        {{options->out, "--out", true}},
         {{options->bag, "BAG"}, {options->topics, "--topics"}, {topics.rig.string(), "rig"}});
     const bool replaces = CheckDatasetFolder(options->out, options->force);
     // The dataset is written into a staging folder beside --out and moved

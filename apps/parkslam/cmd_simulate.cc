@@ -105,7 +105,7 @@ void AddSimulateCommand(CLI::App& app) {
       return;
     }
     if (options->out.empty()) throw CLI::RequiredError("--out");
-    io::CheckOutputsSpareInputs({{options->out, "--out"}}, ScenarioFiles(options->scenario));
+    io::CheckOutputsSpareInputs({{options->out, "--out", true}}, ScenarioFiles(options->scenario));
     const bool replaces = CheckDatasetFolder(options->out, options->force);
     // As import-rosbag: the dataset is written into a staging folder beside
     // --out and moved there once whole, so that an interrupted or failed run

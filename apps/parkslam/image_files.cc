@@ -22,8 +22,15 @@ cv::Mat ReadImage(const std::string& path, int flags) {
 void WriteImage(const std::string& path, const cv::Mat& image) {
   std::vector<uchar> buffer;
   const std::string ext = std::filesystem::path(path).extension().string();
-  if (!cv::imencode(ext.empty() ? ".png" : ext, image, buffer)) {
-    throw std::runtime_error(path + ": cannot encode an image of this type");
+  bool encoded = false;
+  try {
+    encoded = cv::imencode(ext.empty() ? ".png" : ext, image, buffer);
+  } catch (const cv::Exception&) {
+    // OpenCV throws for an extension it has no encoder for.
+  }
+  if (!encoded) {
+    throw std::runtime_error(path + ": cannot write an image as '" + ext +
+                             "' (give a .png or .jpg file)");
   }
   io::WriteFileAtomically(
       path, std::string_view(reinterpret_cast<const char*>(buffer.data()), buffer.size()));

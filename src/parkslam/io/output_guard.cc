@@ -1,5 +1,8 @@
 #include "parkslam/io/output_guard.h"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <system_error>
 
 #include "parkslam/io/io_error.h"
@@ -62,6 +65,29 @@ void RefuseSharedOutputs(const std::vector<NamedPath>& outputs) {
   }
 }
 
+// A file output that cannot be written where it is asked for, refused
+// before the command writes anything: a folder, a path ending in "/"
+// (`--out o.x/`), or a place below a file or in a read-only folder.
+void RefuseUnwritableFile(const NamedPath& output) {
+  const std::string spelled = output.path.string();
+  const auto refuse = [&](const std::string& why) {
+    throw IoError(output.name + " " + spelled + ": " + why);
+  };
+  if (spelled.back() == '/') refuse("names a folder (it ends in /); this output is a file");
+  std::error_code ec;
+  if (fs::is_directory(output.path, ec)) refuse("is a folder, not a file");
+  // The nearest folder above it that exists must be a folder, and writable.
+  fs::path above = fs::absolute(output.path, ec).parent_path();
+  while (!above.empty() && !fs::exists(above, ec) && above != above.parent_path()) {
+    above = above.parent_path();
+  }
+  if (above.empty()) return;
+  if (!fs::is_directory(above, ec)) refuse("cannot be made: " + above.string() + " is a file");
+  if (::access(above.c_str(), W_OK) != 0) {
+    refuse("cannot be written: " + above.string() + ": " + std::generic_category().message(errno));
+  }
+}
+
 }  // namespace
 
 void CheckOutputsSpareInputs(const std::vector<NamedPath>& outputs,
@@ -87,6 +113,7 @@ void CheckOutputsSpareInputs(const std::vector<NamedPath>& outputs,
       if (out_is_folder && Within(in, out))
         Refuse(output, "is a folder that holds the input", input);
     }
+    if (!output.folder) RefuseUnwritableFile(output);
   }
 }
 

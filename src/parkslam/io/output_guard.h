@@ -10,7 +10,10 @@
 // - an output folder may not hold an input (it may be cleared or filled).
 // Inputs that do not exist are left to the reader's own error. Outputs are
 // also checked against each other (no two name the same file) and against
-// what stands at their place (never a device, FIFO or socket).
+// what stands at their place (never a device, FIFO or socket). A file
+// output must be one that can be written: not a folder, not a path ending
+// in "/", its folder a folder that exists or can be made, and writable, so
+// that a command never writes one output and then fails on the next.
 
 #include <filesystem>
 #include <string>
@@ -20,7 +23,8 @@ namespace parkslam::io {
 
 struct NamedPath {
   std::filesystem::path path;
-  std::string name;  // how the user gave it: "--out", "DIR", "--map"
+  std::string name;     // how the user gave it: "--out", "DIR", "--map"
+  bool folder = false;  // an output folder (a dataset's), not a file
 };
 
 // Throws IoError naming both, e.g.

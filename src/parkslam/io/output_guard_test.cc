@@ -27,9 +27,10 @@ class OutputGuardTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  std::string ErrorOf(const fs::path& out, const std::vector<NamedPath>& inputs) {
+  std::string ErrorOf(const fs::path& out, const std::vector<NamedPath>& inputs,
+                      bool folder = false) {
     try {
-      CheckOutputsSpareInputs({{out, "--out"}}, inputs);
+      CheckOutputsSpareInputs({{out, "--out", folder}}, inputs);
     } catch (const IoError& e) {
       return e.what();
     }
@@ -98,7 +99,24 @@ TEST_F(OutputGuardTest, RefusesAnOutputWhereADeviceOrFifoIs) {
   ASSERT_EQ(::mkfifo((dir_ / "pipe").c_str(), 0644), 0);
   EXPECT_THAT(ErrorOf(dir_ / "pipe", {}), HasSubstr("a device, FIFO or socket"));
   EXPECT_EQ(ErrorOf(dir_ / "map.json", {}), "");
-  EXPECT_EQ(ErrorOf(dir_ / "ds", {}), "");
+  EXPECT_EQ(ErrorOf(dir_ / "ds", {}, /*folder=*/true), "");
+}
+
+// An independent probe: `map --out m.json --trajectory-out o.x/` wrote
+// m.json and then failed, leaving it and an empty folder o.x. A file
+// output that cannot be written is refused before anything is.
+TEST_F(OutputGuardTest, RefusesAFileOutputThatCannotBeWritten) {
+  EXPECT_THAT(ErrorOf(dir_.string() + "/o.x/", {}),
+              HasSubstr("o.x/: names a folder (it ends in /); this output is a file"));
+  EXPECT_THAT(ErrorOf(dir_ / "ds", {}), HasSubstr("ds: is a folder, not a file"));
+  EXPECT_THAT(ErrorOf(dir_ / "map.json" / "o.x", {}),
+              HasSubstr("cannot be made: " + (dir_ / "map.json").string() + " is a file"));
+  EXPECT_THAT(ErrorOf(dir_ / "map.json" / "deeper" / "o.x", {}), HasSubstr("is a file"));
+  // Folders that do not exist yet are made by the writer; a folder output
+  // may end in / and may exist.
+  EXPECT_EQ(ErrorOf(dir_ / "new" / "sub" / "o.tum", {}), "");
+  EXPECT_EQ(ErrorOf(dir_.string() + "/ds2/", {}, /*folder=*/true), "");
+  EXPECT_EQ(ErrorOf(dir_ / "ds", {}, /*folder=*/true), "");
 }
 
 }  // namespace

@@ -134,12 +134,41 @@ void CheckWaypoints(const std::vector<Eigen::Vector2d>& points, const std::strin
   }
 }
 
+// The length of a polyline through `points` (closed: back to the first).
+double PolylineLength(const std::vector<Eigen::Vector2d>& points, bool closed) {
+  double length_m = 0.0;
+  for (size_t i = 1; i < points.size(); ++i) length_m += (points[i] - points[i - 1]).norm();
+  if (closed && points.size() > 1) length_m += (points.front() - points.back()).norm();
+  return length_m;
+}
+
+// Bounds on the drive a route makes: a world file of 100,000 waypoints (a
+// 20 km drive back and forth) took 5 GB before its simulation ended.
+// A long drive costs about 16 MB a km (80 laps of the default lot, 20 km:
+// 420 MB); 40 km is 4.4 h at 9 km/h.
+constexpr size_t kMaxRouteWaypoints = 10'000;
+constexpr double kMaxRouteLength_m = 40'000.0;
+
 void CheckRoute(const RouteConfig& r, FieldChecker& c) {
   c.Require(r.approach_m.size() + r.loop_m.size() + r.finish_m.size() >= 2, "route",
             "needs at least two waypoints");
   CheckWaypoints(r.approach_m, "route.approach_m", c);
   CheckWaypoints(r.loop_m, "route.loop_m", c);
   CheckWaypoints(r.finish_m, "route.finish_m", c);
+  const size_t waypoints = r.approach_m.size() + r.loop_m.size() + r.finish_m.size();
+  std::string too_many = std::to_string(waypoints);
+  too_many.append(" waypoints; a route has at most ")
+      .append(std::to_string(kMaxRouteWaypoints))
+      .append(" (docs/plausible_ranges.md)");
+  c.Require(waypoints <= kMaxRouteWaypoints, "route", too_many);
+  const double length_m = PolylineLength(r.approach_m, false) + PolylineLength(r.finish_m, false) +
+                          std::max(0, r.laps) * PolylineLength(r.loop_m, true);
+  std::string too_long = "drives ";
+  too_long.append(Limit(length_m))
+      .append(" m (approach, laps x loop, finish); a route drives at most ")
+      .append(Limit(kMaxRouteLength_m))
+      .append(" m (docs/plausible_ranges.md)");
+  c.Require(length_m <= kMaxRouteLength_m, "route", too_long);
   c.Require(r.laps >= 0 && r.laps <= 1000, "route.laps", "must be in [0, 1000]");
   c.Require(r.laps == 0 || r.loop_m.size() >= 2, "route.loop_m",
             "needs at least two waypoints when laps > 0");
