@@ -57,6 +57,7 @@ bool LocalizerOptions::IsValid(std::string* error) const {
   FieldChecker c(error);
   c.Positive(corner_sigma_floor_m, "corner_sigma_floor_m");
   c.NonNegative(map_yaw_sigma_rad, "map_yaw_sigma_rad");
+  c.NonNegative(wheel_scale_walk_per_sqrt_m, "wheel_scale_walk_per_sqrt_m");
   c.Positive(guessed_corner_sigma_m, "guessed_corner_sigma_m");
   c.NonNegative(map_corner_sigma_floor_m, "map_corner_sigma_floor_m");
   c.NonNegative(tag_map_sigma_m, "tag_map_sigma_m");
@@ -84,6 +85,9 @@ Localizer::Localizer(const SemanticMap& map, const LocalizerOptions& options,
     : map_(map),
       options_(options),
       odometry_(std::make_unique<odometry::OdometryEkf>(odometry_options)) {
+  // Without the scale's estimate its variance stays 0: no update moves it.
+  P_(kScale, kScale) =
+      options_.estimate_wheel_scale ? Square(odometry_options.wheel_scale_sigma) : 0.0;
   std::string error;
   if (!options_.IsValid(&error)) throw std::invalid_argument("localizer options: " + error);
   if (!odometry_options.IsValid(&error)) throw std::invalid_argument("odometry options: " + error);
@@ -103,8 +107,11 @@ Localizer::Localizer(Localizer&&) noexcept = default;
 Localizer& Localizer::operator=(Localizer&&) noexcept = default;
 
 void Localizer::SetPose(const SE2& T_map_vehicle, const Eigen::Matrix3d& covariance) {
-  x_ = Eigen::Vector3d(T_map_vehicle.x(), T_map_vehicle.y(), T_map_vehicle.yaw());
-  P_ = covariance;
+  // The pose is new; what the drive has taught of the odometry's scale stays.
+  x_.head<3>() << T_map_vehicle.x(), T_map_vehicle.y(), T_map_vehicle.yaw();
+  P_.topLeftCorner<3, 3>() = covariance;
+  P_.block<3, 1>(0, kScale).setZero();
+  P_.block<1, 3>(kScale, 0).setZero();
   state_ = LocalizerState::kTracking;
   recent_outcomes_.clear();
   map_position_var_ = 0.0;
@@ -112,41 +119,67 @@ void Localizer::SetPose(const SE2& T_map_vehicle, const Eigen::Matrix3d& covaria
 
 std::optional<std::pair<SE2, Eigen::Matrix3d>> Localizer::TrackedAt(TimeNs t_ns) const {
   if (state_ != LocalizerState::kTracking || last_frame_ns_ != t_ns) return std::nullopt;
-  return std::make_pair(pose(), P_);
+  return std::make_pair(pose(), covariance());
 }
 
 SE2 Localizer::PredictedPose() const {
   if (!odometry_->initialized()) return pose();
-  return pose() * odometry_->MotionSinceClone().T_clone_now;
+  const SE2 motion = odometry_->MotionSinceClone().T_clone_now;
+  return pose() * SE2(DistanceFactor() * motion.translation(), motion.yaw());
+}
+
+double Localizer::DistanceFactor() const {
+  if (!options_.estimate_wheel_scale) return 1.0;
+  return 1.0 - (x_[kScale] - odometry_->state()[odometry::OdometryEkf::kWheelScale]);
 }
 
 void Localizer::Predict(const odometry::OdometryEkf::RelativeMotion& motion) {
-  // x' = x (+) delta: t' = t + R(yaw) d, yaw' = yaw + phi.
+  // x' = x (+) delta, the odometry's distance corrected for the wheel
+  // speed's scale error s: the odometry moved by d with its own estimate
+  // s_o of that error (which it learns in turns, from the steering and the
+  // gyro), so the car moved (1 + s_o) / (1 + s) d ~ (1 - (s - s_o)) d:
+  //   t' = t + (1 - (s - s_o)) R(yaw) d,  yaw' = yaw + phi,
+  //   s' = s + w,  var(w) = walk^2 |d|.
+  // The motion's own covariance (the dead reckoning's, since the last
+  // frame) enters through J_d.
   const double c = std::cos(x_[2]), s = std::sin(x_[2]);
   const Eigen::Vector2d d = motion.T_clone_now.translation();
-  Eigen::Matrix3d J_x = Eigen::Matrix3d::Identity();
-  J_x(0, 2) = -s * d.x() - c * d.y();
-  J_x(1, 2) = c * d.x() - s * d.y();
-  Eigen::Matrix3d J_d = Eigen::Matrix3d::Identity();
-  J_d.topLeftCorner<2, 2>() << c, -s, s, c;
-  x_.head<2>() += J_d.topLeftCorner<2, 2>() * d;
+  const double scale = DistanceFactor();
+  Eigen::Matrix2d R;
+  R << c, -s, s, c;
+  StateCovariance J_x = StateCovariance::Identity();
+  J_x(0, 2) = scale * (-s * d.x() - c * d.y());
+  J_x(1, 2) = scale * (c * d.x() - s * d.y());
+  J_x.block<2, 1>(0, kScale) = -R * d;
+  Eigen::Matrix<double, 4, 3> J_d = Eigen::Matrix<double, 4, 3>::Zero();
+  J_d.topLeftCorner<2, 2>() = scale * R;
+  J_d(2, 2) = 1.0;
+  x_.head<2>() += scale * R * d;
   x_[2] = NormalizeAngle(x_[2] + motion.T_clone_now.yaw());
   P_ = J_x * P_ * J_x.transpose() + J_d * motion.covariance * J_d.transpose();
+  if (options_.estimate_wheel_scale) {
+    P_(kScale, kScale) += Square(options_.wheel_scale_walk_per_sqrt_m) * d.norm();
+  }
 }
 
 template <int N>
 bool Localizer::Update(const Eigen::Matrix<double, N, 1>& innovation,
-                       const Eigen::Matrix<double, N, 3>& H, const Eigen::Matrix<double, N, N>& R) {
+                       const Eigen::Matrix<double, N, 3>& H_pose,
+                       const Eigen::Matrix<double, N, N>& R) {
+  // Landmarks see the pose only; the scale error follows through P's
+  // cross-covariance (what the pose has moved since, it has moved too far).
+  Eigen::Matrix<double, N, 4> H = Eigen::Matrix<double, N, 4>::Zero();
+  H.template leftCols<3>() = H_pose;
   const Eigen::Matrix<double, N, N> S = H * P_ * H.transpose() + R;
   const Eigen::LLT<Eigen::Matrix<double, N, N>> llt(S);
   if (llt.info() != Eigen::Success) return false;
   const double chi2 = innovation.dot(llt.solve(innovation));
   if (!(chi2 < gate_chi2_[N])) return false;
-  const Eigen::Matrix<double, 3, N> K =
+  const Eigen::Matrix<double, 4, N> K =
       P_ * H.transpose() * llt.solve(Eigen::Matrix<double, N, N>::Identity());
   x_ += K * innovation;
   x_[2] = NormalizeAngle(x_[2]);
-  const Eigen::Matrix3d I_KH = Eigen::Matrix3d::Identity() - K * H;
+  const StateCovariance I_KH = StateCovariance::Identity() - K * H;
   P_ = I_KH * P_ * I_KH.transpose() + K * R * K.transpose();
   return true;
 }
@@ -459,7 +492,7 @@ std::optional<LocalizationEstimate> Localizer::Process(const SensorEvent& event)
     estimate.relocalized = TryRelocalize(t_ns);
   }
   estimate.T_map_vehicle = pose();
-  estimate.covariance = P_;
+  estimate.covariance = covariance();
   if (map_position_var_ > 0.0) {
     estimate.covariance.diagonal() +=
         Eigen::Vector3d(map_position_var_, map_position_var_, Square(options_.map_yaw_sigma_rad));

@@ -9,6 +9,7 @@
 // read slot IDs and tags, confirmed by the geometry of the last seconds.
 
 #include <Eigen/Core>
+#include <cmath>
 #include <deque>
 #include <map>
 #include <memory>
@@ -39,6 +40,15 @@ struct LocalizerOptions {
   // tag_map_sigma_m) on x and y and map_yaw_sigma_rad on yaw
   // (docs/localization.md, "Consistency").
   double map_yaw_sigma_rad = 0.00085;
+  // The wheel speed's scale error, estimated beside the pose: it is off by
+  // a fraction that stays for the drive (tyre radius, load, pressure), so
+  // every frame's motion is off by the same fraction, an error that no
+  // frame-by-frame motion covariance carries (it would average away as
+  // white noise). Its prior is the odometry's wheel_scale_sigma; it may
+  // wander by wheel_scale_walk_per_sqrt_m. false: the odometry's distances
+  // taken as they come.
+  bool estimate_wheel_scale = true;
+  double wheel_scale_walk_per_sqrt_m = 5e-5;
   // Association: a reading of at least this confidence names its slot; other
   // observations go to the nearest map slot within nn_radius_m. Every update
   // must pass the chi-square gate at gate_probability.
@@ -81,6 +91,8 @@ struct LocalizerOptions {
     v("tag_map_sigma_m", tag_map_sigma_m);
     v("tag_map_yaw_sigma_rad", tag_map_yaw_sigma_rad);
     v("map_yaw_sigma_rad", map_yaw_sigma_rad);
+    v("estimate_wheel_scale", estimate_wheel_scale);
+    v("wheel_scale_walk_per_sqrt_m", wheel_scale_walk_per_sqrt_m);
     v("id_min_confidence", id_min_confidence);
     v("nn_radius_m", nn_radius_m);
     v("gate_probability", gate_probability);
@@ -159,9 +171,13 @@ class Localizer {
   // The pose now: the last estimate moved on by the odometry since that
   // frame (for a controller running faster than the cameras).
   SE2 PredictedPose() const;
-  // The filter's covariance, against the map's landmarks (without the
-  // map's own error that LocalizationEstimate::covariance adds).
-  const Eigen::Matrix3d& covariance() const { return P_; }
+  // The filter's covariance of the pose, against the map's landmarks
+  // (without the map's own error that LocalizationEstimate::covariance adds).
+  Eigen::Matrix3d covariance() const { return P_.topLeftCorner<3, 3>(); }
+  // The wheel speed's scale error as estimated (a fraction: 0.01 reads 1 %
+  // too fast) and its standard deviation.
+  double wheel_scale_error() const { return x_[kScale]; }
+  double wheel_scale_sigma() const { return std::sqrt(P_(kScale, kScale)); }
   // The pose and that covariance at the camera frame of time t_ns, while
   // tracking and when that frame was the last one in; nothing otherwise.
   // For a front end that looks for the frame's tags where the map has them
@@ -178,10 +194,13 @@ class Localizer {
   };
 
   void Predict(const odometry::OdometryEkf::RelativeMotion& motion);
+  // By how much the odometry's distance is to be multiplied: its own
+  // estimate of the wheel scale error against ours.
+  double DistanceFactor() const;
   // EKF update with a stacked measurement; false when the gate rejects it.
   template <int N>
-  bool Update(const Eigen::Matrix<double, N, 1>& innovation, const Eigen::Matrix<double, N, 3>& H,
-              const Eigen::Matrix<double, N, N>& R);
+  bool Update(const Eigen::Matrix<double, N, 1>& innovation,
+              const Eigen::Matrix<double, N, 3>& H_pose, const Eigen::Matrix<double, N, N>& R);
   // Each updates the pose with the observation where it can and adds the
   // outcome to `use`; returns the map's position variance at the landmark
   // that updated the pose, nothing when none did.
@@ -207,8 +226,13 @@ class Localizer {
   std::map<std::string, int> slot_by_id_;
   std::map<int, int> tag_by_id_;
   LocalizerState state_ = LocalizerState::kUninitialized;
-  Eigen::Vector3d x_ = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d P_ = Eigen::Matrix3d::Identity();
+  // State [x_m, y_m, yaw_rad, wheel_scale_error]: the pose in the map and
+  // the fraction by which the wheel speed overstates the speed.
+  static constexpr int kScale = 3;
+  using State = Eigen::Vector4d;
+  using StateCovariance = Eigen::Matrix4d;
+  State x_ = State::Zero();
+  StateCovariance P_ = StateCovariance::Identity();
   // Association outcomes of the last lost_after_s: time and accepted.
   std::deque<std::pair<TimeNs, bool>> recent_outcomes_;
   TimeNs last_frame_ns_ = 0;

@@ -247,6 +247,8 @@ constexpr OptionRange kRanges[] = {
     In("localizer.tag_map_sigma_m", 0, kMaxPositionSigma_m, "m", kSigma),
     In("localizer.tag_map_yaw_sigma_rad", 0, kMaxAngleSigma_rad, "rad", kAngleSigma),
     In("localizer.map_yaw_sigma_rad", 0, kMaxAngleSigma_rad, "rad", kAngleSigma),
+    In("localizer.wheel_scale_walk_per_sqrt_m", 0, 0.1, "per sqrt(m)",
+       "a scale's random walk: at 0.1 the distance is unknown by 100 % after 100 m"),
     In("localizer.id_min_confidence", 0, 1, "", kShare),
     Pos("localizer.nn_radius_m", kMaxObservationRange_m, "m", kSearch),
     Open("localizer.gate_probability", 0.5, 1, "",
