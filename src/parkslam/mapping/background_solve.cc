@@ -23,6 +23,8 @@ BackgroundSolve::~BackgroundSolve() {
 
 void BackgroundSolve::Mirror(const MapState& state, bool rebuild) {
   MapState& m = mirror_;
+  m.wheel_scale_error = state.wheel_scale_error;
+  m.wheel_scale_sigma = state.wheel_scale_sigma;
   const bool shrank = m.keyframes.size() > state.keyframes.size() ||
                       m.slots.size() > state.slots.size() || m.tags.size() > state.tags.size() ||
                       m.slot_records.size() > state.slot_records.size() ||

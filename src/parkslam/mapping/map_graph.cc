@@ -13,6 +13,7 @@
 #include "parkslam/mapping/costs/angle.h"
 #include "parkslam/mapping/costs/max_mixture_corner_factor.h"
 #include "parkslam/mapping/costs/odometry_factor.h"
+#include "parkslam/mapping/costs/prior_factor.h"
 #include "parkslam/mapping/costs/slot_shape_factor.h"
 #include "parkslam/mapping/costs/tag_observation_factor.h"
 #include "parkslam/mapping/slot_management.h"
@@ -126,16 +127,29 @@ class GraphBuilder {
       : state_(*state), first_free_(first_free), options_(options), problem_(ProblemOptions()) {}
 
   // Odometry between consecutive keyframes (the first links to the last
-  // fixed one).
+  // fixed one), all through the one wheel scale error: free, with its
+  // prior, where the whole drive is in the graph (a window alone would pull
+  // it back to the prior with a fraction of the evidence), held otherwise.
   void AddOdometry() {
     const int count = static_cast<int>(state_.keyframes.size());
+    double* scale = state_.wheel_scale_error.data();
     for (int k = std::max(1, first_free_); k < count; ++k) {
       const Keyframe& keyframe = state_.keyframes[k];
-      problem_.AddResidualBlock(
-          OdometryFactor::Create(keyframe.T_previous_this, keyframe.covariance), nullptr,
-          Pose(k - 1), Pose(k));
+      // Without the scale's estimate, the distances as the odometry gave them.
+      const double odometry_wheel_scale =
+          state_.wheel_scale_sigma > 0.0 ? keyframe.odometry_wheel_scale : 0.0;
+      problem_.AddResidualBlock(OdometryFactor::Create(keyframe.T_previous_this,
+                                                       keyframe.covariance, odometry_wheel_scale),
+                                nullptr, Pose(k - 1), Pose(k), scale);
     }
     if (count == 1) Pose(0);
+    if (!problem_.HasParameterBlock(scale)) return;
+    if (first_free_ == 0 && state_.wheel_scale_sigma > 0.0) {
+      problem_.AddResidualBlock(ScalarPriorFactor::Create(0.0, state_.wheel_scale_sigma), nullptr,
+                                scale);
+    } else {
+      problem_.SetParameterBlockConstant(scale);
+    }
   }
 
   // Slot observations: one block per observation over all its candidates.

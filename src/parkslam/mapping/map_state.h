@@ -28,6 +28,10 @@ struct Keyframe {
   std::array<double, 3> pose{};  // x_m, y_m, yaw_rad in the map frame
   SE2 T_previous_this;           // odometry since the previous keyframe
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
+  // The dead reckoning's own estimate of the wheel speed's scale error when
+  // it reached this keyframe (it learns it in turns): what T_previous_this
+  // was measured with (OdometryFactor).
+  double odometry_wheel_scale = 0.0;
 };
 
 struct SlotLandmark {
@@ -89,6 +93,11 @@ struct MapState {
   // The slot currently holding most votes for each ID, and those votes.
   std::map<std::string, std::pair<int, double>> id_owner;
   int next_temporary_number = 1;
+  // The wheel speed's scale error, one unknown of the graph shared by every
+  // odometry factor (a fraction: 0.003 reads 0.3 % too fast), with its
+  // prior's sigma; a sigma of 0 holds it at 0.
+  std::array<double, 1> wheel_scale_error{};
+  double wheel_scale_sigma = 0.0;
 
   SE2 PoseOf(int keyframe) const {
     const std::array<double, 3>& p = keyframes[static_cast<size_t>(keyframe)].pose;

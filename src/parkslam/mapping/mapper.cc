@@ -103,6 +103,7 @@ Mapper::Mapper(const MapperOptions& options, const odometry::OdometryEkfOptions&
   std::string error;
   if (!options_.IsValid(&error)) throw std::invalid_argument("mapper options: " + error);
   if (!ekf_options.IsValid(&error)) throw std::invalid_argument("odometry options: " + error);
+  if (options_.estimate_wheel_scale) state_.wheel_scale_sigma = ekf_options.wheel_scale_sigma;
 }
 
 Mapper::~Mapper() = default;
@@ -190,6 +191,7 @@ double Mapper::ApplyBackgroundSolve() {
       pose = {moved.x(), moved.y(), moved.yaw()};
     }
   }
+  state_.wheel_scale_error = solved.wheel_scale_error;
   for (size_t s = 0; s < state_.slots.size(); ++s) {
     SlotLandmark& slot = state_.slots[s];
     if (s < background_->slots()) {
@@ -247,6 +249,7 @@ bool Mapper::MaybeAddKeyframe(TimeNs t_ns, bool has_observations) {
         state_.PoseOf(static_cast<int>(state_.keyframes.size()) - 1) * motion.T_clone_now;
     keyframe.pose = {pose.x(), pose.y(), pose.yaw()};
     keyframe.T_previous_this = motion.T_clone_now;
+    keyframe.odometry_wheel_scale = ekf_->state()[odometry::OdometryEkf::kWheelScale];
     // A floor keeps the information finite when the car stands still.
     keyframe.covariance = 0.5 * (motion.covariance + motion.covariance.transpose()) +
                           Eigen::Matrix3d::Identity() * 1e-8;
@@ -514,6 +517,9 @@ SemanticMap Mapper::MapOf(const MapState& state, const MapperOptions& options,
   map.metadata["source"] = "parkslam mapper";
   map.metadata["robust"] = options.robust == RobustMode::kMaxMixture ? "maxmix" : "none";
   map.metadata["mode"] = options.mode == MappingMode::kBatch ? "batch" : "online";
+  if (state.wheel_scale_sigma > 0.0) {
+    map.metadata["wheel_scale_error"] = std::to_string(state.wheel_scale_error[0]);
+  }
   if (!state.keyframes.empty()) map.entrance = state.PoseOf(0);
   for (size_t index = 0; index < state.slots.size(); ++index) {
     const SlotLandmark& slot = state.slots[index];

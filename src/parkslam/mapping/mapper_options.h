@@ -118,6 +118,13 @@ struct MapperOptions {
   // Measured (docs/results/solver_comparison.md): the same maps as the
   // default 1e4 in about half the time.
   double initial_trust_region_radius = 1e8;
+  // The wheel speed's scale error as one unknown of the whole graph
+  // (OdometryFactor), with the odometry's wheel_scale_sigma as its prior;
+  // false: the dead reckoning's distances taken as they come. Off by
+  // default: on pixels the top view's own scale error (about 0.1 % on the
+  // default lot) enters the estimate and the map grows by it
+  // (docs/mapping.md, "The wheel's scale").
+  bool estimate_wheel_scale = false;
 
   // The corner sigmas the map states (docs/mapping.md, "How sure a
   // corner is"). A corner seen: with corner_sigma_from_graph, its marginal
@@ -182,6 +189,7 @@ struct MapperOptions {
     v("final_iterations", final_iterations);
     v("final_rounds", final_rounds);
     v("initial_trust_region_radius", initial_trust_region_radius);
+    v("estimate_wheel_scale", estimate_wheel_scale);
     v("corner_sigma_from_graph", corner_sigma_from_graph);
     v("corner_evidence_sigma_m", corner_evidence_sigma_m);
     v("corner_sigma_floor_m", corner_sigma_floor_m);

@@ -30,7 +30,7 @@ TEST(OdometryFactorTest, ZeroResidualAtTheMeasuredRelativePose) {
   ASSERT_LT(T_map_b.yaw(), 0.0);
   const std::unique_ptr<ceres::CostFunction> cost(
       OdometryFactor::Create(T_a_b, Eigen::Matrix3d::Identity()));
-  const Eigen::VectorXd r = Residuals(*cost, {Block(T_map_a), Block(T_map_b)});
+  const Eigen::VectorXd r = Residuals(*cost, {Block(T_map_a), Block(T_map_b), {0.0}});
   EXPECT_NEAR(r.norm(), 0.0, 1e-12);
 }
 
@@ -40,7 +40,8 @@ TEST(OdometryFactorTest, ResidualByHandForPoseFacingPlusY) {
   const Eigen::Matrix3d covariance = Eigen::Vector3d(0.25, 0.25, 0.01).asDiagonal();
   const std::unique_ptr<ceres::CostFunction> cost(
       OdometryFactor::Create(SE2(1.5, 0.2, 0.05), covariance));
-  const Eigen::VectorXd r = Residuals(*cost, {{1.0, 2.0, kPi / 2}, {1.0, 4.0, kPi / 2 + 0.1}});
+  const Eigen::VectorXd r =
+      Residuals(*cost, {{1.0, 2.0, kPi / 2}, {1.0, 4.0, kPi / 2 + 0.1}, {0.0}});
   EXPECT_NEAR(r(0), (2.0 - 1.5) / 0.5, 1e-12);
   EXPECT_NEAR(r(1), (0.0 - 0.2) / 0.5, 1e-12);
   EXPECT_NEAR(r(2), (0.1 - 0.05) / 0.1, 1e-12);
@@ -50,7 +51,8 @@ TEST(OdometryFactorTest, YawResidualIsWrappedAcrossPi) {
   // yaw_b - yaw_a = (-pi + 0.1) - (pi - 0.1) = -2 pi + 0.2 ~ 0.2; measured 0.1.
   const std::unique_ptr<ceres::CostFunction> cost(
       OdometryFactor::Create(SE2(0.0, 0.0, 0.1), Eigen::Matrix3d::Identity()));
-  const Eigen::VectorXd r = Residuals(*cost, {{0.0, 0.0, kPi - 0.1}, {0.0, 0.0, -kPi + 0.1}});
+  const Eigen::VectorXd r =
+      Residuals(*cost, {{0.0, 0.0, kPi - 0.1}, {0.0, 0.0, -kPi + 0.1}, {0.0}});
   EXPECT_NEAR(r(2), 0.1, 1e-12);
 }
 
@@ -68,7 +70,8 @@ TEST(OdometryFactorTest, JacobiansMatchNumericIncludingYawNearPi) {
       const std::vector<double> a = {random.Uniform(-10, 10), random.Uniform(-10, 10), yaw_a};
       const std::vector<double> b = {random.Uniform(-10, 10), random.Uniform(-10, 10),
                                      NormalizeAngle(yaw_a + random.Uniform(-0.5, 0.5))};
-      EXPECT_TRUE(JacobiansMatchNumeric(*cost, {a, b})) << "yaw_a " << yaw_a;
+      EXPECT_TRUE(JacobiansMatchNumeric(*cost, {a, b, {random.Uniform(-0.01, 0.01)}}))
+          << "yaw_a " << yaw_a;
     }
   }
 }
@@ -87,19 +90,36 @@ TEST(OdometryFactorTest, SquaredResidualIsTheMahalanobisDistance) {
       SE2(a[0], a[1], a[2]).rotation().transpose() * Eigen::Vector2d(b[0] - a[0], b[1] - a[1]);
   const Eigen::Vector3d e(relative.x() - 2.0, relative.y() - 0.1, b[2] - a[2] - 0.05);
   const double mahalanobis = e.dot(covariance.inverse() * e);
-  const Eigen::VectorXd r = Residuals(*cost, {a, b});
+  const Eigen::VectorXd r = Residuals(*cost, {a, b, {0.0}});
   EXPECT_NEAR(0.5 * r.squaredNorm(), 0.5 * mahalanobis, 1e-10 * mahalanobis);
   // The lower factor (the trap of DESIGN.md section 4) would give another value.
   const Eigen::Matrix3d lower = covariance.inverse().llt().matrixL();
   EXPECT_GT(std::abs((lower * e).squaredNorm() - mahalanobis), 0.01 * mahalanobis);
 }
 
+// The wheel reads (1 + s) times the speed and the dead reckoning took s_o
+// for it: the car moved (1 - (s - s_o)) times the measured translation.
+TEST(OdometryFactorTest, TheWheelScaleErrorShortensTheMeasuredTranslation) {
+  const std::unique_ptr<ceres::CostFunction> cost(
+      OdometryFactor::Create(SE2(2.0, 0.0, 0.0), Eigen::Matrix3d::Identity(), 0.002));
+  // s = 0.012: the odometry's 2 m were 2 (1 - 0.010) = 1.98 m.
+  const Eigen::VectorXd at_truth = Residuals(*cost, {{0.0, 0.0, 0.0}, {1.98, 0.0, 0.0}, {0.012}});
+  EXPECT_NEAR(at_truth.norm(), 0.0, 1e-12);
+  // Where the dead reckoning's own estimate was right, no correction.
+  const Eigen::VectorXd as_measured = Residuals(*cost, {{0.0, 0.0, 0.0}, {2.0, 0.0, 0.0}, {0.002}});
+  EXPECT_NEAR(as_measured.norm(), 0.0, 1e-12);
+  // A scale that is wrong by 0.01 leaves 2 cm along the way.
+  const Eigen::VectorXd wrong = Residuals(*cost, {{0.0, 0.0, 0.0}, {2.0, 0.0, 0.0}, {0.012}});
+  EXPECT_NEAR(wrong(0), 0.02, 1e-12);
+  EXPECT_NEAR(wrong(1), 0.0, 1e-12);
+}
+
 TEST(OdometryFactorTest, RejectsACovarianceThatIsNotPositiveDefinite) {
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();
   covariance(2, 2) = 0.0;
-  EXPECT_THROW(OdometryFactor(SE2(), covariance), std::invalid_argument);
+  EXPECT_THROW(OdometryFactor(SE2(), covariance, 0.0), std::invalid_argument);
   covariance(2, 2) = -1.0;
-  EXPECT_THROW(OdometryFactor(SE2(), covariance), std::invalid_argument);
+  EXPECT_THROW(OdometryFactor(SE2(), covariance, 0.0), std::invalid_argument);
 }
 
 }  // namespace

@@ -11,6 +11,10 @@
 //
 // PointPriorFactor, block corner = c = {x, y}, prior p, std sigma (isotropic):
 //   r = (c - p) / sigma
+//
+// ScalarPriorFactor, block v = {v}, prior p, std sigma (the wheel speed's
+// scale error of OdometryFactor, whose prior is the spread of real cars'):
+//   r = (v - p) / sigma
 
 #include <ceres/autodiff_cost_function.h>
 
@@ -76,6 +80,30 @@ class PointPriorFactor {
 
  private:
   Eigen::Vector2d prior_map_m_;
+  double inverse_sigma_;
+};
+
+class ScalarPriorFactor {
+ public:
+  static constexpr int kNumResiduals = 1;
+
+  // Throws std::invalid_argument unless sigma > 0.
+  ScalarPriorFactor(double prior, double sigma)
+      : prior_(prior), inverse_sigma_(1.0 / CheckedSigma(sigma, "sigma")) {}
+
+  template <typename T>
+  bool operator()(const T* value, T* residuals) const {
+    residuals[0] = (value[0] - T(prior_)) * inverse_sigma_;
+    return true;
+  }
+
+  static ceres::CostFunction* Create(double prior, double sigma) {
+    return new ceres::AutoDiffCostFunction<ScalarPriorFactor, kNumResiduals, 1>(
+        new ScalarPriorFactor(prior, sigma));
+  }
+
+ private:
+  double prior_;
   double inverse_sigma_;
 };
 

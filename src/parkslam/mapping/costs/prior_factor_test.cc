@@ -79,5 +79,14 @@ TEST(PointPriorFactorTest, RejectsANonPositiveSigma) {
   EXPECT_THROW(PointPriorFactor(Eigen::Vector2d::Zero(), -1.0), std::invalid_argument);
 }
 
+TEST(ScalarPriorFactorTest, ResidualAndJacobianAreOffsetAndOneOverSigma) {
+  const std::unique_ptr<ceres::CostFunction> cost(ScalarPriorFactor::Create(0.001, 0.003));
+  const Eigen::VectorXd r = Residuals(*cost, {{0.007}});
+  EXPECT_NEAR(r(0), 2.0, 1e-12);
+  const auto jacobians = Jacobians(*cost, {{0.007}});
+  EXPECT_NEAR(jacobians[0](0, 0), 1.0 / 0.003, 1e-9);
+  EXPECT_THROW(ScalarPriorFactor(0.0, 0.0), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace parkslam::mapping
