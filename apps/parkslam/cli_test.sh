@@ -112,6 +112,11 @@ expect nonzero 'far.json: slots\[0\]\.corners\[0\]\[0\]: 1e\+308 is beyond the p
 # Localizing on the map and following the trace in closed loop.
 expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --global
 expect 0 "poses written" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0
+# What the landmarks taught of the wheel, and nothing where it is not estimated.
+expect 0 "wheel speed reads [+-][0-9.]+ % \(sigma [0-9.]+ %\)" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0
+printf 'localizer:\n  estimate_wheel_scale: false\n' > "$tmp/noscale.yaml"
+out=$("$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0 --config "$tmp/noscale.yaml" 2>&1)
+grep -q "wheel speed reads" <<<"$out" && fail "localize with estimate_wheel_scale false still speaks of the wheel" || pass
 expect nonzero "excludes|--global" -- "$PARKSLAM" localize --map "$tmp/m.json" "$tmp/d" --out "$tmp/l.tum" --init 0,0,0 --global
 # The mapper's map keeps where its drive began; the ground truth has no entrance.
 grep -q '"entrance"' "$tmp/m.json" && pass || fail "the mapper's map has no entrance"
