@@ -123,9 +123,11 @@ def main():
               "![10 runs at 10 km/h on dead reckoning alone](traces_10kmh_odometry.svg)", ""]
     with open(os.path.join(args.out, "results.md"), "w") as f:
         f.write("\n".join(lines))
+    # The work folder is a temporary one: named WORK, as in results.md.
+    results = json.dumps({"map": map_eval, "localization": loc_eval,
+                          "follow": {name: r for name, r in follow}}, indent=2)
     with open(os.path.join(args.out, "results.json"), "w") as f:
-        json.dump({"map": map_eval, "localization": loc_eval,
-                   "follow": {name: r for name, r in follow}}, f, indent=2)
+        f.write(results.replace(work, "WORK"))
     if args.work is None:
         shutil.rmtree(work)
     print("written to %s" % args.out)
