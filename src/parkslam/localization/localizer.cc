@@ -142,23 +142,21 @@ void Localizer::Predict(const odometry::OdometryEkf::RelativeMotion& motion) {
   //   s' = s + w,  var(w) = walk^2 |d|.
   // The motion's own covariance (the dead reckoning's, since the last
   // frame) enters through J_d.
-  const double c = std::cos(x_[2]), s = std::sin(x_[2]);
-  const Eigen::Vector2d d = motion.T_clone_now.translation();
+  const Eigen::Matrix2d R = pose().rotation();
+  const Eigen::Vector2d Rd = R * motion.T_clone_now.translation();
   const double scale = DistanceFactor();
-  Eigen::Matrix2d R;
-  R << c, -s, s, c;
+  // d(R d)/d(yaw) = (-(R d)_y, (R d)_x).
   StateCovariance J_x = StateCovariance::Identity();
-  J_x(0, 2) = scale * (-s * d.x() - c * d.y());
-  J_x(1, 2) = scale * (c * d.x() - s * d.y());
-  J_x.block<2, 1>(0, kScale) = -R * d;
+  J_x.block<2, 1>(0, 2) = scale * Eigen::Vector2d(-Rd.y(), Rd.x());
+  J_x.block<2, 1>(0, kScale) = -Rd;
   Eigen::Matrix<double, 4, 3> J_d = Eigen::Matrix<double, 4, 3>::Zero();
   J_d.topLeftCorner<2, 2>() = scale * R;
   J_d(2, 2) = 1.0;
-  x_.head<2>() += scale * R * d;
+  x_.head<2>() += scale * Rd;
   x_[2] = NormalizeAngle(x_[2] + motion.T_clone_now.yaw());
   P_ = J_x * P_ * J_x.transpose() + J_d * motion.covariance * J_d.transpose();
   if (options_.estimate_wheel_scale) {
-    P_(kScale, kScale) += Square(options_.wheel_scale_walk_per_sqrt_m) * d.norm();
+    P_(kScale, kScale) += Square(options_.wheel_scale_walk_per_sqrt_m) * Rd.norm();
   }
 }
 
