@@ -28,6 +28,33 @@ OdometryConsistency EvaluateOdometryConsistency(
     const sim::ScenarioConfig& scenario, int runs, std::uint64_t first_seed,
     double sample_period_s = 1.0, const std::function<void(int done, int total)>& on_run_done = {});
 
+// What a landmark filter takes from the dead reckoning is its motion over a
+// short window, not its pose since the start: the filter's stochastic clone
+// (OdometryEkf::MotionSinceClone) gives that motion with its covariance.
+// Over `runs` simulations the drive is cut into windows of window_s; each
+// window's motion error (in the frame at its start) is scored against that
+// covariance. The scale error of the wheel, drawn once per drive, makes
+// windows of one drive correlated, so the mean is a figure to compare with
+// the ideal, not a test against a strict band. The windows where the car
+// turns (|yaw change| > turn_threshold_rad) are scored apart: there the
+// bicycle model carries the yaw.
+struct RelativeOdometryConsistency {
+  int windows = 0;
+  int turning_windows = 0;
+  double mean_nees = 0.0;           // 3 dof (x, y, yaw); 3 is ideal
+  double mean_position_nees = 0.0;  // 2 dof, its own 2x2 block; 2 is ideal
+  double mean_yaw_nees = 0.0;       // 1 dof; 1 is ideal
+  double mean_turning_nees = 0.0;   // 3 dof, turning windows only
+  double mean_turning_yaw_nees = 0.0;
+  // Share of windows whose 3-dof NEES lies inside the one-window 95 % band.
+  double share_inside_window_band = 0.0;
+};
+
+RelativeOdometryConsistency EvaluateRelativeOdometryConsistency(const sim::ScenarioConfig& scenario,
+                                                                int runs, std::uint64_t first_seed,
+                                                                double window_s = 5.0,
+                                                                double turn_threshold_rad = 0.2);
+
 }  // namespace parkslam::harness
 
 #endif  // PARKSLAM_HARNESS_ODOMETRY_CONSISTENCY_H_

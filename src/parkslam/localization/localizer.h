@@ -28,7 +28,7 @@ struct LocalizerOptions {
   // Measurement noise floors (the detector reports its own sigma).
   double corner_sigma_floor_m = 0.03;
   double guessed_corner_sigma_m = 0.5;  // far corners only guessed: unused below this
-  double map_corner_sigma_floor_m = 0.01;
+  double map_corner_sigma_floor_m = 0.005;
   double tag_map_sigma_m = 0.03;
   double tag_map_yaw_sigma_rad = 0.02;
   // The map's own error, which no number of sightings averages away (every
@@ -39,7 +39,7 @@ struct LocalizerOptions {
   // corner_sigma_m, at least map_corner_sigma_floor_m; tags:
   // tag_map_sigma_m) on x and y and map_yaw_sigma_rad on yaw
   // (docs/localization.md, "Consistency").
-  double map_yaw_sigma_rad = 0.00085;
+  double map_yaw_sigma_rad = 0.0005;
   // The wheel speed's scale error, estimated beside the pose: it is off by
   // a fraction that stays for the drive (tyre radius, load, pressure), so
   // every frame's motion is off by the same fraction, an error that no

@@ -140,7 +140,7 @@ struct MapperOptions {
   // depths.
   bool corner_sigma_from_graph = true;
   double corner_evidence_sigma_m = 0.05;
-  double corner_sigma_floor_m = 0.014;
+  double corner_sigma_floor_m = 0.010;
   double row_depth_sigma_m = 0.05;
   double depth_prior_sigma_m = 0.4;
 

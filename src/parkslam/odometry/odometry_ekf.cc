@@ -35,7 +35,11 @@ bool OdometryEkfOptions::IsValid(std::string* error) const {
       {"gyro_bias_sigma_radps", gyro_bias_sigma_radps},
       {"heading_bias_sigma_rad", heading_bias_sigma_rad},
       {"wheel_scale_sigma", wheel_scale_sigma},
-      {"heading_disturbance_sigma_rad", heading_disturbance_sigma_rad}};
+      {"heading_disturbance_sigma_rad", heading_disturbance_sigma_rad},
+      {"jerk_sigma_mps3_per_sqrt_hz", jerk_sigma_mps3_per_sqrt_hz},
+      {"yaw_jerk_sigma_radps3_per_sqrt_hz", yaw_jerk_sigma_radps3_per_sqrt_hz},
+      {"initial_accel_sigma_mps2", initial_accel_sigma_mps2},
+      {"initial_yaw_accel_sigma_radps2", initial_yaw_accel_sigma_radps2}};
   for (const auto& [name, sigma] : sigmas) c.NonNegative(sigma, name);
   c.Positive(heading_disturbance_length_m, "heading_disturbance_length_m");
   c.Positive(innovation_gate_chi2, "innovation_gate_chi2");
@@ -68,7 +72,8 @@ void OdometryEkf::Initialize(TimeNs t_ns, const SE2& T_map_vehicle, double yaw_s
   StateVector sigma = StateVector::Zero();
   sigma.head<kCloneX>() << o.initial_position_sigma_m, o.initial_position_sigma_m, yaw_sigma_rad,
       o.initial_speed_sigma_mps, o.initial_yaw_rate_sigma_radps, o.gyro_bias_sigma_radps,
-      o.heading_bias_sigma_rad, o.wheel_scale_sigma, o.heading_disturbance_sigma_rad;
+      o.heading_bias_sigma_rad, o.wheel_scale_sigma, o.heading_disturbance_sigma_rad,
+      o.initial_accel_sigma_mps2, o.initial_yaw_accel_sigma_radps2;
   P_.setZero();
   P_.topLeftCorner<kCloneX, kCloneX>() = sigma.head<kCloneX>().cwiseAbs2().asDiagonal();
   initialized_ = true;
@@ -126,17 +131,37 @@ OdometryEkf::RelativeMotion OdometryEkf::MotionSinceClone() const {
 void OdometryEkf::Predict(double dt_s) {
   if (dt_s <= 0.0) return;
   const double yaw = x_[kYaw], v = x_[kSpeed], omega = x_[kYawRate];
-  const double c = std::cos(yaw), s = std::sin(yaw);
-  x_[kX] += v * c * dt_s;
-  x_[kY] += v * s * dt_s;
-  x_[kYaw] = NormalizeAngle(yaw + omega * dt_s);
+  const double a = x_[kAccel], alpha = x_[kYawAccel];
+  const double dt2 = dt_s * dt_s;
+  const double ds = v * dt_s + 0.5 * a * dt2;
+  const double dyaw = omega * dt_s + 0.5 * alpha * dt2;
+  // The step moves along the heading at its middle: in a turn the heading
+  // at the step's start would put every step, and so the whole arc, to the
+  // outside by v omega dt / 2 per second, a bias the covariance never held.
+  const double c = std::cos(yaw + 0.5 * dyaw), s = std::sin(yaw + 0.5 * dyaw);
+  x_[kX] += ds * c;
+  x_[kY] += ds * s;
+  x_[kYaw] = NormalizeAngle(yaw + dyaw);
+  x_[kSpeed] += a * dt_s;
+  x_[kYawRate] += alpha * dt_s;
 
+  // F = d(next state)/d(state); d(yaw + dyaw / 2) / d(omega) = dt / 2 and
+  // / d(alpha) = dt^2 / 4.
   StateMatrix F = StateMatrix::Identity();
-  F(kX, kYaw) = -v * s * dt_s;
+  F(kX, kYaw) = -ds * s;
   F(kX, kSpeed) = c * dt_s;
-  F(kY, kYaw) = v * c * dt_s;
+  F(kX, kAccel) = 0.5 * c * dt2;
+  F(kX, kYawRate) = -0.5 * ds * s * dt_s;
+  F(kX, kYawAccel) = -0.25 * ds * s * dt2;
+  F(kY, kYaw) = ds * c;
   F(kY, kSpeed) = s * dt_s;
+  F(kY, kAccel) = 0.5 * s * dt2;
+  F(kY, kYawRate) = 0.5 * ds * c * dt_s;
+  F(kY, kYawAccel) = 0.25 * ds * c * dt2;
   F(kYaw, kYawRate) = dt_s;
+  F(kYaw, kYawAccel) = 0.5 * dt2;
+  F(kSpeed, kAccel) = dt_s;
+  F(kYawRate, kYawAccel) = dt_s;
 
   const OdometryEkfOptions& o = options_;
   StateMatrix Q = StateMatrix::Zero();
@@ -148,6 +173,14 @@ void OdometryEkf::Predict(double dt_s) {
       (1.0 - phi * phi) * Square(o.heading_disturbance_sigma_rad);
   Q(kSpeed, kSpeed) = Square(o.accel_sigma_mps2_per_sqrt_hz) * dt_s;
   Q(kYawRate, kYawRate) = Square(o.yaw_accel_sigma_radps2_per_sqrt_hz) * dt_s;
+  // White jerk q on (rate, acceleration): q [dt^3 / 3, dt^2 / 2; dt^2 / 2, dt].
+  auto add_jerk = [&](int rate, int accel, double q) {
+    Q(rate, rate) += q * dt2 * dt_s / 3.0;
+    Q(rate, accel) = Q(accel, rate) = q * dt2 / 2.0;
+    Q(accel, accel) = q * dt_s;
+  };
+  add_jerk(kSpeed, kAccel, Square(o.jerk_sigma_mps3_per_sqrt_hz));
+  add_jerk(kYawRate, kYawAccel, Square(o.yaw_jerk_sigma_radps3_per_sqrt_hz));
   Q(kGyroBias, kGyroBias) = Square(o.gyro_bias_walk_radps_per_sqrt_s) * dt_s;
   Q(kHeadingBias, kHeadingBias) = Square(o.heading_bias_walk_rad_per_sqrt_s) * dt_s;
   P_ = F * P_ * F.transpose() + Q;

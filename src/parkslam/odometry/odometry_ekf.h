@@ -5,16 +5,24 @@
 // (paper III-C: "a Kalman-based extrapolation with the steering wheel, car
 // speed and the compass readings from a cheap IMU").
 //
-// State x (12): [x_m, y_m, yaw_rad, v_mps, omega_radps, gyro_bias_radps,
+// State x (14): [x_m, y_m, yaw_rad, v_mps, omega_radps, gyro_bias_radps,
 //                heading_bias_rad, wheel_scale_error, heading_disturbance_rad,
+//                a_mps2, alpha_radps2,
 //                clone_x_m, clone_y_m, clone_yaw_rad]
 // The last three are a stochastic clone of the pose at the last keyframe
 // (Roumeliotis and Burdick, "Stochastic cloning", ICRA 2002): they stay fixed
 // in prediction but keep their cross-covariance with the moving pose, so the
 // motion since the keyframe comes with its own covariance (RelativeMotion()).
-// Process (constant speed and yaw rate over dt, random-walk inputs):
-//   x += v cos(yaw) dt,  y += v sin(yaw) dt,  yaw += omega dt,
-//   v, omega, biases and scale: random walks.
+// Process (constant acceleration a and yaw acceleration alpha over dt):
+//   ds = v dt + a dt^2 / 2,  dyaw = omega dt + alpha dt^2 / 2,
+//   x += ds cos(yaw + dyaw / 2),  y += ds sin(yaw + dyaw / 2),
+//   yaw += dyaw,  v += a dt,  omega += alpha dt,
+//   a, alpha: random walks (white jerk), v and omega: also a white
+//   acceleration; biases: random walks; scale: constant.
+// A car speeds up, brakes and steers into turns over seconds; a filter whose
+// speed and yaw rate were random walks would lag them by its gain's delay,
+// and the lag, the same sign for the whole manoeuvre, is an error the
+// covariance never holds (docs/odometry.md, "Motion over a window").
 // Measurements:
 //   wheel speed      z = (1 + s) v                         (R = sigma_w^2)
 //   steering angle   0 = omega - v tan(z_sw / ratio) / L   (bicycle model)
@@ -60,14 +68,20 @@ struct OdometryEkfOptions {
   // Measurement noise (standard deviations).
   double wheel_speed_sigma_mps = 0.02;
   double steering_wheel_sigma_rad = 0.01;
-  double steering_model_sigma_radps = 0.0005;  // slip, beyond the bicycle model
+  // Slip beyond the bicycle model, and the steering's sample lagging the
+  // yaw rate it sets while the wheel turns (docs/odometry.md).
+  double steering_model_sigma_radps = 0.002;
   double gyro_sigma_radps = 0.005;
   double heading_sigma_rad = 0.01;
   // Process noise (random-walk densities). Chosen by Monte-Carlo NEES on the
-  // default drive (docs/odometry.md): larger values made the filter
-  // conservative (average NEES 2.56 of an ideal 3 over 100 drives).
-  double accel_sigma_mps2_per_sqrt_hz = 0.3;
-  double yaw_accel_sigma_radps2_per_sqrt_hz = 0.1;
+  // default drive, of the pose since the start and of the motion over 1 and
+  // 5 s windows (docs/odometry.md, "Consistency").
+  double accel_sigma_mps2_per_sqrt_hz = 0.1;
+  double yaw_accel_sigma_radps2_per_sqrt_hz = 0.03;
+  // White jerk on the acceleration states; 0 with zero initial sigmas keeps
+  // them at 0 (the constant-speed, constant-yaw-rate model).
+  double jerk_sigma_mps3_per_sqrt_hz = 1.0;
+  double yaw_jerk_sigma_radps3_per_sqrt_hz = 0.5;
   double gyro_bias_walk_radps_per_sqrt_s = 0.00005;
   double heading_bias_walk_rad_per_sqrt_s = 0.0005;
   // The compass's disturbance near steel (above); sigma 0 models a compass
@@ -81,6 +95,8 @@ struct OdometryEkfOptions {
   double gyro_bias_sigma_radps = 0.003;
   double heading_bias_sigma_rad = 0.02;
   double wheel_scale_sigma = 0.003;
+  double initial_accel_sigma_mps2 = 0.5;
+  double initial_yaw_accel_sigma_radps2 = 0.3;
   // Fault gating (above). 19.5 is the chi-square quantile of p = 1e-5 with
   // one degree of freedom; gating starts gate_after_s after initialization,
   // when the priors have converged.
@@ -110,7 +126,7 @@ struct OdometryEkfStats {
 
 class OdometryEkf {
  public:
-  static constexpr int kStateSize = 12;
+  static constexpr int kStateSize = 14;
   using StateVector = Eigen::Matrix<double, kStateSize, 1>;
   using StateMatrix = Eigen::Matrix<double, kStateSize, kStateSize>;
   enum Index {
@@ -123,6 +139,8 @@ class OdometryEkf {
     kHeadingBias,
     kWheelScale,
     kHeadingDisturbance,
+    kAccel,
+    kYawAccel,
     kCloneX,
     kCloneY,
     kCloneYaw
