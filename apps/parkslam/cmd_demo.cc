@@ -1,6 +1,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -287,6 +288,33 @@ void EkfConsistency(const Options& o, const sim::ScenarioConfig& scenario,
       "EKF consistency: average NEES %.2f (ideal 3; 95 %% band [%.2f, %.2f]), "
       "inside the band %.1f %% of the time over %d drives\n",
       c.mean_anees, c.band_lower, c.band_upper, 100 * c.share_inside_band, c.runs);
+  // What the localizer and the mapper take: the motion over a window
+  // (docs/odometry.md, "Motion over a window"), on the same drives.
+  nlohmann::json windows = nlohmann::json::array();
+  std::string line = "EKF motion over windows:";
+  for (const double window_s : {1.0, 5.0}) {
+    Progress window_progress(window_s < 5.0 ? "  1 s windows" : "  5 s windows",
+                             o.consistency_runs);
+    const harness::RelativeOdometryConsistency w = harness::EvaluateRelativeOdometryConsistency(
+        scenario, o.consistency_runs, o.seed + 1000, window_s, 0.2,
+        [&window_progress](int done, int) { window_progress.Update(done); });
+    window_progress.Finish();
+    windows.push_back({{"window_s", window_s},
+                       {"windows", w.windows},
+                       {"mean_nees", w.mean_nees},
+                       {"mean_position_nees", w.mean_position_nees},
+                       {"mean_yaw_nees", w.mean_yaw_nees},
+                       {"turning_windows", w.turning_windows},
+                       {"mean_turning_nees", w.mean_turning_nees},
+                       {"share_inside_window_band", w.share_inside_window_band}});
+    char part[160];
+    std::snprintf(part, sizeof(part), " %.0f s NEES %.2f (in turns %.2f), %.1f %% inside%s",
+                  window_s, w.mean_nees, w.mean_turning_nees, 100 * w.share_inside_window_band,
+                  window_s < 5.0 ? ";" : "");
+    line.append(part);
+  }
+  (*metrics)["odometry_consistency"]["windows"] = windows;
+  std::printf("%s (ideal 3)\n", line.c_str());
 }
 
 // map.svg (the map with the three trajectories) and, after trace

@@ -71,10 +71,9 @@ OdometryConsistency EvaluateOdometryConsistency(const sim::ScenarioConfig& scena
   return result;
 }
 
-RelativeOdometryConsistency EvaluateRelativeOdometryConsistency(const sim::ScenarioConfig& scenario,
-                                                                int runs, std::uint64_t first_seed,
-                                                                double window_s,
-                                                                double turn_threshold_rad) {
+RelativeOdometryConsistency EvaluateRelativeOdometryConsistency(
+    const sim::ScenarioConfig& scenario, int runs, std::uint64_t first_seed, double window_s,
+    double turn_threshold_rad, const std::function<void(int, int)>& on_run_done) {
   if (runs < 1) throw std::invalid_argument("runs must be at least 1");
   if (!(window_s > 0.0)) throw std::invalid_argument("window_s must be positive");
   const odometry::OdometryEkfOptions ekf_options =
@@ -129,6 +128,7 @@ RelativeOdometryConsistency EvaluateRelativeOdometryConsistency(const sim::Scena
       if (t_ns >= window_start_ns + window_ns) score(window_start_ns + window_ns);
       ekf.Process(*event);
     }
+    if (on_run_done) on_run_done(run + 1, runs);
   }
   if (result.windows > 0) {
     result.mean_nees = sum / result.windows;

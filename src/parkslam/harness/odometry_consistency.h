@@ -50,10 +50,10 @@ struct RelativeOdometryConsistency {
   double share_inside_window_band = 0.0;
 };
 
-RelativeOdometryConsistency EvaluateRelativeOdometryConsistency(const sim::ScenarioConfig& scenario,
-                                                                int runs, std::uint64_t first_seed,
-                                                                double window_s = 5.0,
-                                                                double turn_threshold_rad = 0.2);
+RelativeOdometryConsistency EvaluateRelativeOdometryConsistency(
+    const sim::ScenarioConfig& scenario, int runs, std::uint64_t first_seed, double window_s = 5.0,
+    double turn_threshold_rad = 0.2,
+    const std::function<void(int done, int total)>& on_run_done = {});
 
 }  // namespace parkslam::harness
 
