@@ -28,6 +28,42 @@ void Drive(OdometryEkf& ekf, const OdometryEkfOptions& o, double v, double delta
   }
 }
 
+// A car speeding up at 0.5 m/s^2 on a circle: the filter learns the
+// acceleration, and its distance keeps up with the truth; with the
+// acceleration states switched off (no jerk, no prior) they stay at zero
+// and the speed, a random walk, lags behind.
+TEST(OdometryEkfTest, TheAccelerationIsLearntAndCanBeSwitchedOff) {
+  for (const bool with_acceleration : {true, false}) {
+    OdometryEkfOptions o;
+    if (!with_acceleration) {
+      o.jerk_sigma_mps3_per_sqrt_hz = o.yaw_jerk_sigma_radps3_per_sqrt_hz = 0.0;
+      o.initial_accel_sigma_mps2 = o.initial_yaw_accel_sigma_radps2 = 0.0;
+    }
+    OdometryEkf ekf(o);
+    ekf.Initialize(0, SE2(0, 0, 0), 0.001);
+    const double a = 0.5, delta = 0.1;
+    double v = 0.5, distance = 0.0;
+    for (TimeNs t = 10 * kMs; t <= FromSeconds(6.0); t += 10 * kMs) {
+      distance += (v + 0.5 * a * 0.01) * 0.01;
+      v += a * 0.01;
+      const double omega = v * std::tan(delta) / o.vehicle.wheelbase_m;
+      ekf.Process(WheelSpeed{t, v});
+      ekf.Process(SteeringAngle{t, delta * o.vehicle.steering_ratio});
+      ekf.Process(ImuSample{t, omega, std::nullopt});
+    }
+    const double speed_lag = v - ekf.state()[OdometryEkf::kSpeed];
+    if (with_acceleration) {
+      EXPECT_NEAR(ekf.state()[OdometryEkf::kAccel], a, 0.05);
+      EXPECT_LT(std::abs(speed_lag), 0.002);
+    } else {
+      EXPECT_EQ(ekf.state()[OdometryEkf::kAccel], 0.0);
+      EXPECT_EQ(ekf.state()[OdometryEkf::kYawAccel], 0.0);
+      EXPECT_GT(speed_lag, 0.002);
+    }
+    EXPECT_GT(distance, 10.0);
+  }
+}
+
 TEST(OdometryEkfTest, WithoutACompassTheYawFollowsTheGyroFromZero) {
   OdometryEkfOptions o;
   OdometryEkf ekf(o);
