@@ -102,9 +102,9 @@ TEST(OdometryConsistencyTest, NeesInsideChiSquareBandOnDefaultDrive) {
 // (3 is ideal). Before the filter carried the acceleration and moved along
 // the step's middle heading, 1 s windows scored 23 (96 in turns).
 TEST(OdometryConsistencyTest, MotionOverAWindowIsAsUncertainAsItSays) {
-  for (const double window_s : {1.0, 5.0}) {
-    const RelativeOdometryConsistency c =
-        EvaluateRelativeOdometryConsistency(sim::DefaultScenario(), 10, 300, window_s);
+  for (const RelativeOdometryConsistency& c :
+       EvaluateRelativeOdometryConsistency(sim::DefaultScenario(), 10, 300, {1.0, 5.0})) {
+    const double window_s = c.window_s;
     std::cout << window_s << " s windows: " << c.windows << ", NEES " << c.mean_nees
               << " (position " << c.mean_position_nees << ", yaw " << c.mean_yaw_nees
               << "), turning " << c.turning_windows << ": " << c.mean_turning_nees << " (yaw "

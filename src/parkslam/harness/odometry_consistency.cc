@@ -71,76 +71,113 @@ OdometryConsistency EvaluateOdometryConsistency(const sim::ScenarioConfig& scena
   return result;
 }
 
-RelativeOdometryConsistency EvaluateRelativeOdometryConsistency(
-    const sim::ScenarioConfig& scenario, int runs, std::uint64_t first_seed, double window_s,
-    double turn_threshold_rad, const std::function<void(int, int)>& on_run_done) {
-  if (runs < 1) throw std::invalid_argument("runs must be at least 1");
-  if (!(window_s > 0.0)) throw std::invalid_argument("window_s must be positive");
-  const odometry::OdometryEkfOptions ekf_options =
-      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
-  const eval::NeesBand window_band = eval::AverageNeesBand(3, 1);
+namespace {
+
+// Sums of one window length's scores, turned into means by Result().
+struct WindowScores {
   RelativeOdometryConsistency result;
   double sum = 0.0, sum_position = 0.0, sum_yaw = 0.0, sum_turning = 0.0, sum_turning_yaw = 0.0;
   int inside = 0;
-  const TimeNs window_ns = FromSeconds(window_s);
+
+  void Add(const Eigen::Vector3d& error, const Eigen::Matrix3d& covariance, bool turning,
+           const eval::NeesBand& band) {
+    const double nees = eval::Nees(error, covariance);
+    const Eigen::Matrix2d position_covariance = covariance.topLeftCorner<2, 2>();
+    const double position_nees =
+        error.head<2>().dot(position_covariance.inverse() * error.head<2>());
+    const double yaw_nees = error[2] * error[2] / covariance(2, 2);
+    ++result.windows;
+    sum += nees;
+    sum_position += position_nees;
+    sum_yaw += yaw_nees;
+    inside += nees >= band.lower && nees <= band.upper;
+    if (turning) {
+      ++result.turning_windows;
+      sum_turning += nees;
+      sum_turning_yaw += yaw_nees;
+    }
+  }
+
+  RelativeOdometryConsistency Result() const {
+    RelativeOdometryConsistency r = result;
+    if (r.windows > 0) {
+      r.mean_nees = sum / r.windows;
+      r.mean_position_nees = sum_position / r.windows;
+      r.mean_yaw_nees = sum_yaw / r.windows;
+      r.share_inside_window_band = static_cast<double>(inside) / r.windows;
+    }
+    if (r.turning_windows > 0) {
+      r.mean_turning_nees = sum_turning / r.turning_windows;
+      r.mean_turning_yaw_nees = sum_turning_yaw / r.turning_windows;
+    }
+    return r;
+  }
+};
+
+// Runs the filter over one drive, cloning every window_ns, and scores each
+// window's motion against the truth's.
+void ScoreWindows(const sim::Simulation& sim, const Trajectory& truth,
+                  const odometry::OdometryEkfOptions& ekf_options, TimeNs window_ns,
+                  double turn_threshold_rad, const eval::NeesBand& band, WindowScores* scores) {
+  SensorLogSource source(sim.log);
+  odometry::OdometryEkf ekf(ekf_options);
+  TimeNs window_start_ns = 0;
+  auto score = [&](TimeNs t_ns) {
+    ekf.PredictTo(t_ns);
+    const std::optional<SE2> start = PoseAt(truth, window_start_ns);
+    const std::optional<SE2> end = PoseAt(truth, t_ns);
+    const odometry::OdometryEkf::RelativeMotion motion = ekf.MotionSinceClone();
+    ekf.ClonePose();
+    window_start_ns = t_ns;
+    if (!start || !end) return;
+    const SE2 true_motion = start->inverse() * *end;
+    Eigen::Vector3d error;
+    error.head<2>() = motion.T_clone_now.translation() - true_motion.translation();
+    error[2] = AngleDiff(motion.T_clone_now.yaw(), true_motion.yaw());
+    scores->Add(error, motion.covariance, std::abs(true_motion.yaw()) > turn_threshold_rad, band);
+  };
+  while (const std::optional<SensorEvent> event = source.Next()) {
+    const TimeNs t_ns = EventTime(*event);
+    if (!ekf.initialized()) {
+      const std::optional<SE2> start = PoseAt(truth, t_ns);
+      if (!start) continue;
+      ekf.Initialize(t_ns, *start, 0.01);
+      window_start_ns = t_ns;
+    }
+    if (t_ns >= window_start_ns + window_ns) score(window_start_ns + window_ns);
+    ekf.Process(*event);
+  }
+}
+
+}  // namespace
+
+std::vector<RelativeOdometryConsistency> EvaluateRelativeOdometryConsistency(
+    const sim::ScenarioConfig& scenario, int runs, std::uint64_t first_seed,
+    const std::vector<double>& windows_s, double turn_threshold_rad,
+    const std::function<void(int, int)>& on_run_done) {
+  if (runs < 1) throw std::invalid_argument("runs must be at least 1");
+  for (const double window_s : windows_s) {
+    if (!(window_s > 0.0)) throw std::invalid_argument("window_s must be positive");
+  }
+  const odometry::OdometryEkfOptions ekf_options =
+      odometry::EkfOptionsFromSpec(scenario.sensors.odometry, scenario.vehicle);
+  const eval::NeesBand window_band = eval::AverageNeesBand(3, 1);
+  std::vector<WindowScores> scores(windows_s.size());
   for (int run = 0; run < runs; ++run) {
     const sim::Simulation sim = sim::Simulate(scenario, first_seed + run);
     const Trajectory truth = sim::GroundTruthTrajectory(sim);
-    SensorLogSource source(sim.log);
-    odometry::OdometryEkf ekf(ekf_options);
-    TimeNs window_start_ns = 0;
-    auto score = [&](TimeNs t_ns) {
-      ekf.PredictTo(t_ns);
-      const std::optional<SE2> start = PoseAt(truth, window_start_ns);
-      const std::optional<SE2> end = PoseAt(truth, t_ns);
-      const odometry::OdometryEkf::RelativeMotion motion = ekf.MotionSinceClone();
-      ekf.ClonePose();
-      window_start_ns = t_ns;
-      if (!start || !end) return;
-      const SE2 true_motion = start->inverse() * *end;
-      Eigen::Vector3d error;
-      error.head<2>() = motion.T_clone_now.translation() - true_motion.translation();
-      error[2] = AngleDiff(motion.T_clone_now.yaw(), true_motion.yaw());
-      const double nees = eval::Nees(error, motion.covariance);
-      const Eigen::Matrix2d position_covariance = motion.covariance.topLeftCorner<2, 2>();
-      const double position_nees =
-          error.head<2>().dot(position_covariance.inverse() * error.head<2>());
-      const double yaw_nees = error[2] * error[2] / motion.covariance(2, 2);
-      ++result.windows;
-      sum += nees;
-      sum_position += position_nees;
-      sum_yaw += yaw_nees;
-      inside += nees >= window_band.lower && nees <= window_band.upper;
-      if (std::abs(true_motion.yaw()) > turn_threshold_rad) {
-        ++result.turning_windows;
-        sum_turning += nees;
-        sum_turning_yaw += yaw_nees;
-      }
-    };
-    while (const std::optional<SensorEvent> event = source.Next()) {
-      const TimeNs t_ns = EventTime(*event);
-      if (!ekf.initialized()) {
-        const std::optional<SE2> start = PoseAt(truth, t_ns);
-        if (!start) continue;
-        ekf.Initialize(t_ns, *start, 0.01);
-        window_start_ns = t_ns;
-      }
-      if (t_ns >= window_start_ns + window_ns) score(window_start_ns + window_ns);
-      ekf.Process(*event);
+    for (size_t w = 0; w < windows_s.size(); ++w) {
+      ScoreWindows(sim, truth, ekf_options, FromSeconds(windows_s[w]), turn_threshold_rad,
+                   window_band, &scores[w]);
     }
     if (on_run_done) on_run_done(run + 1, runs);
   }
-  if (result.windows > 0) {
-    result.mean_nees = sum / result.windows;
-    result.mean_position_nees = sum_position / result.windows;
-    result.mean_yaw_nees = sum_yaw / result.windows;
-    result.share_inside_window_band = static_cast<double>(inside) / result.windows;
+  std::vector<RelativeOdometryConsistency> results;
+  for (size_t w = 0; w < windows_s.size(); ++w) {
+    results.push_back(scores[w].Result());
+    results.back().window_s = windows_s[w];
   }
-  if (result.turning_windows > 0) {
-    result.mean_turning_nees = sum_turning / result.turning_windows;
-    result.mean_turning_yaw_nees = sum_turning_yaw / result.turning_windows;
-  }
-  return result;
+  return results;
 }
 
 }  // namespace parkslam::harness

@@ -31,14 +31,15 @@ OdometryConsistency EvaluateOdometryConsistency(
 // What a landmark filter takes from the dead reckoning is its motion over a
 // short window, not its pose since the start: the filter's stochastic clone
 // (OdometryEkf::MotionSinceClone) gives that motion with its covariance.
-// Over `runs` simulations the drive is cut into windows of window_s; each
-// window's motion error (in the frame at its start) is scored against that
-// covariance. The scale error of the wheel, drawn once per drive, makes
-// windows of one drive correlated, so the mean is a figure to compare with
-// the ideal, not a test against a strict band. The windows where the car
-// turns (|yaw change| > turn_threshold_rad) are scored apart: there the
-// bicycle model carries the yaw.
+// Over `runs` simulations each drive is cut into windows of every length in
+// windows_s; each window's motion error (in the frame at its start) is
+// scored against that covariance. The scale error of the wheel, drawn once
+// per drive, makes windows of one drive correlated, so the mean is a figure
+// to compare with the ideal, not a test against a strict band. The windows
+// where the car turns (|yaw change| > turn_threshold_rad) are scored apart:
+// there the bicycle model carries the yaw.
 struct RelativeOdometryConsistency {
+  double window_s = 0.0;
   int windows = 0;
   int turning_windows = 0;
   double mean_nees = 0.0;           // 3 dof (x, y, yaw); 3 is ideal
@@ -50,9 +51,11 @@ struct RelativeOdometryConsistency {
   double share_inside_window_band = 0.0;
 };
 
-RelativeOdometryConsistency EvaluateRelativeOdometryConsistency(
-    const sim::ScenarioConfig& scenario, int runs, std::uint64_t first_seed, double window_s = 5.0,
-    double turn_threshold_rad = 0.2,
+// One result per entry of windows_s, in its order; each drive is simulated
+// once for all of them.
+std::vector<RelativeOdometryConsistency> EvaluateRelativeOdometryConsistency(
+    const sim::ScenarioConfig& scenario, int runs, std::uint64_t first_seed,
+    const std::vector<double>& windows_s, double turn_threshold_rad = 0.2,
     const std::function<void(int done, int total)>& on_run_done = {});
 
 }  // namespace parkslam::harness
