@@ -25,7 +25,11 @@
 //    ring of laps), slow where the files' information is loose.
 // kAuto runs both, the incremental one with the information already sized
 // by the closures batch kept (calibration, below), and keeps the solution of
-// lower Max-Mixture cost (MixtureCost) in that same model.
+// lower Max-Mixture cost (MixtureCost) in that same model. A closure that
+// disagrees with the odometry between its poses (chi2 against the odometry
+// chain past chi-square(3)'s 0.999 quantile) is never let in through the
+// gate: two poses a few steps apart may have drifted far together while
+// their relative pose is well known.
 //
 // Calibration. The files' information matrices rarely match their noise:
 // M3500's say sigma 0.15 where its closures fit to a few centimetres, so its
@@ -36,7 +40,14 @@
 // their median (robust while fewer than half of the kept ones are wrong: it
 // sheds those a loose information let in), then by their mean (the
 // a-posteriori variance factor of geodesy, which real closures' heavier
-// tails, Intel's, widen). The reported chi2 is the file's own.
+// tails, Intel's, widen). Where batch's kept closures say a noise far
+// looser than the closures' agreement with odometry does (wrong closures
+// within a file's loose information, which batch keeps), the incremental
+// schedule runs at the odometry's scale instead, and at the end each kept
+// closure that fits badly is tried at its null, kept there where the
+// Max-Mixture cost falls (the local minima such closures bend the
+// trajectory into; docs/pose_graph.md, "Judged against odometry first").
+// The reported chi2 is the file's own.
 #include <string>
 #include <vector>
 

@@ -8,9 +8,11 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "parkslam/common/random.h"
 #include "parkslam/eval/trajectory_metrics.h"
 #include "parkslam/graph/pose_graph_solver.h"
 #include "parkslam/io/g2o.h"
+#include "parkslam/sim/pose_graph_generator.h"
 
 namespace parkslam::graph {
 namespace {
@@ -63,6 +65,34 @@ TEST(StandardGraphsTest, M3500sRandomOutliersAreAllRejectedAndTheCleanOptimumRea
   const SolveSummary loose = SolvePoseGraph(trusting, &uncalibrated);
   EXPECT_LT(loose.rejected, 1000);
   EXPECT_GT(eval::AlignedPositionRmse(uncalibrated.poses, clean.poses), 0.05);
+}
+
+// M3500 with 1,000 local wrong closures (make-graph --local 1000 --seed 1):
+// 0.5-2 m off, within the file's loose information, so that batch keeps
+// them and their residuals look like noise. Judged at the noise that the
+// closures' agreement with odometry says (docs/pose_graph.md, "Local
+// outliers"): 2.6 m before, 0.032 m now, 3 wrong kept. The full schedule
+// (about 12 s).
+TEST(StandardGraphsTest, M3500sLocalOutliersAreJudgedAtTheNoiseOdometrySays) {
+  SKIP_WITHOUT_GRAPH("m3500.g2o");
+  PoseGraph clean = io::ReadG2o(StandardGraph("m3500.g2o").string());
+  SolvePoseGraph(SolveOptions{}, &clean);
+  PoseGraph spoiled = io::ReadG2o(StandardGraph("m3500.g2o").string());
+  const size_t edges = spoiled.pose_edges.size();
+  Random random = Random::Derive(1, 0x6f75746c69657273ULL);  // make-graph's
+  ASSERT_EQ(sim::AddLocalOutliers(1000, 20, clean.poses, &random, &spoiled), 1000);
+  SolveOptions options;
+  options.robust = RobustKernel::kMaxMixture;
+  const SolveSummary mixture = SolvePoseGraph(options, &spoiled);
+  int false_on = 0, true_off = 0;
+  for (size_t i = 0; i < spoiled.pose_edges.size(); ++i) {
+    if (IsOdometry(spoiled.pose_edges[i])) continue;
+    false_on += i >= edges && mixture.pose_edge_kept[i] ? 1 : 0;
+    true_off += i < edges && !mixture.pose_edge_kept[i] ? 1 : 0;
+  }
+  EXPECT_LT(eval::AlignedPositionRmse(spoiled.poses, clean.poses), 0.1);
+  EXPECT_LE(false_on, 5);
+  EXPECT_LE(true_off, 2);
 }
 
 TEST(StandardGraphsTest, IntelWithoutOutliersKeepsEveryClosure) {
