@@ -267,6 +267,9 @@ if "$PARKSLAM" import-rosbag --help > /dev/null 2>&1; then
   sed -i 's#/imu/data#/imu/nope#' "$tmp/real_topics.yaml"
   expect nonzero "real.bag: imu: topic /imu/nope is not in the bag" -- "$PARKSLAM" import-rosbag \
     "$tmp/real.bag" --topics "$tmp/real_topics.yaml" --out "$tmp/from_bag2"
+  # A failed import does not say it read the whole bag.
+  "$PARKSLAM" import-rosbag "$tmp/real.bag" --topics "$tmp/real_topics.yaml" \
+    --out "$tmp/from_bag2" 2>&1 | grep -q "100%" && fail "a failed import drew a full bar" || pass
 else
   echo "cli_test: built without rosbag_storage, import-rosbag not tested"
 fi

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 
 namespace parkslam::app {
 
@@ -11,11 +12,23 @@ Progress::Progress(std::string label, int total)
     : label_(std::move(label)),
       total_(std::max(total, 1)),
       tty_(isatty(STDERR_FILENO) != 0),
+      uncaught_at_start_(std::uncaught_exceptions()),
       start_(std::chrono::steady_clock::now()) {
   if (tty_) Draw(0, false);
 }
 
-Progress::~Progress() { Finish(); }
+Progress::~Progress() {
+  if (finished_) return;
+  if (std::uncaught_exceptions() > uncaught_at_start_) {
+    finished_ = true;
+    if (tty_ && last_drawn_ >= 0) {
+      std::fputc('\n', stderr);
+      std::fflush(stderr);
+    }
+    return;
+  }
+  Finish();
+}
 
 void Progress::Update(int done) {
   // Redraw only when the bar moves: callers may update once per event.

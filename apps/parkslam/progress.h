@@ -8,7 +8,9 @@ namespace parkslam::app {
 
 // A one-line progress bar on stderr. On a terminal it redraws in place; when
 // stderr is a file or pipe it prints only the finished line, so logs stay
-// clean.
+// clean. Left by an exception (the work failed), it never claims to have
+// finished: on a terminal the bar stays where it stopped and the line ends,
+// so that the error starts a line of its own; in a log nothing is printed.
 class Progress {
  public:
   Progress(std::string label, int total);
@@ -24,6 +26,7 @@ class Progress {
   bool tty_;
   bool finished_ = false;
   int last_drawn_ = -1;
+  int uncaught_at_start_;
   std::chrono::steady_clock::time_point start_;
 };
 
