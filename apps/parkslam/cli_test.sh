@@ -343,7 +343,10 @@ expect 0 "null weight 0.1, information scale 1e-06, the file's" -- "$PARKSLAM" s
 
 # report: a demo folder, then broken inputs named by file, line and column.
 "$PARKSLAM" demo --out "$tmp/rep" --observations --consistency-runs 2 --follow-runs 1 \
-  --perception-frames 2 --world "$(dirname "$0")/../../config/worlds/small.yaml" > /dev/null 2>&1
+  --perception-frames 2 --world "$(dirname "$0")/../../config/worlds/small.yaml" > "$tmp/rep.log" 2>&1
+grep -qE "wheel speed reads [+-][0-9.]+ % \(sigma [0-9.]+ %\)" "$tmp/rep.log" \
+  && grep -q '"wheel_scale_sigma"' "$tmp/rep/metrics.json" && pass \
+  || fail "demo does not say what the localizer learnt of the wheel"
 grep -q '"mean_turning_nees"' "$tmp/rep/metrics.json" && [ "$(grep -c '"window_s"' "$tmp/rep/metrics.json")" -eq 2 ] \
   && pass || fail "metrics.json lacks the dead reckoning's 1 s and 5 s window consistency"
 expect 0 "wrote .*again.html" -- "$PARKSLAM" report "$tmp/rep" --out "$tmp/rep/again.html"

@@ -230,6 +230,12 @@ SE2 LocalizeSecondDrive(const Options& o, const sim::ScenarioConfig& scenario,
       100.0 * from_slots.tracked / std::max(from_slots.frames, 1), loc_m.ate_rmse_m,
       loc_m.yaw_rmse_rad * 180.0 / M_PI, DescribeLandmarkUse(run, coverage).c_str(),
       DescribeNees(nees).c_str());
+  const std::string wheel = DescribeWheelScale(localizer);
+  if (!wheel.empty()) {
+    std::printf("%s\n", wheel.c_str());
+    (*metrics)["localization"]["wheel_scale_error"] = localizer.wheel_scale_error();
+    (*metrics)["localization"]["wheel_scale_sigma"] = localizer.wheel_scale_sigma();
+  }
   return T_world_map;
 }
 

@@ -48,12 +48,8 @@ void PrintRun(const localization::LocalizationRun& run, const harness::SensorStr
   if (!stream_faults.empty()) std::printf("%s\n", stream_faults.c_str());
   const std::string odometry_faults = DescribeOdometryFaults(localizer.odometry_stats());
   if (!odometry_faults.empty()) std::printf("%s\n", odometry_faults.c_str());
-  // What the drive taught of the wheel (docs/localization.md, "The wheel's
-  // scale"); a sigma of 0: not estimated.
-  if (localizer.wheel_scale_sigma() > 0.0) {
-    std::printf("wheel speed reads %+.2f %% (sigma %.2f %%), as the landmarks measure it\n",
-                100.0 * localizer.wheel_scale_error(), 100.0 * localizer.wheel_scale_sigma());
-  }
+  const std::string wheel = DescribeWheelScale(localizer);
+  if (!wheel.empty()) std::printf("%s\n", wheel.c_str());
 }
 
 // Kidnapped-robot trials on the drive, against its ground truth.

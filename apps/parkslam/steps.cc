@@ -263,6 +263,16 @@ nlohmann::json UseToJson(const localization::LandmarkUse& u) {
 
 }  // namespace
 
+std::string DescribeWheelScale(const localization::Localizer& localizer) {
+  // A sigma of 0: not estimated.
+  if (!(localizer.wheel_scale_sigma() > 0.0)) return "";
+  char line[160];
+  std::snprintf(line, sizeof(line),
+                "wheel speed reads %+.2f %% (sigma %.2f %%), as the landmarks measure it",
+                100.0 * localizer.wheel_scale_error(), 100.0 * localizer.wheel_scale_sigma());
+  return line;
+}
+
 std::string DescribeLandmarkUse(const localization::LocalizationRun& run,
                                 const localization::SlotCoverage& coverage) {
   char text[160];

@@ -82,6 +82,11 @@ std::string DescribeLandmarkUse(const localization::LocalizationRun& run,
 nlohmann::json LandmarkUseToJson(const localization::LocalizationRun& run,
                                  const localization::SlotCoverage& coverage);
 
+// What a drive taught the localizer of the wheel (docs/localization.md,
+// "The wheel's scale"): "wheel speed reads +0.23 % (sigma 0.04 %), as the
+// landmarks measure it"; empty where the scale is not estimated.
+std::string DescribeWheelScale(const localization::Localizer& localizer);
+
 // The localizer's estimate at each camera frame in the lot's frame
 // (T_world_map), beside the truth, as localization.csv holds it
 // (docs/report.md); one row a frame (RunLocalization merges a frame's
