@@ -58,7 +58,6 @@ bool LocalizerOptions::IsValid(std::string* error) const {
   c.Positive(corner_sigma_floor_m, "corner_sigma_floor_m");
   c.NonNegative(map_yaw_sigma_rad, "map_yaw_sigma_rad");
   c.NonNegative(wheel_scale_walk_per_sqrt_m, "wheel_scale_walk_per_sqrt_m");
-  c.Positive(guessed_corner_sigma_m, "guessed_corner_sigma_m");
   c.NonNegative(map_corner_sigma_floor_m, "map_corner_sigma_floor_m");
   c.NonNegative(tag_map_sigma_m, "tag_map_sigma_m");
   c.NonNegative(tag_map_yaw_sigma_rad, "tag_map_yaw_sigma_rad");

@@ -27,7 +27,6 @@ namespace parkslam::localization {
 struct LocalizerOptions {
   // Measurement noise floors (the detector reports its own sigma).
   double corner_sigma_floor_m = 0.03;
-  double guessed_corner_sigma_m = 0.5;  // far corners only guessed: unused below this
   double map_corner_sigma_floor_m = 0.005;
   double tag_map_sigma_m = 0.03;
   double tag_map_yaw_sigma_rad = 0.02;
@@ -86,7 +85,6 @@ struct LocalizerOptions {
   template <typename V>
   void VisitFields(V& v) {
     v("corner_sigma_floor_m", corner_sigma_floor_m);
-    v("guessed_corner_sigma_m", guessed_corner_sigma_m);
     v("map_corner_sigma_floor_m", map_corner_sigma_floor_m);
     v("tag_map_sigma_m", tag_map_sigma_m);
     v("tag_map_yaw_sigma_rad", tag_map_yaw_sigma_rad);

@@ -242,7 +242,6 @@ constexpr OptionRange kRanges[] = {
         "a tag on a wall or pillar (kMaxTagSize_m); ours are 0.488 m"),
     // localizer
     Pos("localizer.corner_sigma_floor_m", kMaxPositionSigma_m, "m", kSigma),
-    Pos("localizer.guessed_corner_sigma_m", kMaxPositionSigma_m, "m", kSigma),
     In("localizer.map_corner_sigma_floor_m", 0, kMaxPositionSigma_m, "m", kSigma),
     In("localizer.tag_map_sigma_m", 0, kMaxPositionSigma_m, "m", kSigma),
     In("localizer.tag_map_yaw_sigma_rad", 0, kMaxAngleSigma_rad, "rad", kAngleSigma),
