@@ -143,8 +143,8 @@ TEST(PoseGraphSolverTest, CalibrationShedsNearClosuresThatLooseInformationLetIn)
   EXPECT_GT(trusting_rmse, 1.5 * clean_rmse) << clean_rmse;
 }
 
-// As many local wrong closures as a third of all closures, under the same
-// loose information: calibrated from the closures batch kept, their
+// Local wrong closures half as many as the true ones (a third of all
+// closures), under the same loose information: calibrated from the closures batch kept, their
 // residuals would be read as the noise (the scale falls below 1 and they
 // stay). Sized first by the closures' agreement with odometry, the
 // incremental schedule never tries one of them as a plain edge, and the

@@ -70,9 +70,9 @@ TEST(StandardGraphsTest, M3500sRandomOutliersAreAllRejectedAndTheCleanOptimumRea
 // M3500 with 1,000 local wrong closures (make-graph --local 1000 --seed 1):
 // 0.5-2 m off, within the file's loose information, so that batch keeps
 // them and their residuals look like noise. Judged at the noise that the
-// closures' agreement with odometry says (docs/pose_graph.md, "Local
-// outliers"): 2.6 m before, 0.032 m now, 3 wrong kept. The full schedule
-// (about 12 s).
+// closures' agreement with odometry says (docs/pose_graph.md, "Judged
+// against odometry first"): 2.6 m before, 0.032 m now, 3 wrong kept. The
+// full schedule (about 12 s).
 TEST(StandardGraphsTest, M3500sLocalOutliersAreJudgedAtTheNoiseOdometrySays) {
   SKIP_WITHOUT_GRAPH("m3500.g2o");
   PoseGraph clean = io::ReadG2o(StandardGraph("m3500.g2o").string());
